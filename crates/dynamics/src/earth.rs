@@ -1,0 +1,39 @@
+//! Earth constants and radii of curvature (paper, section 2.2).
+//!
+//! `RM = Re (1 - 2f + 3f sin^2 L)` is the meridian radius and `RN = Re (1 + f sin^2 L)` the
+//! prime-vertical radius: the paper's first-order forms, kept exactly so that the truth
+//! simulator and every filter use one Earth.
+
+/// Equatorial radius `Re`, metres.
+pub const RE: f64 = 6_378_137.0;
+/// Flattening `f`.
+pub const FLATTENING: f64 = 1.0 / 298.257;
+/// Earth rotation rate `wie`, rad/s.
+pub const WIE: f64 = 7.292_115e-5;
+
+/// Meridian radius of curvature `RM` from `sin L`.
+#[inline]
+pub fn meridian_radius(sin_lat: f64) -> f64 {
+    RE * (1.0 - 2.0 * FLATTENING + 3.0 * FLATTENING * sin_lat * sin_lat)
+}
+
+/// Prime-vertical radius of curvature `RN` from `sin L`.
+#[inline]
+pub fn prime_vertical_radius(sin_lat: f64) -> f64 {
+    RE * (1.0 + FLATTENING * sin_lat * sin_lat)
+}
+
+/// Normal gravity at the ellipsoid surface (Somigliana's series, WGS-84 coefficients), m/s^2.
+///
+/// The model needs gravity only as the level platform's vertical specific force `fz`; the
+/// trajectory uses it so that `fz` is what a real platform would read at that latitude.
+///
+/// ```
+/// let g = navkf_dynamics::earth::normal_gravity(45f64.to_radians().sin());
+/// assert!((g - 9.8062).abs() < 1e-3);
+/// ```
+#[inline]
+pub fn normal_gravity(sin_lat: f64) -> f64 {
+    let s2 = sin_lat * sin_lat;
+    9.780_325_335_9 * (1.0 + 0.001_931_852_652_41 * s2) / (1.0 - 0.006_694_379_990_14 * s2).sqrt()
+}

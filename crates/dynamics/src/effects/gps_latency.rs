@@ -1,0 +1,53 @@
+//! `gps-latency`: the GPS fix refers to `tau` seconds before its time stamp,
+//! measured `L - tau v_y / RM`, `lambda - tau v_x / (RN cosL)` (a non-linear measurement).
+
+use crate::effect::{Effect, Partials};
+use crate::kinematics::Kinematics;
+use crate::state::{LAT, MEAS_DIM, V_X, V_Y};
+
+/// See the module documentation.
+#[derive(Debug, Default, Clone)]
+pub struct GpsLatency;
+
+impl Effect for GpsLatency {
+    fn name(&self) -> &str {
+        "gps-latency"
+    }
+    fn description(&self) -> &str {
+        "z_L -= tau v_y/RM, z_lambda -= tau v_x/(RN cosL) (GPS time-stamp latency)"
+    }
+    fn coefficient_names(&self) -> &[&str] {
+        &["tau"]
+    }
+    fn coefficient_units(&self) -> &[&str] {
+        &["s"]
+    }
+    fn coefficient_sigma(&self) -> &[f64] {
+        // A receiver's unmodelled output delay: tens to a few hundred milliseconds.
+        &[0.1]
+    }
+    fn adds_rates(&self) -> bool {
+        false
+    }
+    fn adds_measurement(&self) -> bool {
+        true
+    }
+    fn add_measurement(&self, k: &Kinematics, c: &[f64], z: &mut [f64; MEAS_DIM]) {
+        z[2] -= c[0] * k.v_y * k.inv_rm;
+        z[3] -= c[0] * k.v_x * k.inv_rn / k.cos_l;
+    }
+    fn add_measurement_partials(&self, k: &Kinematics, c: &[f64], offset: usize, p: &mut Partials) {
+        let tau = c[0];
+        let sec = 1.0 / k.cos_l;
+        p.add(2, offset, -k.v_y * k.inv_rm);
+        p.add(2, V_Y, -tau * k.inv_rm);
+        p.add(2, LAT, -tau * k.v_y * k.d_inv_rm);
+        p.add(3, offset, -k.v_x * k.inv_rn * sec);
+        p.add(3, V_X, -tau * k.inv_rn * sec);
+        p.add(
+            3,
+            LAT,
+            -tau * k.v_x * sec * (k.d_inv_rn + k.inv_rn * k.tan_l),
+        );
+    }
+}

@@ -1,0 +1,108 @@
+//! The catalogue of effects the base model leaves out (model.md, last table), one file each,
+//! and the registry that builds them by name.
+//!
+//! Adding an effect to the catalogue is one new file here plus one line in
+//! [`Registry::catalogue`]; a user adds their own with [`Registry::register`].
+
+mod accel_cross_axis;
+mod accel_quadratic;
+mod gps_latency;
+mod gyro_bias_walk;
+mod gyro_fz;
+mod odometer_scale;
+mod torquer_scale;
+
+pub use accel_cross_axis::AccelCrossAxis;
+pub use accel_quadratic::AccelQuadratic;
+pub use gps_latency::GpsLatency;
+pub use gyro_bias_walk::GyroBiasWalk;
+pub use gyro_fz::GyroFz;
+pub use odometer_scale::OdometerScale;
+pub use torquer_scale::TorquerScale;
+
+use crate::effect::Effect;
+use crate::error::DynamicsError;
+use std::sync::Arc;
+
+type Factory = Arc<dyn Fn() -> Box<dyn Effect> + Send + Sync>;
+
+/// Effects by name. [`Registry::catalogue`] holds model.md's seven; users add theirs.
+#[derive(Clone)]
+pub struct Registry {
+    entries: Vec<(String, Factory)>,
+}
+
+impl std::fmt::Debug for Registry {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list()
+            .entries(self.entries.iter().map(|(n, _)| n))
+            .finish()
+    }
+}
+
+impl Default for Registry {
+    fn default() -> Self {
+        Self::catalogue()
+    }
+}
+
+impl Registry {
+    /// The catalogue of model.md.
+    pub fn catalogue() -> Self {
+        let mut r = Registry {
+            entries: Vec::new(),
+        };
+        r.register("gyro-fz", || Box::new(GyroFz));
+        r.register("accel-quadratic", || Box::new(AccelQuadratic));
+        r.register("accel-cross-axis", || Box::new(AccelCrossAxis));
+        r.register("torquer-scale", || Box::new(TorquerScale));
+        r.register("odometer-scale", || Box::new(OdometerScale));
+        r.register("gps-latency", || Box::new(GpsLatency));
+        r.register("gyro-bias-walk", || Box::new(GyroBiasWalk::default()));
+        r
+    }
+
+    /// Adds (or replaces) an effect under `name`.
+    pub fn register<F>(&mut self, name: &str, factory: F)
+    where
+        F: Fn() -> Box<dyn Effect> + Send + Sync + 'static,
+    {
+        self.entries.retain(|(n, _)| n != name);
+        self.entries.push((name.to_string(), Arc::new(factory)));
+    }
+
+    /// Names, in registration order.
+    pub fn names(&self) -> Vec<String> {
+        self.entries.iter().map(|(n, _)| n.clone()).collect()
+    }
+
+    /// Builds the effect called `name`.
+    pub fn build(&self, name: &str) -> Result<Box<dyn Effect>, DynamicsError> {
+        self.entries
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, f)| f())
+            .ok_or_else(|| {
+                DynamicsError::Effect(format!(
+                    "unknown effect `{name}`; known effects: {}",
+                    self.names().join(", ")
+                ))
+            })
+    }
+
+    /// Builds every effect in `names`, in order.
+    pub fn build_all<S: AsRef<str>>(
+        &self,
+        names: &[S],
+    ) -> Result<Vec<Box<dyn Effect>>, DynamicsError> {
+        names.iter().map(|n| self.build(n.as_ref())).collect()
+    }
+
+    /// The effect that owns coefficient `coefficient`, if any.
+    pub fn owner_of(&self, coefficient: &str) -> Option<String> {
+        self.entries
+            .iter()
+            .find(|(_, f)| f().coefficient_names().contains(&coefficient))
+            .map(|(n, _)| n.clone())
+    }
+}

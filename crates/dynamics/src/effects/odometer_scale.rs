@@ -1,0 +1,47 @@
+//! `odometer-scale`: the odometer's scale error, measured `v = (1 + kod) v_true`.
+//!
+//! The product `kod v` makes the measurement non-linear in the state, so the simplified UKF
+//! takes its sigma-point measurement path when this effect is on.
+
+use crate::effect::{Effect, Partials};
+use crate::kinematics::Kinematics;
+use crate::state::{MEAS_DIM, V_X, V_Y};
+
+/// See the module documentation.
+#[derive(Debug, Default, Clone)]
+pub struct OdometerScale;
+
+impl Effect for OdometerScale {
+    fn name(&self) -> &str {
+        "odometer-scale"
+    }
+    fn description(&self) -> &str {
+        "z_v = (1 + kod) v (odometer scale error; non-linear measurement)"
+    }
+    fn coefficient_names(&self) -> &[&str] {
+        &["kod"]
+    }
+    fn coefficient_units(&self) -> &[&str] {
+        &["1"]
+    }
+    fn coefficient_sigma(&self) -> &[f64] {
+        // 0.2 % wheel-radius uncertainty.
+        &[2.0e-3]
+    }
+    fn adds_rates(&self) -> bool {
+        false
+    }
+    fn adds_measurement(&self) -> bool {
+        true
+    }
+    fn add_measurement(&self, k: &Kinematics, c: &[f64], z: &mut [f64; MEAS_DIM]) {
+        z[0] += c[0] * k.v_x;
+        z[1] += c[0] * k.v_y;
+    }
+    fn add_measurement_partials(&self, k: &Kinematics, c: &[f64], offset: usize, p: &mut Partials) {
+        p.add(0, V_X, c[0]);
+        p.add(1, V_Y, c[0]);
+        p.add(0, offset, k.v_x);
+        p.add(1, offset, k.v_y);
+    }
+}

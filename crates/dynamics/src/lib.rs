@@ -1,0 +1,27 @@
+//! The inertial-platform error model of Liu, Liu & Su (2009) as the project reads it
+//! (`shared/spec/model.md`), its switchable effects, the paper's vehicle test, a truth
+//! simulator and the dataset format.
+//!
+//! The [`PlatformModel`] implements [`SystemModel`], the trait every filter is generic over.
+//! Effects ([`Effect`]) add coefficients and terms at run time: the state dimension is 20
+//! plus what they add.
+
+pub mod earth;
+pub mod effect;
+pub mod effects;
+pub mod error;
+pub mod integrate;
+pub mod kinematics;
+pub mod model;
+pub mod noise;
+pub mod state;
+pub mod system;
+
+pub use effect::{Effect, NoiseChannel, Partials};
+pub use effects::Registry;
+pub use error::DynamicsError;
+pub use integrate::{InputWindow, PropagationScratch};
+pub use kinematics::{Input, Kinematics};
+pub use model::PlatformModel;
+pub use noise::NoiseConfig;
+pub use system::SystemModel;

@@ -1,0 +1,323 @@
+//! The platform model of model.md (paper eqs 1-15), assembled at run time from the base
+//! terms and a list of effects.
+//!
+//! State equations (total-state, "direct method"; `w_cmd` is the torquing rate, see
+//! [`Kinematics`]):
+//!
+//! ```text
+//! phi'    = phi x w_cmd + eps + w_g           eps = Kg0 + Kg11 fx + Kg12 fy   (eqs 1-3, 6-8)
+//! v_x'    =  (2 wie sinL + v_x tanL/RN) v_y + nab_x + fx + fy phi_z - fz phi_y + w_ax
+//! v_y'    = -(2 wie sinL + v_x tanL/RN) v_x + nab_y + fy + fz phi_x - fx phi_z + w_ay
+//! L'      = v_y / RM,   lambda' = v_x / (RN cosL)                            (eqs 9-12)
+//! K'      = 0                                nab = Ka0 + Ka1 f               (eqs 4-5)
+//! Z       = [v_x, v_y, L, lambda] + V                                         (eqs 14-15)
+//! ```
+//!
+//! One implementation serves the truth simulator and every filter.
+
+use crate::earth::WIE;
+use crate::effect::{Effect, NoiseChannel, Partials};
+use crate::error::DynamicsError;
+use crate::kinematics::{Input, Kinematics};
+use crate::noise::NoiseConfig;
+use crate::state::*;
+use crate::system::SystemModel;
+use std::collections::HashSet;
+
+/// The base model plus switched-on effects.
+#[derive(Debug)]
+pub struct PlatformModel {
+    effects: Vec<Box<dyn Effect>>,
+    offsets: Vec<usize>,
+    rate_effects: Vec<usize>,
+    meas_effects: Vec<usize>,
+    names: Vec<String>,
+    units: Vec<String>,
+    noise: Vec<NoiseChannel>,
+    linear_measurement: bool,
+    dim: usize,
+}
+
+impl PlatformModel {
+    /// The 20-state base model with the given process noise.
+    pub fn base(noise: &NoiseConfig) -> Self {
+        Self::new(Vec::new(), noise).expect("the base model has no effects to conflict")
+    }
+
+    /// Assembles the base model with `effects`, in order. Fails on a duplicated effect or
+    /// coefficient name, or a malformed effect (names, units and sigmas of unequal length).
+    pub fn new(effects: Vec<Box<dyn Effect>>, noise: &NoiseConfig) -> Result<Self, DynamicsError> {
+        let mut names: Vec<String> = BASE_NAMES.iter().map(|s| s.to_string()).collect();
+        let mut units: Vec<String> = BASE_UNITS.iter().map(|s| s.to_string()).collect();
+        let mut seen_effects = HashSet::new();
+        let mut offsets = Vec::with_capacity(effects.len());
+        for e in &effects {
+            if !seen_effects.insert(e.name().to_string()) {
+                return Err(DynamicsError::Effect(format!(
+                    "effect `{}` is switched on twice",
+                    e.name()
+                )));
+            }
+            let c = e.coefficient_names();
+            if e.coefficient_units().len() != c.len() || e.coefficient_sigma().len() != c.len() {
+                return Err(DynamicsError::Effect(format!(
+                    "effect `{}` gives {} coefficient names, {} units and {} sigmas",
+                    e.name(),
+                    c.len(),
+                    e.coefficient_units().len(),
+                    e.coefficient_sigma().len()
+                )));
+            }
+            offsets.push(names.len());
+            for (name, unit) in c.iter().zip(e.coefficient_units()) {
+                if names.iter().any(|n| n == name) {
+                    return Err(DynamicsError::Effect(format!(
+                        "effect `{}` adds coefficient `{name}`, which the model already has",
+                        e.name()
+                    )));
+                }
+                names.push(name.to_string());
+                units.push(unit.to_string());
+            }
+        }
+        let dim = names.len();
+        let mut channels = vec![
+            channel("w_gx", PHI_X, noise.gyro_psd),
+            channel("w_gy", PHI_Y, noise.gyro_psd),
+            channel("w_gz", PHI_Z, noise.gyro_psd),
+            channel("w_ax", V_X, noise.accel_psd),
+            channel("w_ay", V_Y, noise.accel_psd),
+        ];
+        for e in &effects {
+            for ch in e.process_noise() {
+                if ch.state >= dim || !(ch.psd.is_finite() && ch.psd >= 0.0) {
+                    return Err(DynamicsError::Effect(format!(
+                        "effect `{}` declares noise channel `{}` on state {} with density {}",
+                        e.name(),
+                        ch.name,
+                        ch.state,
+                        ch.psd
+                    )));
+                }
+                channels.push(ch);
+            }
+        }
+        let rate_effects = (0..effects.len())
+            .filter(|&i| effects[i].adds_rates())
+            .collect();
+        let meas_effects = (0..effects.len())
+            .filter(|&i| effects[i].adds_measurement())
+            .collect();
+        let linear_measurement = effects.iter().all(|e| e.measurement_is_linear());
+        Ok(PlatformModel {
+            effects,
+            offsets,
+            rate_effects,
+            meas_effects,
+            names,
+            units,
+            noise: channels,
+            linear_measurement,
+            dim,
+        })
+    }
+
+    /// State dimension: 20 plus the effects' coefficients.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+    /// The switched-on effects, in state order.
+    pub fn effects(&self) -> &[Box<dyn Effect>] {
+        &self.effects
+    }
+    /// Index of the first coefficient of effect `i`.
+    pub fn effect_offset(&self, i: usize) -> usize {
+        self.offsets[i]
+    }
+    /// Names of the effects, in order.
+    pub fn effect_names(&self) -> Vec<String> {
+        self.effects.iter().map(|e| e.name().to_string()).collect()
+    }
+    /// Index of a state by name.
+    pub fn index_of(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|n| n == name)
+    }
+    /// Units of every state.
+    pub fn units(&self) -> &[String] {
+        &self.units
+    }
+    /// A typical one-sigma of every coefficient (base and effects), indexed like the state;
+    /// `None` for the navigation states.
+    pub fn effect_coefficient_sigmas(&self) -> Vec<(usize, f64)> {
+        let mut out = Vec::new();
+        for (e, &off) in self.effects.iter().zip(&self.offsets) {
+            for (j, s) in e.coefficient_sigma().iter().enumerate() {
+                out.push((off + j, *s));
+            }
+        }
+        out
+    }
+
+    /// Derivative of the seven navigation states, given precomputed kinematics.
+    #[inline]
+    pub fn nav_rates(&self, x: &[f64], k: &Kinematics) -> [f64; NAV_DIM] {
+        let [fx, fy, fz] = k.f;
+        let [px, py, pz] = k.phi;
+        let [w1, w2, w3] = k.w_cmd;
+        let eps = |a: usize| x[KG0X + 3 * a] + x[KG11X + 3 * a] * fx + x[KG12X + 3 * a] * fy;
+        let nab_x = x[KA0X] + x[KA1X] * fx;
+        let nab_y = x[KA0Y] + x[KA1Y] * fy;
+        let coriolis = 2.0 * WIE * k.sin_l + k.v_x * k.tan_over_rn;
+        let mut r = [
+            py * w3 - pz * w2 + eps(0),
+            pz * w1 - px * w3 + eps(1),
+            px * w2 - py * w1 + eps(2),
+            coriolis * k.v_y + nab_x + fx + fy * pz - fz * py,
+            -coriolis * k.v_x + nab_y + fy + fz * px - fx * pz,
+            k.v_y * k.inv_rm,
+            k.v_x * k.inv_rn / k.cos_l,
+        ];
+        for &i in &self.rate_effects {
+            let off = self.offsets[i];
+            let e = &self.effects[i];
+            e.add_rates(k, &x[off..off + e.coefficient_names().len()], &mut r);
+        }
+        r
+    }
+
+    fn effect_coeffs<'a>(&self, i: usize, x: &'a [f64]) -> &'a [f64] {
+        let off = self.offsets[i];
+        &x[off..off + self.effects[i].coefficient_names().len()]
+    }
+}
+
+fn channel(name: &str, state: usize, psd: f64) -> NoiseChannel {
+    NoiseChannel {
+        name: name.to_string(),
+        state,
+        psd,
+    }
+}
+
+impl SystemModel for PlatformModel {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+    fn dynamic_dim(&self) -> usize {
+        NAV_DIM
+    }
+    fn noise_channels(&self) -> &[NoiseChannel] {
+        &self.noise
+    }
+    #[inline]
+    fn rates(&self, x: &[f64], u: &Input, dx: &mut [f64]) {
+        let k = Kinematics::new(x, u);
+        dx[..NAV_DIM].copy_from_slice(&self.nav_rates(x, &k));
+    }
+
+    fn rate_jacobian(&self, x: &[f64], u: &Input, jac: &mut [f64]) {
+        let n = self.dim;
+        jac[..NAV_DIM * n].fill(0.0);
+        let k = Kinematics::new(x, u);
+        let [fx, fy, fz] = k.f;
+        let [px, py, pz] = k.phi;
+        let [w1, w2, w3] = k.w_cmd;
+        let (vx, vy) = (k.v_x, k.v_y);
+        // d(w_cmd)/dL and d(w_cmd)/dv.
+        let dw1_dl = -vy * k.d_inv_rm;
+        let dw2_dl = -WIE * k.sin_l + vx * k.d_inv_rn;
+        let dw3_dl = WIE * k.cos_l + vx * k.d_tan_over_rn;
+        let coriolis = 2.0 * WIE * k.sin_l + vx * k.tan_over_rn;
+        let dcor_dl = 2.0 * WIE * k.cos_l + vx * k.d_tan_over_rn;
+        let mut p = Partials::new(&mut jac[..NAV_DIM * n], n);
+        // phi_x' = py w3 - pz w2 + eps_x
+        p.add(PHI_X, PHI_Y, w3);
+        p.add(PHI_X, PHI_Z, -w2);
+        p.add(PHI_X, V_X, py * k.tan_over_rn - pz * k.inv_rn);
+        p.add(PHI_X, LAT, py * dw3_dl - pz * dw2_dl);
+        // phi_y' = pz w1 - px w3 + eps_y
+        p.add(PHI_Y, PHI_X, -w3);
+        p.add(PHI_Y, PHI_Z, w1);
+        p.add(PHI_Y, V_X, -px * k.tan_over_rn);
+        p.add(PHI_Y, V_Y, -pz * k.inv_rm);
+        p.add(PHI_Y, LAT, pz * dw1_dl - px * dw3_dl);
+        // phi_z' = px w2 - py w1 + eps_z
+        p.add(PHI_Z, PHI_X, w2);
+        p.add(PHI_Z, PHI_Y, -w1);
+        p.add(PHI_Z, V_X, px * k.inv_rn);
+        p.add(PHI_Z, V_Y, py * k.inv_rm);
+        p.add(PHI_Z, LAT, px * dw2_dl - py * dw1_dl);
+        for a in 0..3 {
+            p.add(PHI_X + a, KG0X + 3 * a, 1.0);
+            p.add(PHI_X + a, KG11X + 3 * a, fx);
+            p.add(PHI_X + a, KG12X + 3 * a, fy);
+        }
+        // v_x' = coriolis v_y + Ka0x + Ka1x fx + fx + fy pz - fz py
+        p.add(V_X, V_X, k.tan_over_rn * vy);
+        p.add(V_X, V_Y, coriolis);
+        p.add(V_X, LAT, dcor_dl * vy);
+        p.add(V_X, PHI_Z, fy);
+        p.add(V_X, PHI_Y, -fz);
+        p.add(V_X, KA0X, 1.0);
+        p.add(V_X, KA1X, fx);
+        // v_y' = -coriolis v_x + Ka0y + Ka1y fy + fy + fz px - fx pz
+        p.add(V_Y, V_X, -coriolis - k.tan_over_rn * vx);
+        p.add(V_Y, LAT, -dcor_dl * vx);
+        p.add(V_Y, PHI_X, fz);
+        p.add(V_Y, PHI_Z, -fx);
+        p.add(V_Y, KA0Y, 1.0);
+        p.add(V_Y, KA1Y, fy);
+        // L' = v_y / RM
+        p.add(LAT, V_Y, k.inv_rm);
+        p.add(LAT, LAT, vy * k.d_inv_rm);
+        // lambda' = v_x / (RN cosL); d/dL (1/(RN cosL)) = d_inv_rn / cosL + tanL / (RN cosL)
+        let sec = 1.0 / k.cos_l;
+        p.add(LON, V_X, k.inv_rn * sec);
+        p.add(LON, LAT, vx * sec * (k.d_inv_rn + k.inv_rn * k.tan_l));
+        for &i in &self.rate_effects {
+            let c = self.effect_coeffs(i, x);
+            self.effects[i].add_rate_partials(&k, c, self.offsets[i], &mut p);
+        }
+    }
+
+    fn meas_dim(&self) -> usize {
+        MEAS_DIM
+    }
+
+    fn measure(&self, x: &[f64], z: &mut [f64]) {
+        let mut out = [x[V_X], x[V_Y], x[LAT], x[LON]];
+        if !self.meas_effects.is_empty() {
+            let k = Kinematics::new(x, &[0.0; 3]);
+            for &i in &self.meas_effects {
+                let c = self.effect_coeffs(i, x);
+                self.effects[i].add_measurement(&k, c, &mut out);
+            }
+        }
+        z[..MEAS_DIM].copy_from_slice(&out);
+    }
+
+    fn measurement_jacobian(&self, x: &[f64], h: &mut [f64]) {
+        let n = self.dim;
+        h[..MEAS_DIM * n].fill(0.0);
+        let mut p = Partials::new(&mut h[..MEAS_DIM * n], n);
+        p.add(0, V_X, 1.0);
+        p.add(1, V_Y, 1.0);
+        p.add(2, LAT, 1.0);
+        p.add(3, LON, 1.0);
+        if !self.meas_effects.is_empty() {
+            let k = Kinematics::new(x, &[0.0; 3]);
+            for &i in &self.meas_effects {
+                let c = self.effect_coeffs(i, x);
+                self.effects[i].add_measurement_partials(&k, c, self.offsets[i], &mut p);
+            }
+        }
+    }
+
+    fn measurement_is_linear(&self) -> bool {
+        self.linear_measurement
+    }
+
+    fn state_names(&self) -> Vec<String> {
+        self.names.clone()
+    }
+}

@@ -1,0 +1,65 @@
+//! The contract between a model and the filters: a continuous-time state-space model with a
+//! known input, additive white process noise on chosen states, and a measurement function.
+//!
+//! The platform model implements it; so does any test model (a linear one makes every UKF
+//! equal to the Kalman filter). Filters are generic over it and never name the platform.
+
+use crate::effect::NoiseChannel;
+use crate::integrate::{propagate_generic, InputWindow, PropagationScratch};
+use crate::kinematics::Input;
+
+/// A continuous-time model `x' = a(x, u) + G w`, `z = h(x) + v`.
+///
+/// States `0..dynamic_dim()` have a derivative; the rest are constant between measurements
+/// (the error coefficients), except where a noise channel drives them. Buffers are written,
+/// never allocated: the caller owns them.
+pub trait SystemModel: Send + Sync {
+    /// State dimension `n`.
+    fn dim(&self) -> usize;
+    /// Number of leading states with a non-zero deterministic derivative.
+    fn dynamic_dim(&self) -> usize;
+    /// The process-noise channels (the columns of `G`).
+    fn noise_channels(&self) -> &[NoiseChannel];
+    /// Writes the derivative of the dynamic states, `dx.len() == dynamic_dim()`.
+    fn rates(&self, x: &[f64], u: &Input, dx: &mut [f64]);
+    /// Writes the Jacobian of [`SystemModel::rates`], row-major `dynamic_dim() x dim()`.
+    fn rate_jacobian(&self, x: &[f64], u: &Input, jac: &mut [f64]);
+    /// Measurement dimension.
+    fn meas_dim(&self) -> usize;
+    /// Writes the noise-free measurement `h(x)`.
+    fn measure(&self, x: &[f64], z: &mut [f64]);
+    /// Writes the Jacobian of `h`, row-major `meas_dim() x dim()`.
+    fn measurement_jacobian(&self, x: &[f64], h: &mut [f64]);
+    /// Whether `h` is linear (then its Jacobian is constant and exact).
+    fn measurement_is_linear(&self) -> bool;
+    /// Names of the states, for reports and datasets.
+    fn state_names(&self) -> Vec<String>;
+
+    /// Scratch length [`SystemModel::propagate_points`] needs for `count` points.
+    fn scratch_len(&self, count: usize) -> usize {
+        let _ = count;
+        4 * self.dynamic_dim() + self.dim()
+    }
+
+    /// Propagates `count = points.len() / dim()` states, stored one after another, across
+    /// the input window with RK4 (one sub-step per pair of knots). `noise`, when given, holds
+    /// `noise_channels().len()` white-noise values per point, held constant over the window.
+    ///
+    /// The default runs [`crate::integrate::propagate_generic`] point by point; a model may
+    /// override it with a faster batched evaluation that must agree to rounding.
+    fn propagate_points(
+        &self,
+        points: &mut [f64],
+        noise: Option<&[f64]>,
+        window: &InputWindow,
+        scratch: &mut PropagationScratch,
+    ) {
+        let n = self.dim();
+        let nw = self.noise_channels().len();
+        scratch.ensure(self.scratch_len(1));
+        for (i, x) in points.chunks_exact_mut(n).enumerate() {
+            let w = noise.map(|w| &w[i * nw..(i + 1) * nw]);
+            propagate_generic(self, x, w, window, scratch.as_mut_slice());
+        }
+    }
+}

@@ -1,0 +1,83 @@
+//! Datasets: the folder layout of `shared/spec/data-format.md` (inputs.csv, measurements.csv,
+//! optional dataset.toml and truth.csv), read with validation and written atomically.
+//!
+//! Positions are kept in degrees, exactly as in the file, so that a dataset written and read
+//! back is bit-identical; [`Measurement::gps_rad`] converts for the filters.
+
+use crate::kinematics::Input;
+use crate::noise::NoiseConfig;
+use serde::{Deserialize, Serialize};
+
+/// One row of `inputs.csv`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InputSample {
+    /// Time, s.
+    pub t: f64,
+    /// Specific force `[f_e, f_n, f_u]`, m/s^2.
+    pub f: Input,
+}
+
+/// One row of `measurements.csv`; a sensor that gave nothing is `None`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Measurement {
+    /// Time, s.
+    pub t: f64,
+    /// Odometer velocity `[v_e, v_n]`, m/s.
+    pub velocity: Option<[f64; 2]>,
+    /// GPS `[lat_deg, lon_deg]`, degrees.
+    pub position_deg: Option<[f64; 2]>,
+}
+
+impl Measurement {
+    /// GPS position in radians.
+    pub fn gps_rad(&self) -> Option<[f64; 2]> {
+        self.position_deg
+            .map(|[a, b]| [a.to_radians(), b.to_radians()])
+    }
+}
+
+/// `truth.csv`: the true state at some times (only a simulation knows it).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Truth {
+    /// State names, the columns after `t` (model.md's names, then effect coefficients).
+    pub names: Vec<String>,
+    /// Times, s.
+    pub t: Vec<f64>,
+    /// One state vector per time, `names.len()` long.
+    pub states: Vec<Vec<f64>>,
+}
+
+/// What `dataset.toml` records besides noise: how a simulated dataset was made.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Provenance {
+    /// The seed of the study / simulation.
+    #[serde(default)]
+    pub seed: Option<u64>,
+    /// The run index within the study.
+    #[serde(default)]
+    pub run: Option<u64>,
+    /// The effects the truth carried.
+    #[serde(default)]
+    pub effects: Vec<String>,
+    /// Free text.
+    #[serde(default)]
+    pub note: Option<String>,
+}
+
+/// A dataset in memory.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dataset {
+    /// The folder's name (used for default output paths).
+    pub name: String,
+    /// Input samples, strictly increasing in time.
+    pub inputs: Vec<InputSample>,
+    /// Measurements, strictly increasing in time, inside the inputs' span.
+    pub measurements: Vec<Measurement>,
+    /// Noise (defaults where `dataset.toml` is absent or silent).
+    pub noise: NoiseConfig,
+    /// `[simulation]` table of dataset.toml, when present.
+    pub provenance: Option<Provenance>,
+    /// `truth.csv`, when present.
+    pub truth: Option<Truth>,
+}

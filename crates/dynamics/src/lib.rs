@@ -15,8 +15,11 @@ pub mod integrate;
 pub mod kinematics;
 pub mod model;
 pub mod noise;
+pub mod rng;
+pub mod simulate;
 pub mod state;
 pub mod system;
+pub mod trajectory;
 
 pub use effect::{Effect, NoiseChannel, Partials};
 pub use effects::Registry;
@@ -25,4 +28,6 @@ pub use integrate::{InputWindow, PropagationScratch};
 pub use kinematics::{Input, Kinematics};
 pub use model::PlatformModel;
 pub use noise::NoiseConfig;
+pub use simulate::{Prior, SimulatedRun, Simulator, TruthConfig};
 pub use system::SystemModel;
+pub use trajectory::{Trajectory, TrajectoryConfig};

@@ -1,0 +1,401 @@
+//! The truth simulator: draws the true coefficients and initial tilt, integrates the truth
+//! model with RK4 at a fixed rate (default 100 Hz) under white process noise, and makes
+//! odometer and GPS measurements with the spec's noise.
+//!
+//! Process noise is a constant `w ~ N(0, q / h)` over each RK4 step of length `h`, which gives
+//! the white noise's integrated variance `q h` per step. The input is the trajectory's exact
+//! specific force at each RK4 stage time; the dataset records it sampled at the input rate.
+//! Every draw comes from [`crate::rng::stream`], so run `i` of seed `s` is the same bytes on
+//! any thread.
+
+use crate::dataset::{Dataset, InputSample, Measurement, Provenance, Truth};
+use crate::error::DynamicsError;
+use crate::integrate::{propagate_generic, InputWindow};
+use crate::kinematics::Input;
+use crate::model::PlatformModel;
+use crate::noise::NoiseConfig;
+use crate::rng::{stream, Purpose};
+use crate::state::*;
+use crate::system::SystemModel;
+use crate::trajectory::Trajectory;
+use rand::Rng;
+use rand_distr::StandardNormal;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// A Gaussian prior `N(mean, sigma^2)`; `sigma = 0` fixes the value.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Prior {
+    /// Mean.
+    #[serde(default)]
+    pub mean: f64,
+    /// Standard deviation (0: the value is given, not drawn).
+    pub sigma: f64,
+}
+
+impl Prior {
+    /// A fixed value.
+    pub fn fixed(value: f64) -> Self {
+        Prior {
+            mean: value,
+            sigma: 0.0,
+        }
+    }
+    /// Zero-mean with the given sigma.
+    pub fn zero_mean(sigma: f64) -> Self {
+        Prior { mean: 0.0, sigma }
+    }
+}
+
+/// Typical one-sigma sizes of the 13 base coefficients for a navigation-grade platform:
+/// gyro drift 0.02 deg/h, acceleration-sensitive drift 0.02 deg/h per g, accelerometer bias
+/// 50 micro-g, accelerometer scale factor 50 ppm. The paper gives none; these are stated in
+/// the study files and README.
+pub fn base_coefficient_sigma(index: usize) -> f64 {
+    const DEG_PER_H: f64 = std::f64::consts::PI / 180.0 / 3600.0;
+    const G: f64 = 9.80665;
+    match index {
+        KG0X | KG0Y | KG0Z => 0.02 * DEG_PER_H,
+        KA0X | KA0Y => 50e-6 * G,
+        KA1X | KA1Y => 50e-6,
+        i if (KG0X..KA0X).contains(&i) => 0.02 * DEG_PER_H / G,
+        _ => 0.0,
+    }
+}
+
+/// The true initial navigation state: the path's start, with the platform tilted.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct InitialTilt {
+    /// One-sigma levelling error about East and North, rad (10 arcsec).
+    pub level_rad: f64,
+    /// One-sigma azimuth error about Up, rad (1 arcmin).
+    pub azimuth_rad: f64,
+}
+
+impl Default for InitialTilt {
+    fn default() -> Self {
+        InitialTilt {
+            level_rad: 4.85e-5,
+            azimuth_rad: 2.91e-4,
+        }
+    }
+}
+
+/// Settings of the truth simulation.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TruthConfig {
+    /// RK4 rate of the truth integration, Hz.
+    pub rate_hz: f64,
+    /// Rate at which the input is recorded, Hz (the filters' sub-step rate).
+    pub input_rate_hz: f64,
+    /// Odometer and GPS rate, Hz (the paper's filter period is 1 s).
+    pub measurement_rate_hz: f64,
+    /// Initial tilt distribution.
+    pub initial_tilt: InitialTilt,
+    /// Priors of coefficients by state name; any coefficient not named takes
+    /// [`base_coefficient_sigma`] or its effect's typical sigma, zero mean.
+    pub coefficients: BTreeMap<String, Prior>,
+}
+
+impl Default for TruthConfig {
+    fn default() -> Self {
+        TruthConfig {
+            rate_hz: 100.0,
+            input_rate_hz: 10.0,
+            measurement_rate_hz: 1.0,
+            initial_tilt: InitialTilt::default(),
+            coefficients: BTreeMap::new(),
+        }
+    }
+}
+
+/// One simulated run: measurements and the true state at t = 0 and at each measurement.
+#[derive(Debug, Clone)]
+pub struct SimulatedRun {
+    /// Run index within the study.
+    pub run: u64,
+    /// Measurements (both sensors at every measurement time).
+    pub measurements: Vec<Measurement>,
+    /// True states.
+    pub truth: Truth,
+}
+
+/// The truth simulator for one model, trajectory and configuration; shared by all runs.
+#[derive(Debug)]
+pub struct Simulator {
+    model: Arc<PlatformModel>,
+    trajectory: Arc<Trajectory>,
+    config: TruthConfig,
+    noise: NoiseConfig,
+    priors: Vec<Prior>,
+    /// Exact input at every half step of the truth integration.
+    half_step_inputs: Vec<Input>,
+    steps: usize,
+    steps_per_measurement: usize,
+    inputs: Arc<Vec<InputSample>>,
+}
+
+fn cfg_err(key: &str, message: String) -> DynamicsError {
+    DynamicsError::Config {
+        key: key.to_string(),
+        message,
+    }
+}
+
+/// `a / b` when it is a whole number (to 1e-9), else `None`.
+fn whole_ratio(a: f64, b: f64) -> Option<usize> {
+    let r = a / b;
+    (r >= 1.0 && (r - r.round()).abs() < 1e-9).then(|| r.round() as usize)
+}
+
+impl Simulator {
+    /// Prepares a simulator. `model` is the truth's model (base plus the truth's effects).
+    pub fn new(
+        model: Arc<PlatformModel>,
+        trajectory: Arc<Trajectory>,
+        config: TruthConfig,
+        noise: NoiseConfig,
+    ) -> Result<Self, DynamicsError> {
+        noise.validate().map_err(|m| cfg_err("noise", m))?;
+        for (key, v) in [
+            ("truth.rate_hz", config.rate_hz),
+            ("truth.input_rate_hz", config.input_rate_hz),
+            ("truth.measurement_rate_hz", config.measurement_rate_hz),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(cfg_err(key, format!("{v}: expected a rate > 0 Hz")));
+            }
+        }
+        let steps_per_input =
+            whole_ratio(config.rate_hz, config.input_rate_hz).ok_or_else(|| {
+                cfg_err(
+                    "truth.input_rate_hz",
+                    format!(
+                        "{} Hz: expected a whole divisor of rate_hz = {} Hz",
+                        config.input_rate_hz, config.rate_hz
+                    ),
+                )
+            })?;
+        let steps_per_measurement = whole_ratio(config.rate_hz, config.measurement_rate_hz)
+            .filter(|s| s % steps_per_input == 0)
+            .ok_or_else(|| {
+                cfg_err(
+                    "truth.measurement_rate_hz",
+                    format!(
+                        "{} Hz: expected a whole divisor of input_rate_hz = {} Hz",
+                        config.measurement_rate_hz, config.input_rate_hz
+                    ),
+                )
+            })?;
+        let duration = trajectory.duration();
+        let steps = whole_ratio(duration * config.rate_hz, 1.0).ok_or_else(|| {
+            cfg_err(
+                "trajectory.duration_s",
+                format!(
+                    "{duration} s: expected a whole number of truth steps at {} Hz",
+                    config.rate_hz
+                ),
+            )
+        })?;
+        let names = model.state_names();
+        for (name, p) in &config.coefficients {
+            let Some(i) = model.index_of(name) else {
+                return Err(cfg_err(
+                    &format!("truth.coefficients.{name}"),
+                    format!(
+                        "no such coefficient in the truth model (states: {})",
+                        names[NAV_DIM..].join(", ")
+                    ),
+                ));
+            };
+            if i < NAV_DIM {
+                return Err(cfg_err(
+                    &format!("truth.coefficients.{name}"),
+                    "a navigation state, not a coefficient".to_string(),
+                ));
+            }
+            if !(p.mean.is_finite() && p.sigma.is_finite() && p.sigma >= 0.0) {
+                return Err(cfg_err(
+                    &format!("truth.coefficients.{name}"),
+                    format!(
+                        "mean {} sigma {}: expected finite values, sigma >= 0",
+                        p.mean, p.sigma
+                    ),
+                ));
+            }
+        }
+        let mut priors: Vec<Prior> = (0..model.dim())
+            .map(|i| Prior::zero_mean(base_coefficient_sigma(i)))
+            .collect();
+        for (i, s) in model.effect_coefficient_sigmas() {
+            priors[i] = Prior::zero_mean(s);
+        }
+        for (name, p) in &config.coefficients {
+            priors[model.index_of(name).expect("checked above")] = *p;
+        }
+        let h = 1.0 / config.rate_hz;
+        let half_step_inputs = (0..=2 * steps)
+            .map(|k| trajectory.specific_force(k as f64 * 0.5 * h))
+            .collect();
+        let input_step = 1.0 / config.input_rate_hz;
+        let n_inputs = steps / steps_per_input;
+        let inputs = (0..=n_inputs)
+            .map(|k| {
+                let t = k as f64 * input_step;
+                InputSample {
+                    t,
+                    f: trajectory.specific_force(t),
+                }
+            })
+            .collect();
+        Ok(Simulator {
+            model,
+            trajectory,
+            config,
+            noise,
+            priors,
+            half_step_inputs,
+            steps,
+            steps_per_measurement,
+            inputs: Arc::new(inputs),
+        })
+    }
+
+    /// The truth model.
+    pub fn model(&self) -> &Arc<PlatformModel> {
+        &self.model
+    }
+    /// The trajectory.
+    pub fn trajectory(&self) -> &Arc<Trajectory> {
+        &self.trajectory
+    }
+    /// The settings.
+    pub fn config(&self) -> &TruthConfig {
+        &self.config
+    }
+    /// The noise settings.
+    pub fn noise(&self) -> &NoiseConfig {
+        &self.noise
+    }
+    /// The recorded input, shared by every run (the path is the same).
+    pub fn inputs(&self) -> &Arc<Vec<InputSample>> {
+        &self.inputs
+    }
+    /// The prior of every state (navigation states have sigma 0 here; see
+    /// [`Simulator::initial_state`]).
+    pub fn priors(&self) -> &[Prior] {
+        &self.priors
+    }
+
+    /// The true initial state of run `run`: path start, tilted platform, drawn coefficients.
+    pub fn initial_state(&self, seed: u64, run: u64) -> Vec<f64> {
+        let mut x = vec![0.0; self.model.dim()];
+        let start = self.trajectory.state(0.0);
+        x[V_X] = start.v[0];
+        x[V_Y] = start.v[1];
+        x[LAT] = start.pos[0];
+        x[LON] = start.pos[1];
+        let mut rng = stream(seed, run, Purpose::InitialState);
+        let tilt = self.config.initial_tilt;
+        x[PHI_X] = tilt.level_rad * rng.sample::<f64, _>(StandardNormal);
+        x[PHI_Y] = tilt.level_rad * rng.sample::<f64, _>(StandardNormal);
+        x[PHI_Z] = tilt.azimuth_rad * rng.sample::<f64, _>(StandardNormal);
+        let mut rng = stream(seed, run, Purpose::Coefficients);
+        for (i, p) in self.priors.iter().enumerate().skip(NAV_DIM) {
+            // Always draw, so that fixing one coefficient leaves the others' draws unchanged.
+            let z: f64 = rng.sample(StandardNormal);
+            x[i] = p.mean + p.sigma * z;
+        }
+        x
+    }
+
+    /// Simulates run `run` of study seed `seed`.
+    pub fn run(&self, seed: u64, run: u64) -> SimulatedRun {
+        let x0 = self.initial_state(seed, run);
+        self.run_from(seed, run, x0)
+    }
+
+    /// Simulates from a given true initial state.
+    pub fn run_from(&self, seed: u64, run: u64, mut x: Vec<f64>) -> SimulatedRun {
+        let model = &*self.model;
+        let n = model.dim();
+        let channels = model.noise_channels();
+        let h = 1.0 / self.config.rate_hz;
+        let noise_sd: Vec<f64> = channels.iter().map(|c| (c.psd / h).sqrt()).collect();
+        let mut w = vec![0.0; channels.len()];
+        let mut scratch = vec![0.0; model.scratch_len(1)];
+        let mut window = InputWindow::with_capacity(2);
+        let mut proc_rng = stream(seed, run, Purpose::ProcessNoise);
+        let mut meas_rng = stream(seed, run, Purpose::MeasurementNoise);
+        let n_meas = self.steps / self.steps_per_measurement;
+        let mut truth = Truth {
+            names: model.state_names(),
+            t: Vec::with_capacity(n_meas + 1),
+            states: Vec::with_capacity(n_meas + 1),
+        };
+        let mut measurements = Vec::with_capacity(n_meas);
+        truth.t.push(0.0);
+        truth.states.push(x.clone());
+        let mut z = [0.0; MEAS_DIM];
+        for k in 0..self.steps {
+            let t0 = k as f64 * h;
+            window.clear();
+            window.push_with_mid(t0, self.half_step_inputs[2 * k], [0.0; 3]);
+            window.push_with_mid(
+                (k + 1) as f64 * h,
+                self.half_step_inputs[2 * k + 2],
+                self.half_step_inputs[2 * k + 1],
+            );
+            for (wi, sd) in w.iter_mut().zip(&noise_sd) {
+                *wi = sd * proc_rng.sample::<f64, _>(StandardNormal);
+            }
+            propagate_generic(model, &mut x, Some(&w), &window, &mut scratch);
+            if (k + 1) % self.steps_per_measurement == 0 {
+                let t = (k + 1) as f64 * h;
+                model.measure(&x, &mut z);
+                let speed = x[V_X].hypot(x[V_Y]);
+                let sig = self.noise.measurement_sigmas(speed, x[LAT]);
+                let mut e = [0.0; MEAS_DIM];
+                for (ei, s) in e.iter_mut().zip(sig) {
+                    *ei = s * meas_rng.sample::<f64, _>(StandardNormal);
+                }
+                measurements.push(Measurement {
+                    t,
+                    velocity: Some([z[0] + e[0], z[1] + e[1]]),
+                    position_deg: Some([(z[2] + e[2]).to_degrees(), (z[3] + e[3]).to_degrees()]),
+                });
+                truth.t.push(t);
+                truth.states.push(x[..n].to_vec());
+            }
+        }
+        SimulatedRun {
+            run,
+            measurements,
+            truth,
+        }
+    }
+
+    /// A dataset of one run, named `name`.
+    pub fn dataset(&self, name: &str, seed: u64, run: &SimulatedRun) -> Dataset {
+        Dataset {
+            name: name.to_string(),
+            inputs: self.inputs.to_vec(),
+            measurements: run.measurements.clone(),
+            noise: self.noise,
+            provenance: Some(Provenance {
+                seed: Some(seed),
+                run: Some(run.run),
+                effects: self.model.effect_names(),
+                note: Some(format!(
+                    "navkf truth simulation: RK4 at {} Hz, inputs at {} Hz, measurements at {} Hz",
+                    self.config.rate_hz, self.config.input_rate_hz, self.config.measurement_rate_hz
+                )),
+            }),
+            truth: Some(run.truth.clone()),
+        }
+    }
+}

@@ -1,0 +1,538 @@
+//! The paper's vehicle test (section 4): a closed O-A-B-C-O path with acceleration, cruise,
+//! deceleration and turns, and the specific force that makes the model reproduce it.
+//!
+//! The path is a sequence of segments on which speed `s` and heading `psi` (from North,
+//! clockwise) are analytic: standstill, speed changes and 90-degree right turns follow a
+//! `sin^2` profile (acceleration and turn rate rise and fall smoothly, as a driver's do), and
+//! cruises hold speed and heading. From `v_E = s sin psi`, `v_N = s cos psi` the input is
+//!
+//! ```text
+//! fx = a_E - (2 wie sinL + v_E tanL / RN) v_N
+//! fy = a_N + (2 wie sinL + v_E tanL / RN) v_E
+//! fz = g(L)
+//! ```
+//!
+//! which is the model's velocity equation (model.md) solved for `f` with every error zero, so
+//! that the error-free model reproduces the path exactly. Latitude and longitude come from
+//! integrating the model's own position equations along the path; the lengths of the last two
+//! legs are solved so that the path closes on itself under those same equations.
+
+use crate::earth::{meridian_radius, normal_gravity, prime_vertical_radius, WIE};
+use crate::error::DynamicsError;
+use crate::kinematics::Input;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// The path's settings. Every field has a default, so a study file may set only some.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TrajectoryConfig {
+    /// Latitude of O, degrees (Harbin, where the paper's authors work).
+    pub start_lat_deg: f64,
+    /// Longitude of O, degrees.
+    pub start_lon_deg: f64,
+    /// Total duration of the test, s (paper: 2400 s).
+    pub duration_s: f64,
+    /// Standstill before moving off, s.
+    pub initial_standstill_s: f64,
+    /// Cruise speed, m/s.
+    pub cruise_speed: f64,
+    /// Speed through the turns, m/s.
+    pub turn_speed: f64,
+    /// Peak longitudinal acceleration of speed changes, m/s^2.
+    pub peak_accel: f64,
+    /// Peak turn rate, deg/s.
+    pub peak_turn_rate_deg: f64,
+    /// Length of O-A (heading North), metres: the distance from O to where the first turn
+    /// begins.
+    pub leg_north_m: f64,
+    /// Length of A-B (heading East), metres: from the end of the first turn to the start of
+    /// the second. B-C and C-O are solved so that the path closes.
+    pub leg_east_m: f64,
+}
+
+impl Default for TrajectoryConfig {
+    fn default() -> Self {
+        TrajectoryConfig {
+            start_lat_deg: 45.78,
+            start_lon_deg: 126.63,
+            duration_s: 2400.0,
+            initial_standstill_s: 120.0,
+            cruise_speed: 15.0,
+            turn_speed: 5.0,
+            peak_accel: 1.0,
+            peak_turn_rate_deg: 6.0,
+            leg_north_m: 9000.0,
+            leg_east_m: 6500.0,
+        }
+    }
+}
+
+impl TrajectoryConfig {
+    /// Checks every value; the error names the key and what was expected.
+    pub fn validate(&self) -> Result<(), DynamicsError> {
+        let positive = [
+            ("duration_s", self.duration_s),
+            ("cruise_speed", self.cruise_speed),
+            ("turn_speed", self.turn_speed),
+            ("peak_accel", self.peak_accel),
+            ("peak_turn_rate_deg", self.peak_turn_rate_deg),
+            ("leg_north_m", self.leg_north_m),
+            ("leg_east_m", self.leg_east_m),
+        ];
+        for (key, v) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(config_err(
+                    key,
+                    format!("{v}: expected a finite number > 0"),
+                ));
+            }
+        }
+        if !(self.initial_standstill_s.is_finite() && self.initial_standstill_s >= 0.0) {
+            return Err(config_err(
+                "initial_standstill_s",
+                format!(
+                    "{}: expected a finite number >= 0",
+                    self.initial_standstill_s
+                ),
+            ));
+        }
+        if !(self.start_lat_deg.abs() < 80.0) {
+            return Err(config_err(
+                "start_lat_deg",
+                format!(
+                    "{}: expected a latitude within +-80 deg",
+                    self.start_lat_deg
+                ),
+            ));
+        }
+        if !(self.start_lon_deg.is_finite() && self.start_lon_deg.abs() <= 360.0) {
+            return Err(config_err(
+                "start_lon_deg",
+                format!(
+                    "{}: expected a longitude within +-360 deg",
+                    self.start_lon_deg
+                ),
+            ));
+        }
+        if self.turn_speed > self.cruise_speed {
+            return Err(config_err(
+                "turn_speed",
+                format!(
+                    "{} m/s is above cruise_speed {} m/s: expected turn_speed <= cruise_speed",
+                    self.turn_speed, self.cruise_speed
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+fn config_err(key: &str, message: String) -> DynamicsError {
+    DynamicsError::Config {
+        key: format!("trajectory.{key}"),
+        message,
+    }
+}
+
+/// What the vehicle does on one segment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Motion {
+    /// Standing still.
+    Standstill,
+    /// Speed changes from `from` to `to` (m/s) along a `sin^2` acceleration profile.
+    SpeedChange {
+        /// Initial speed.
+        from: f64,
+        /// Final speed.
+        to: f64,
+    },
+    /// Constant speed and heading.
+    Cruise {
+        /// Speed, m/s.
+        speed: f64,
+    },
+    /// Heading changes by `delta` (rad, positive to the right) at constant `speed`.
+    Turn {
+        /// Speed, m/s.
+        speed: f64,
+        /// Heading change, rad.
+        delta: f64,
+    },
+}
+
+/// Motion phase labels, for reports and the diagnosis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Phase {
+    /// Not moving.
+    Standstill,
+    /// Speeding up.
+    Accelerating,
+    /// Constant speed, straight.
+    Cruising,
+    /// Turning.
+    Turning,
+    /// Slowing down.
+    Decelerating,
+}
+
+/// One piece of the path.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Segment {
+    /// Start time, s.
+    pub start: f64,
+    /// Duration, s.
+    pub duration: f64,
+    /// Heading at the start, rad from North, clockwise.
+    pub heading: f64,
+    /// What happens.
+    pub motion: Motion,
+    /// Label of the corner or leg (`O-A`, `turn A`, ...).
+    pub label: &'static str,
+}
+
+impl Segment {
+    /// The motion phase of this segment.
+    pub fn phase(&self) -> Phase {
+        match self.motion {
+            Motion::Standstill => Phase::Standstill,
+            Motion::SpeedChange { from, to } if to > from => Phase::Accelerating,
+            Motion::SpeedChange { .. } => Phase::Decelerating,
+            Motion::Cruise { .. } => Phase::Cruising,
+            Motion::Turn { .. } => Phase::Turning,
+        }
+    }
+
+    /// Speed, its rate, heading and its rate at local time `tau` in `[0, duration]`.
+    fn kinematics(&self, tau: f64) -> (f64, f64, f64, f64) {
+        let t = self.duration;
+        // Smooth step: u(0) = 0, u(T) = 1, u'(t) = (2/T) sin^2(pi t / T).
+        let smooth = |tau: f64| {
+            let x = (tau / t).clamp(0.0, 1.0);
+            (
+                x - (2.0 * PI * x).sin() / (2.0 * PI),
+                (1.0 - (2.0 * PI * x).cos()) / t,
+            )
+        };
+        match self.motion {
+            Motion::Standstill => (0.0, 0.0, self.heading, 0.0),
+            Motion::Cruise { speed } => (speed, 0.0, self.heading, 0.0),
+            Motion::SpeedChange { from, to } => {
+                let (u, du) = smooth(tau);
+                (from + (to - from) * u, (to - from) * du, self.heading, 0.0)
+            }
+            Motion::Turn { speed, delta } => {
+                let (u, du) = smooth(tau);
+                (speed, 0.0, self.heading + delta * u, delta * du)
+            }
+        }
+    }
+
+    fn end_heading(&self) -> f64 {
+        match self.motion {
+            Motion::Turn { delta, .. } => self.heading + delta,
+            _ => self.heading,
+        }
+    }
+}
+
+/// The vehicle's nominal motion at one time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathState {
+    /// East and North velocity, m/s.
+    pub v: [f64; 2],
+    /// East and North acceleration, m/s^2.
+    pub a: [f64; 2],
+    /// Latitude and longitude, rad.
+    pub pos: [f64; 2],
+    /// Heading rate, rad/s.
+    pub turn_rate: f64,
+    /// Motion phase.
+    pub phase: Phase,
+}
+
+/// The built path: segments plus the integrated nominal latitude and longitude.
+#[derive(Debug, Clone)]
+pub struct Trajectory {
+    config: TrajectoryConfig,
+    segments: Vec<Segment>,
+    /// Nominal `[L, lambda]` at `k * GRID` seconds.
+    grid: Vec<[f64; 2]>,
+}
+
+/// Spacing of the stored nominal positions, s. Positions in between come from cubic Hermite
+/// interpolation with the exact derivatives, accurate to far below a millimetre.
+const GRID: f64 = 0.5;
+/// RK4 sub-steps per grid interval when integrating the nominal position.
+const SUBSTEPS: usize = 10;
+
+impl Trajectory {
+    /// Builds the O-A-B-C-O path of `config`, solving the last two legs for closure.
+    pub fn build(config: &TrajectoryConfig) -> Result<Self, DynamicsError> {
+        config.validate()?;
+        let lat0 = config.start_lat_deg.to_radians();
+        // Leg 3 (South) must undo leg 1 plus the northward part of two turns; leg 4 (West)
+        // must undo leg 2 plus the eastward parts. Start from flat-Earth guesses and correct
+        // with the model's own position equations (the problem is almost linear).
+        let turn_t = 2.0 * FRAC_PI_2 / config.peak_turn_rate_deg.to_radians();
+        let radius_like = config.turn_speed * turn_t * 2.0 / PI; // chord offset of a 90-deg arc
+        let mut south = config.leg_north_m + radius_like;
+        let mut west = config.leg_east_m + radius_like;
+        let mut traj = Self::with_legs(config, south, west)?;
+        for _ in 0..6 {
+            let end = traj.end_position();
+            let d_north = (end[0] - lat0) * meridian_radius(lat0.sin());
+            let d_east = (end[1] - config.start_lon_deg.to_radians())
+                * prime_vertical_radius(end[0].sin())
+                * end[0].cos();
+            if d_north.abs() < 1e-9 && d_east.abs() < 1e-9 {
+                break;
+            }
+            south += d_north;
+            west += d_east;
+            traj = Self::with_legs(config, south, west)?;
+        }
+        Ok(traj)
+    }
+
+    fn with_legs(config: &TrajectoryConfig, south: f64, west: f64) -> Result<Self, DynamicsError> {
+        let c = config;
+        let mut b = SegmentList::default();
+        let speed_change = |from: f64, to: f64| 2.0 * (to - from).abs() / c.peak_accel;
+        let dist_change = |from: f64, to: f64| 0.5 * (from + to) * speed_change(from, to);
+        let turn_t = 2.0 * FRAC_PI_2 / c.peak_turn_rate_deg.to_radians();
+        if c.initial_standstill_s > 0.0 {
+            b.push(c.initial_standstill_s, Motion::Standstill, "O");
+        }
+        let legs: [(&'static str, &'static str, f64); 4] = [
+            ("O-A", "turn A", c.leg_north_m),
+            ("A-B", "turn B", c.leg_east_m),
+            ("B-C", "turn C", south),
+            ("C-O", "O", west),
+        ];
+        for (i, (leg, corner, length)) in legs.into_iter().enumerate() {
+            let first = i == 0;
+            let last = i == 3;
+            let v_in = if first { 0.0 } else { c.turn_speed };
+            let v_out = if last { 0.0 } else { c.turn_speed };
+            let cruise =
+                length - dist_change(v_in, c.cruise_speed) - dist_change(c.cruise_speed, v_out);
+            if cruise <= 0.0 {
+                return Err(config_err(
+                    if i % 2 == 0 { "leg_north_m" } else { "leg_east_m" },
+                    format!(
+                        "leg {leg} is {length:.1} m, too short to reach cruise_speed and slow down again: expected a longer leg or a higher peak_accel"
+                    ),
+                ));
+            }
+            b.push(
+                speed_change(v_in, c.cruise_speed),
+                Motion::SpeedChange {
+                    from: v_in,
+                    to: c.cruise_speed,
+                },
+                leg,
+            );
+            b.push(
+                cruise / c.cruise_speed,
+                Motion::Cruise {
+                    speed: c.cruise_speed,
+                },
+                leg,
+            );
+            b.push(
+                speed_change(c.cruise_speed, v_out),
+                Motion::SpeedChange {
+                    from: c.cruise_speed,
+                    to: v_out,
+                },
+                leg,
+            );
+            if !last {
+                b.push(
+                    turn_t,
+                    Motion::Turn {
+                        speed: c.turn_speed,
+                        delta: FRAC_PI_2,
+                    },
+                    corner,
+                );
+            }
+        }
+        let t = b.t;
+        if t > c.duration_s {
+            return Err(config_err(
+                "duration_s",
+                format!(
+                    "the path takes {t:.1} s but the test lasts {} s: expected a longer duration, shorter legs or a higher cruise_speed",
+                    c.duration_s
+                ),
+            ));
+        }
+        if c.duration_s > t {
+            b.push(c.duration_s - t, Motion::Standstill, "O");
+        }
+        let mut traj = Trajectory {
+            config: c.clone(),
+            segments: b.segs,
+            grid: Vec::new(),
+        };
+        traj.integrate_positions();
+        Ok(traj)
+    }
+
+    /// Integrates `L' = v_N / RM`, `lambda' = v_E / (RN cos L)` along the path with RK4.
+    fn integrate_positions(&mut self) {
+        let n = (self.config.duration_s / GRID).ceil() as usize;
+        let mut pos = [
+            self.config.start_lat_deg.to_radians(),
+            self.config.start_lon_deg.to_radians(),
+        ];
+        let mut grid = Vec::with_capacity(n + 1);
+        grid.push(pos);
+        let h = GRID / SUBSTEPS as f64;
+        let rate = |t: f64, p: [f64; 2]| {
+            let v = self.velocity(t);
+            position_rate(v, p[0])
+        };
+        for k in 0..n {
+            for j in 0..SUBSTEPS {
+                let t = k as f64 * GRID + j as f64 * h;
+                let k1 = rate(t, pos);
+                let k2 = rate(
+                    t + 0.5 * h,
+                    [pos[0] + 0.5 * h * k1[0], pos[1] + 0.5 * h * k1[1]],
+                );
+                let k3 = rate(
+                    t + 0.5 * h,
+                    [pos[0] + 0.5 * h * k2[0], pos[1] + 0.5 * h * k2[1]],
+                );
+                let k4 = rate(t + h, [pos[0] + h * k3[0], pos[1] + h * k3[1]]);
+                for i in 0..2 {
+                    pos[i] += h / 6.0 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+                }
+            }
+            grid.push(pos);
+        }
+        self.grid = grid;
+    }
+
+    fn segment_at(&self, t: f64) -> &Segment {
+        let i = self
+            .segments
+            .partition_point(|s| s.start <= t)
+            .saturating_sub(1);
+        &self.segments[i]
+    }
+
+    fn velocity(&self, t: f64) -> [f64; 2] {
+        let seg = self.segment_at(t);
+        let (s, _, psi, _) = seg.kinematics(t - seg.start);
+        [s * psi.sin(), s * psi.cos()]
+    }
+
+    /// The configuration it was built from.
+    pub fn config(&self) -> &TrajectoryConfig {
+        &self.config
+    }
+    /// The segments, in time order.
+    pub fn segments(&self) -> &[Segment] {
+        &self.segments
+    }
+    /// Total duration, s.
+    pub fn duration(&self) -> f64 {
+        self.config.duration_s
+    }
+    /// Nominal position at the end of the test, `[L, lambda]` in rad.
+    pub fn end_position(&self) -> [f64; 2] {
+        self.state(self.duration()).pos
+    }
+
+    /// Nominal motion at time `t` (clamped to the test's span).
+    pub fn state(&self, t: f64) -> PathState {
+        let t = t.clamp(0.0, self.duration());
+        let seg = self.segment_at(t);
+        let (s, ds, psi, dpsi) = seg.kinematics(t - seg.start);
+        let (sp, cp) = psi.sin_cos();
+        let v = [s * sp, s * cp];
+        let a = [ds * sp + s * dpsi * cp, ds * cp - s * dpsi * sp];
+        // Cubic Hermite between grid points, with the exact position rates at both ends.
+        let k = ((t / GRID).floor() as usize).min(self.grid.len() - 2);
+        let (t0, t1) = (k as f64 * GRID, (k + 1) as f64 * GRID);
+        let (p0, p1) = (self.grid[k], self.grid[k + 1]);
+        let (m0, m1) = (
+            position_rate(self.velocity(t0), p0[0]),
+            position_rate(self.velocity(t1), p1[0]),
+        );
+        let u = (t - t0) / GRID;
+        let (h00, h10, h01, h11) = (
+            (1.0 + 2.0 * u) * (1.0 - u) * (1.0 - u),
+            u * (1.0 - u) * (1.0 - u),
+            u * u * (3.0 - 2.0 * u),
+            u * u * (u - 1.0),
+        );
+        let _ = t1;
+        let pos = [
+            h00 * p0[0] + h10 * GRID * m0[0] + h01 * p1[0] + h11 * GRID * m1[0],
+            h00 * p0[1] + h10 * GRID * m0[1] + h01 * p1[1] + h11 * GRID * m1[1],
+        ];
+        PathState {
+            v,
+            a,
+            pos,
+            turn_rate: dpsi,
+            phase: seg.phase(),
+        }
+    }
+
+    /// The specific force `[fx, fy, fz]` at time `t` that makes the error-free model follow
+    /// the path (module documentation).
+    pub fn specific_force(&self, t: f64) -> Input {
+        let st = self.state(t);
+        specific_force_for(&st)
+    }
+}
+
+/// The specific force of a path state (module documentation).
+pub fn specific_force_for(st: &PathState) -> Input {
+    let (s, c) = st.pos[0].sin_cos();
+    let tan_over_rn = s / c / prime_vertical_radius(s);
+    let cor = 2.0 * WIE * s + st.v[0] * tan_over_rn;
+    [
+        st.a[0] - cor * st.v[1],
+        st.a[1] + cor * st.v[0],
+        normal_gravity(s),
+    ]
+}
+
+/// Segments laid end to end.
+#[derive(Default)]
+struct SegmentList {
+    segs: Vec<Segment>,
+    t: f64,
+    heading: f64,
+}
+
+impl SegmentList {
+    fn push(&mut self, duration: f64, motion: Motion, label: &'static str) {
+        let s = Segment {
+            start: self.t,
+            duration,
+            heading: self.heading,
+            motion,
+            label,
+        };
+        self.t += duration;
+        self.heading = s.end_heading();
+        self.segs.push(s);
+    }
+}
+
+fn position_rate(v: [f64; 2], lat: f64) -> [f64; 2] {
+    let (s, c) = lat.sin_cos();
+    [
+        v[1] / meridian_radius(s),
+        v[0] / (prime_vertical_radius(s) * c),
+    ]
+}

@@ -97,7 +97,7 @@ impl TrajectoryConfig {
                 ),
             ));
         }
-        if !(self.start_lat_deg.abs() < 80.0) {
+        if !self.start_lat_deg.is_finite() || self.start_lat_deg.abs() >= 80.0 {
             return Err(config_err(
                 "start_lat_deg",
                 format!(

@@ -1,1 +1,25 @@
+//! Filters for the platform model, generic over [`navkf_dynamics::SystemModel`]: the EKF, the
+//! paper's standard (augmented) UKF and its simplified UKF.
+//!
+//! Every filter implements [`Filter`]: `predict` across an input window, `update` with an
+//! [`Observation`], each returning a typed [`FilterError`] (with the step) rather than
+//! panicking or producing NaN. Steps allocate nothing; buffers are sized at construction.
 
+pub mod ekf;
+pub mod error;
+pub mod filter;
+pub mod linalg;
+pub mod runner;
+pub mod sigma_points;
+pub mod simplified_ukf;
+pub mod standard_ukf;
+pub mod ukf;
+pub mod update;
+
+pub use ekf::Ekf;
+pub use error::FilterError;
+pub use filter::{nees, Filter};
+pub use runner::{RunError, Runner, StepView};
+pub use sigma_points::{SigmaPoints, SigmaScaling};
+pub use ukf::{NoiseHandling, Ukf};
+pub use update::{Observation, UpdateReport};

@@ -1,0 +1,131 @@
+//! The trait every filter implements, so the study and the diagnosis drive them alike.
+
+use crate::error::FilterError;
+use crate::update::{Observation, UpdateReport};
+use navkf_dynamics::InputWindow;
+
+/// A recursive estimator: predict across an input window, then update with a measurement.
+///
+/// Steps allocate nothing: every buffer is sized when the filter is built. The covariance is
+/// column-major `dim x dim` (symmetric, so row-major reads the same).
+pub trait Filter: Send {
+    /// Short name used in tables and files (`ekf`, `standard_ukf`, `simplified_ukf`).
+    fn name(&self) -> &str;
+    /// State dimension.
+    fn dim(&self) -> usize;
+    /// Current estimate.
+    fn state(&self) -> &[f64];
+    /// Current covariance, column-major.
+    fn covariance(&self) -> &[f64];
+    /// Number of predictions made since the last reset.
+    fn step_index(&self) -> usize;
+    /// Restarts from `x0` with covariance `p0` (column-major `dim x dim`).
+    fn reset(&mut self, x0: &[f64], p0: &[f64]) -> Result<(), FilterError>;
+    /// Propagates the estimate across `window`.
+    fn predict(&mut self, window: &InputWindow) -> Result<(), FilterError>;
+    /// Corrects the estimate with `obs`; the report stays valid until the next update.
+    fn update(&mut self, obs: &Observation) -> Result<&UpdateReport, FilterError>;
+    /// The report of the last update.
+    fn last_report(&self) -> &UpdateReport;
+}
+
+/// Estimate and covariance with the checks every filter applies.
+#[derive(Debug, Clone)]
+pub(crate) struct Estimate {
+    pub n: usize,
+    pub x: Vec<f64>,
+    pub p: Vec<f64>,
+    pub step: usize,
+}
+
+impl Estimate {
+    pub fn new(n: usize) -> Self {
+        Estimate {
+            n,
+            x: vec![0.0; n],
+            p: vec![0.0; n * n],
+            step: 0,
+        }
+    }
+
+    pub fn reset(&mut self, x0: &[f64], p0: &[f64]) -> Result<(), FilterError> {
+        let n = self.n;
+        if x0.len() != n || p0.len() != n * n {
+            return Err(FilterError::Invalid(format!(
+                "initial state has {} values and covariance {}: expected {n} and {}",
+                x0.len(),
+                p0.len(),
+                n * n
+            )));
+        }
+        if !crate::linalg::all_finite(x0) || !crate::linalg::all_finite(p0) {
+            return Err(FilterError::NonFinite {
+                step: 0,
+                what: "initial state or covariance",
+            });
+        }
+        self.x.copy_from_slice(x0);
+        self.p.copy_from_slice(p0);
+        crate::linalg::symmetrize(&mut self.p, n);
+        self.step = 0;
+        Ok(())
+    }
+
+    /// Symmetrises P and checks that nothing went non-finite.
+    pub fn finish(&mut self, what: &'static str) -> Result<(), FilterError> {
+        crate::linalg::symmetrize(&mut self.p, self.n);
+        if !crate::linalg::all_finite(&self.x) {
+            return Err(FilterError::NonFinite {
+                step: self.step,
+                what,
+            });
+        }
+        if !crate::linalg::all_finite(&self.p) {
+            return Err(FilterError::NonFinite {
+                step: self.step,
+                what: "covariance",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Adds the discrete process noise `Q_k = G Qc G^T T` of `channels` over `dt` to `p`.
+pub(crate) fn add_process_noise(
+    p: &mut [f64],
+    n: usize,
+    channels: &[navkf_dynamics::NoiseChannel],
+    dt: f64,
+) {
+    for c in channels {
+        p[c.state + c.state * n] += c.psd * dt;
+    }
+}
+
+/// Normalised estimation error squared `e^T P^-1 e` with `e = x_true - x_hat`, using
+/// `scratch` (at least `n * n + n` long).
+pub fn nees(
+    x_true: &[f64],
+    x_hat: &[f64],
+    p: &[f64],
+    scratch: &mut [f64],
+) -> Result<f64, FilterError> {
+    let n = x_hat.len();
+    let (l, e) = scratch.split_at_mut(n * n);
+    l.copy_from_slice(&p[..n * n]);
+    crate::linalg::cholesky_in_place(l, n).map_err(|(pivot, value)| {
+        FilterError::NotPositiveDefinite {
+            step: 0,
+            matrix: "P (NEES)",
+            pivot,
+            dim: n,
+            value,
+        }
+    })?;
+    let e = &mut e[..n];
+    for i in 0..n {
+        e[i] = x_true[i] - x_hat[i];
+    }
+    crate::linalg::forward_substitute(l, n, e);
+    Ok(e.iter().map(|v| v * v).sum())
+}

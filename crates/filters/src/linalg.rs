@@ -1,0 +1,100 @@
+//! Small dense kernels on column-major slices, written for the sizes of this problem
+//! (n = 20 to 40, measurement size up to 4) and for not allocating.
+//!
+//! The library routines either allocate (nalgebra's `cholesky` consumes a copy; its `gemm`
+//! hands large products to a packing kernel) or carry dispatch overhead that dominates at
+//! these sizes; the README records the comparison.
+
+/// In-place Cholesky `A = L L^T` of a symmetric positive-definite `n x n` matrix stored
+/// column-major. On success the lower triangle holds `L` and the strict upper triangle is
+/// zeroed. On failure returns the failing pivot's index and value; `a` is then garbage.
+pub fn cholesky_in_place(a: &mut [f64], n: usize) -> Result<(), (usize, f64)> {
+    debug_assert!(a.len() >= n * n);
+    for j in 0..n {
+        // a[j.., j] -= sum_{k<j} L[j..,k] L[j,k]
+        for k in 0..j {
+            let ljk = a[j + k * n];
+            if ljk != 0.0 {
+                let (left, right) = a.split_at_mut(j * n);
+                let colk = &left[k * n + j..k * n + n];
+                let colj = &mut right[j..n];
+                for (cj, ck) in colj.iter_mut().zip(colk) {
+                    *cj -= ck * ljk;
+                }
+            }
+        }
+        let d = a[j + j * n];
+        if !(d > 0.0) || !d.is_finite() {
+            return Err((j, d));
+        }
+        let s = d.sqrt();
+        let inv = 1.0 / s;
+        a[j + j * n] = s;
+        for i in j + 1..n {
+            a[i + j * n] *= inv;
+        }
+        for i in 0..j {
+            a[i + j * n] = 0.0;
+        }
+    }
+    Ok(())
+}
+
+/// Solves `L y = b` in place (`L` lower triangular, column-major `n x n`).
+pub fn forward_substitute(l: &[f64], n: usize, b: &mut [f64]) {
+    for j in 0..n {
+        let y = b[j] / l[j + j * n];
+        b[j] = y;
+        for i in j + 1..n {
+            b[i] -= l[i + j * n] * y;
+        }
+    }
+}
+
+/// Solves `L^T y = b` in place.
+pub fn backward_substitute(l: &[f64], n: usize, b: &mut [f64]) {
+    for j in (0..n).rev() {
+        let mut s = b[j];
+        for i in j + 1..n {
+            s -= l[i + j * n] * b[i];
+        }
+        b[j] = s / l[j + j * n];
+    }
+}
+
+/// Makes a column-major square matrix exactly symmetric: `A = (A + A^T) / 2`.
+pub fn symmetrize(a: &mut [f64], n: usize) {
+    for j in 0..n {
+        for i in j + 1..n {
+            let m = 0.5 * (a[i + j * n] + a[j + i * n]);
+            a[i + j * n] = m;
+            a[j + i * n] = m;
+        }
+    }
+}
+
+/// Whether every value is finite.
+pub fn all_finite(a: &[f64]) -> bool {
+    a.iter().all(|v| v.is_finite())
+}
+
+/// `C += alpha * sum_k w_k d_k d_k^T` over the columns `d_k` of the column-major `n x m`
+/// matrix `d` (a weighted rank-m update of the symmetric `n x n` matrix `C`, lower triangle
+/// computed, then mirrored).
+pub fn weighted_outer_sum(c: &mut [f64], n: usize, d: &[f64], w: &[f64]) {
+    for (k, &wk) in w.iter().enumerate() {
+        let col = &d[k * n..(k + 1) * n];
+        for j in 0..n {
+            let f = wk * col[j];
+            let cj = &mut c[j * n + j..j * n + n];
+            for (ci, di) in cj.iter_mut().zip(&col[j..n]) {
+                *ci += f * di;
+            }
+        }
+    }
+    for j in 0..n {
+        for i in j + 1..n {
+            c[j + i * n] = c[i + j * n];
+        }
+    }
+}

@@ -1,0 +1,191 @@
+//! Drives a filter over recorded inputs and measurements: one prediction across the input
+//! samples between consecutive measurements (inputs linearly interpolated at the ends), one
+//! update per measurement, with `R` from the spec's noise model.
+//!
+//! The runner owns its buffers and reuses them, so a run allocates nothing per step. What
+//! happens at each step goes to an observer closure (tallies, CSV rows, plots are the
+//! caller's business, not the loop's).
+
+use crate::error::FilterError;
+use crate::filter::Filter;
+use crate::update::{Observation, UpdateReport};
+use navkf_dynamics::dataset::{InputSample, Measurement};
+use navkf_dynamics::state::MEAS_DIM;
+use navkf_dynamics::{Input, InputWindow, NoiseConfig};
+use std::time::Instant;
+
+/// A filter failure during a run, with where it happened.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("measurement {index} (t = {t} s): {error}")]
+pub struct RunError {
+    /// Index of the measurement being processed.
+    pub index: usize,
+    /// Its time, s.
+    pub t: f64,
+    /// The filter's error.
+    pub error: FilterError,
+}
+
+/// What the observer sees after each update.
+pub struct StepView<'a, F: ?Sized> {
+    /// Index of the measurement.
+    pub index: usize,
+    /// Its time, s.
+    pub t: f64,
+    /// The filter after the update.
+    pub filter: &'a F,
+    /// The update's report.
+    pub report: &'a UpdateReport,
+    /// Wall time of this predict + update, nanoseconds.
+    pub step_ns: u64,
+}
+
+/// Reusable driver; see the module documentation.
+#[derive(Debug, Default)]
+pub struct Runner {
+    window: InputWindow,
+}
+
+/// Times closer than this are the same instant (input and measurement clocks printed with
+/// finite digits).
+const SAME_TIME: f64 = 1e-9;
+
+fn lerp(a: &InputSample, b: &InputSample, t: f64) -> Input {
+    let u = if b.t > a.t {
+        (t - a.t) / (b.t - a.t)
+    } else {
+        0.0
+    };
+    [
+        a.f[0] + u * (b.f[0] - a.f[0]),
+        a.f[1] + u * (b.f[1] - a.f[1]),
+        a.f[2] + u * (b.f[2] - a.f[2]),
+    ]
+}
+
+/// Builds the observation of `m`: `[v_e, v_n, L, lambda]` (rad), sigmas from `noise`, and
+/// which sensors are present. `fallback_lat` is used for the GPS sigma when GPS is absent.
+pub fn observation_of(
+    m: &Measurement,
+    noise: &NoiseConfig,
+    fallback_lat: f64,
+) -> ([f64; MEAS_DIM], [f64; MEAS_DIM], [bool; MEAS_DIM]) {
+    let mut z = [0.0; MEAS_DIM];
+    let mut avail = [false; MEAS_DIM];
+    let mut speed = 0.0;
+    let mut lat = fallback_lat;
+    if let Some(v) = m.velocity {
+        z[0] = v[0];
+        z[1] = v[1];
+        avail[0] = true;
+        avail[1] = true;
+        speed = v[0].hypot(v[1]);
+    }
+    if let Some(p) = m.gps_rad() {
+        z[2] = p[0];
+        z[3] = p[1];
+        avail[2] = true;
+        avail[3] = true;
+        lat = p[0];
+    }
+    (z, noise.measurement_sigmas(speed, lat), avail)
+}
+
+impl Runner {
+    /// A runner with room for `knots` input knots per window (grows if needed, once).
+    pub fn new(knots: usize) -> Self {
+        Runner {
+            window: InputWindow::with_capacity(knots),
+        }
+    }
+
+    /// Runs `filter` from `start` (the time of its initial state) over `measurements`,
+    /// calling `observe` after each update. Measurements at or before `start` are skipped.
+    /// Stops at the first filter error.
+    pub fn run<F, O>(
+        &mut self,
+        filter: &mut F,
+        start: f64,
+        inputs: &[InputSample],
+        measurements: &[Measurement],
+        noise: &NoiseConfig,
+        mut observe: O,
+    ) -> Result<(), RunError>
+    where
+        F: Filter + ?Sized,
+        O: FnMut(StepView<'_, F>),
+    {
+        let mut t_now = start;
+        // cursor: first input sample with t > t_now.
+        let mut cursor = inputs.partition_point(|s| s.t <= t_now + SAME_TIME);
+        for (index, m) in measurements.iter().enumerate() {
+            if m.t <= t_now + SAME_TIME {
+                continue;
+            }
+            let t0 = Instant::now();
+            self.window.clear();
+            let at = |t: f64, cursor: usize| -> Input {
+                // Interpolate between the samples around t (cursor points past t).
+                match (
+                    cursor.checked_sub(1).and_then(|i| inputs.get(i)),
+                    inputs.get(cursor),
+                ) {
+                    (Some(a), Some(b)) => lerp(a, b, t),
+                    (Some(a), None) => a.f,
+                    (None, Some(b)) => b.f,
+                    (None, None) => [0.0; 3],
+                }
+            };
+            self.window.push_linear(t_now, at(t_now, cursor));
+            while cursor < inputs.len() && inputs[cursor].t < m.t - SAME_TIME {
+                self.window.push_linear(inputs[cursor].t, inputs[cursor].f);
+                cursor += 1;
+            }
+            let f_end = if cursor < inputs.len() && (inputs[cursor].t - m.t).abs() <= SAME_TIME {
+                inputs[cursor].f
+            } else {
+                at(m.t, cursor)
+            };
+            self.window.push_linear(m.t, f_end);
+            let wrap = |error| RunError {
+                index,
+                t: m.t,
+                error,
+            };
+            filter.predict(&self.window).map_err(wrap)?;
+            let lat = filter
+                .state()
+                .get(navkf_dynamics::state::LAT)
+                .copied()
+                .unwrap_or(0.0);
+            let (z, sigma, available) = observation_of(m, noise, lat);
+            let obs = Observation {
+                z: &z,
+                sigma: &sigma,
+                available: &available,
+            };
+            let step_ns = {
+                // Borrow dance: the report borrows the filter; time before handing it out.
+                filter.update(&obs).map_err(wrap)?;
+                t0.elapsed().as_nanos() as u64
+            };
+            t_now = m.t;
+            while cursor < inputs.len() && inputs[cursor].t <= t_now + SAME_TIME {
+                cursor += 1;
+            }
+            let report = filter_report(filter);
+            observe(StepView {
+                index,
+                t: m.t,
+                filter: &*filter,
+                report,
+                step_ns,
+            });
+        }
+        Ok(())
+    }
+}
+
+fn filter_report<F: Filter + ?Sized>(filter: &F) -> &UpdateReport {
+    filter.last_report()
+}

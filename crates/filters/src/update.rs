@@ -1,0 +1,214 @@
+//! What every filter's measurement update shares: the measurement a caller passes in, the
+//! report it gets back, and the gain computation from the predicted measurement moments.
+//!
+//! Given the predicted measurement `z_hat`, its covariance `Pzz` (without `R`) and the
+//! state-measurement cross-covariance `Pxz`, over the channels that are present:
+//! `S = Pzz + R`, `nu = z - z_hat`, `NIS = nu^T S^-1 nu`,
+//! `log p(z) = -(NIS + log det S + k log 2 pi) / 2`, `K = Pxz S^-1`, `x += K nu`.
+
+use crate::error::FilterError;
+use crate::linalg::{backward_substitute, cholesky_in_place, forward_substitute};
+
+/// One measurement: values, one-sigma of each channel (diagonal `R`), and which channels are
+/// present (an empty cell in `measurements.csv` is an absent channel). All three are
+/// `meas_dim` long.
+#[derive(Debug, Clone, Copy)]
+pub struct Observation<'a> {
+    /// Measured values.
+    pub z: &'a [f64],
+    /// One-sigma of each channel.
+    pub sigma: &'a [f64],
+    /// Which channels are present.
+    pub available: &'a [bool],
+}
+
+/// What an update reports: enough for NIS tallies, the likelihood ranking of the diagnosis
+/// and innovation plots. Reused between steps (no allocation after construction).
+#[derive(Debug, Clone, PartialEq)]
+pub struct UpdateReport {
+    /// Filter step (number of predictions so far).
+    pub step: usize,
+    /// Indices of the measurement channels used, in order.
+    pub channels: Vec<usize>,
+    /// Innovation `z - z_hat` on those channels.
+    pub innovation: Vec<f64>,
+    /// Innovation covariance `S`, column-major `k x k`.
+    pub innovation_cov: Vec<f64>,
+    /// Normalised innovation squared.
+    pub nis: f64,
+    /// Log-likelihood of the measurement under the prediction.
+    pub log_likelihood: f64,
+}
+
+impl UpdateReport {
+    pub(crate) fn with_capacity(nz: usize) -> Self {
+        UpdateReport {
+            step: 0,
+            channels: Vec::with_capacity(nz),
+            innovation: Vec::with_capacity(nz),
+            innovation_cov: Vec::with_capacity(nz * nz),
+            nis: 0.0,
+            log_likelihood: 0.0,
+        }
+    }
+    /// Number of channels used.
+    pub fn dim(&self) -> usize {
+        self.channels.len()
+    }
+}
+
+/// Scratch and results of the gain computation, sized once for state `n`, measurement `nz`.
+#[derive(Debug, Clone)]
+pub(crate) struct GainWorkspace {
+    pub n: usize,
+    pub nz: usize,
+    /// Cholesky factor of S (k x k).
+    pub s_chol: Vec<f64>,
+    /// `U = Pxz L^-T` (n x k, column-major): `K = U L^-1`, `K S K^T = U U^T`.
+    pub u: Vec<f64>,
+    /// The gain K (n x k, column-major).
+    pub gain: Vec<f64>,
+    pub tmp: Vec<f64>,
+    pub report: UpdateReport,
+}
+
+impl GainWorkspace {
+    pub fn new(n: usize, nz: usize) -> Self {
+        GainWorkspace {
+            n,
+            nz,
+            s_chol: vec![0.0; nz * nz],
+            u: vec![0.0; n * nz],
+            gain: vec![0.0; n * nz],
+            tmp: vec![0.0; n.max(nz)],
+            report: UpdateReport::with_capacity(nz),
+        }
+    }
+
+    /// Checks an observation's sizes and values; selects the present channels.
+    pub fn select(&mut self, obs: &Observation, step: usize) -> Result<usize, FilterError> {
+        if obs.z.len() != self.nz || obs.sigma.len() != self.nz || obs.available.len() != self.nz {
+            return Err(FilterError::Invalid(format!(
+                "observation has {} values, {} sigmas and {} flags: expected {} of each",
+                obs.z.len(),
+                obs.sigma.len(),
+                obs.available.len(),
+                self.nz
+            )));
+        }
+        let r = &mut self.report;
+        r.step = step;
+        r.channels.clear();
+        for i in 0..self.nz {
+            if obs.available[i] {
+                if !(obs.z[i].is_finite() && obs.sigma[i].is_finite() && obs.sigma[i] > 0.0) {
+                    return Err(FilterError::Invalid(format!(
+                        "step {step}: measurement channel {i} is {} with sigma {}: expected finite values and sigma > 0",
+                        obs.z[i], obs.sigma[i]
+                    )));
+                }
+                r.channels.push(i);
+            }
+        }
+        Ok(r.channels.len())
+    }
+
+    /// From `z_hat` (full length), `pzz` (k x k over the selected channels, without R) and
+    /// `pxz` (n x k): fills the report, the gain and `U`, and applies `x += K nu`.
+    pub fn compute(
+        &mut self,
+        obs: &Observation,
+        z_hat: &[f64],
+        pzz: &[f64],
+        pxz: &[f64],
+        x: &mut [f64],
+    ) -> Result<(), FilterError> {
+        let n = self.n;
+        let k = self.report.channels.len();
+        let step = self.report.step;
+        let r = &mut self.report;
+        r.innovation.clear();
+        r.innovation_cov.clear();
+        for (a, &ca) in r.channels.iter().enumerate() {
+            r.innovation.push(obs.z[ca] - z_hat[ca]);
+            for b in 0..k {
+                let mut v = pzz[b + a * k];
+                if a == b {
+                    v += obs.sigma[ca] * obs.sigma[ca];
+                }
+                r.innovation_cov.push(v);
+            }
+        }
+        if !r.innovation.iter().all(|v| v.is_finite()) {
+            return Err(FilterError::NonFinite {
+                step,
+                what: "innovation",
+            });
+        }
+        let l = &mut self.s_chol[..k * k];
+        l.copy_from_slice(&r.innovation_cov);
+        cholesky_in_place(l, k).map_err(|(pivot, value)| FilterError::NotPositiveDefinite {
+            step,
+            matrix: "S",
+            pivot,
+            dim: k,
+            value,
+        })?;
+        // NIS and log det S through the factor.
+        let w = &mut self.tmp[..k];
+        w.copy_from_slice(&r.innovation);
+        forward_substitute(l, k, w);
+        r.nis = w.iter().map(|v| v * v).sum();
+        let log_det: f64 = (0..k).map(|i| 2.0 * l[i + i * k].ln()).sum();
+        r.log_likelihood = -0.5 * (r.nis + log_det + k as f64 * (2.0 * std::f64::consts::PI).ln());
+        // U = Pxz L^-T: row i of U solves L u_i = pxz_i (row i of Pxz).
+        let u = &mut self.u[..n * k];
+        for i in 0..n {
+            for a in 0..k {
+                w[a] = pxz[i + a * n];
+            }
+            forward_substitute(l, k, w);
+            for a in 0..k {
+                u[i + a * n] = w[a];
+            }
+        }
+        // K = U L^-1: row i of K solves L^T k_i = u_i.
+        let g = &mut self.gain[..n * k];
+        for i in 0..n {
+            for a in 0..k {
+                w[a] = u[i + a * n];
+            }
+            backward_substitute(l, k, w);
+            for a in 0..k {
+                g[i + a * n] = w[a];
+            }
+        }
+        for a in 0..k {
+            let nu = r.innovation[a];
+            for i in 0..n {
+                x[i] += g[i + a * n] * nu;
+            }
+        }
+        Ok(())
+    }
+
+    /// `P -= K S K^T = U U^T` (the UKF's covariance update).
+    pub fn subtract_gain_cov(&self, p: &mut [f64]) {
+        let n = self.n;
+        let k = self.report.channels.len();
+        for a in 0..k {
+            let col = &self.u[a * n..(a + 1) * n];
+            for j in 0..n {
+                let f = col[j];
+                for i in j..n {
+                    p[i + j * n] -= col[i] * f;
+                }
+            }
+        }
+        for j in 0..n {
+            for i in j + 1..n {
+                p[j + i * n] = p[i + j * n];
+            }
+        }
+    }
+}

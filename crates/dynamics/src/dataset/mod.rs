@@ -5,6 +5,7 @@
 //! back is bit-identical; [`Measurement::gps_rad`] converts for the filters.
 
 mod read;
+mod write;
 
 use crate::kinematics::Input;
 use crate::noise::NoiseConfig;

@@ -5,7 +5,13 @@
 //! back is bit-identical; [`Measurement::gps_rad`] converts for the filters.
 
 mod read;
+mod summary;
 mod write;
+
+pub use summary::{
+    DatasetSummary, Extent, Gap, Gaps, IntervalStats, Span, SpeedProfile, Stream, TruthSummary,
+    TurnProfile,
+};
 
 use crate::kinematics::Input;
 use crate::noise::NoiseConfig;

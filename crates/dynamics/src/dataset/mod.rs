@@ -10,7 +10,7 @@ mod write;
 
 pub use summary::{
     DatasetSummary, Extent, Gap, Gaps, IntervalStats, Span, SpeedProfile, Stream, TruthSummary,
-    TurnProfile,
+    TurnProfile, GAP_FACTOR, MIN_HEADING_SPEED, STILL_SPEED, TURN_RATE_DEG_S,
 };
 
 use crate::kinematics::Input;

@@ -4,9 +4,31 @@
 //! Positions are kept in degrees, exactly as in the file, so that a dataset written and read
 //! back is bit-identical; [`Measurement::gps_rad`] converts for the filters.
 
+mod read;
+mod summary;
+mod write;
+
+pub use summary::{
+    DatasetSummary, Extent, Gap, Gaps, IntervalStats, Span, SpeedProfile, Stream, TruthSummary,
+    TurnProfile, GAP_FACTOR, MIN_HEADING_SPEED, STILL_SPEED, TURN_RATE_DEG_S,
+};
+
 use crate::kinematics::Input;
 use crate::noise::NoiseConfig;
 use serde::{Deserialize, Serialize};
+
+/// The file of input samples (required).
+pub const INPUTS_FILE: &str = "inputs.csv";
+/// The file of measurements (required).
+pub const MEASUREMENTS_FILE: &str = "measurements.csv";
+/// The file of noise and provenance (optional).
+pub const CONFIG_FILE: &str = "dataset.toml";
+/// The file of true states (optional).
+pub const TRUTH_FILE: &str = "truth.csv";
+/// The header of `inputs.csv`, exactly.
+pub const INPUT_COLUMNS: [&str; 4] = ["t", "f_e", "f_n", "f_u"];
+/// The header of `measurements.csv`, exactly.
+pub const MEASUREMENT_COLUMNS: [&str; 5] = ["t", "v_e", "v_n", "lat_deg", "lon_deg"];
 
 /// One row of `inputs.csv`.
 #[derive(Debug, Clone, Copy, PartialEq)]

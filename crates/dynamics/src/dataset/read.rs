@@ -1,0 +1,706 @@
+//! Reading a dataset folder, with validation.
+//!
+//! The files come from users (recorded or simulated elsewhere), so a mistake in them must be
+//! fixable without guessing: every error names the file, the 1-based line (the header is
+//! line 1), the column and what was expected. Nothing here panics on user input. The checks
+//! are the ones of `shared/spec/data-format.md`: exact headers, one cell per column, finite
+//! numbers, strictly increasing times, measurements inside the inputs' span, plausible
+//! latitude/longitude in degrees, sensor pairs either complete or empty.
+
+use super::{
+    Dataset, InputSample, Measurement, Provenance, Truth, CONFIG_FILE, INPUTS_FILE, INPUT_COLUMNS,
+    MEASUREMENTS_FILE, MEASUREMENT_COLUMNS, TRUTH_FILE,
+};
+use crate::earth::{meridian_radius, prime_vertical_radius};
+use crate::error::DynamicsError;
+use crate::noise::NoiseConfig;
+use serde::Deserialize;
+use std::io::ErrorKind;
+use std::path::{Path, PathBuf};
+
+impl Dataset {
+    /// Reads and validates the dataset folder `dir` (data-format.md): `inputs.csv` and
+    /// `measurements.csv` (required), `dataset.toml` and `truth.csv` (optional). The name is
+    /// the folder's final path component.
+    pub fn read(dir: &Path) -> Result<Dataset, DynamicsError> {
+        if !dir.is_dir() {
+            return Err(DynamicsError::File {
+                path: dir.to_path_buf(),
+                message: format!(
+                    "not a folder; expected a dataset folder holding {INPUTS_FILE} and \
+                     {MEASUREMENTS_FILE}"
+                ),
+            });
+        }
+        let inputs = read_inputs(&dir.join(INPUTS_FILE))?;
+        let measurements = read_measurements(&dir.join(MEASUREMENTS_FILE), &inputs)?;
+        let config_path = dir.join(CONFIG_FILE);
+        let (noise, provenance) = if exists(&config_path)? {
+            read_config(&config_path)?
+        } else {
+            (NoiseConfig::default(), None)
+        };
+        let truth_path = dir.join(TRUTH_FILE);
+        let truth = if exists(&truth_path)? {
+            Some(read_truth(&truth_path)?)
+        } else {
+            None
+        };
+        Ok(Dataset {
+            name: folder_name(dir),
+            inputs,
+            measurements,
+            noise,
+            provenance,
+            truth,
+        })
+    }
+}
+
+/// The folder's final component; for paths like `.` the canonical path's.
+fn folder_name(dir: &Path) -> String {
+    let named = |p: &Path| p.file_name().map(|n| n.to_string_lossy().into_owned());
+    named(dir)
+        .or_else(|| dir.canonicalize().ok().and_then(|p| named(&p)))
+        .unwrap_or_else(|| "dataset".to_owned())
+}
+
+/// Whether an optional file is there (an I/O failure other than "not found" is an error).
+fn exists(path: &Path) -> Result<bool, DynamicsError> {
+    match std::fs::metadata(path) {
+        Ok(_) => Ok(true),
+        Err(e) if e.kind() == ErrorKind::NotFound => Ok(false),
+        Err(source) => Err(DynamicsError::Io {
+            path: path.to_path_buf(),
+            source,
+        }),
+    }
+}
+
+fn data_error(path: &Path, line: usize, column: &str, message: String) -> DynamicsError {
+    DynamicsError::Data {
+        path: path.to_path_buf(),
+        line,
+        column: column.to_owned(),
+        message,
+    }
+}
+
+/// One CSV line: its 1-based line number and its cells, trimmed of surrounding blanks.
+struct Row {
+    line: usize,
+    cells: Vec<String>,
+}
+
+/// A CSV file read whole: the header row, then the data rows.
+struct Table {
+    path: PathBuf,
+    header: Row,
+    rows: Vec<Row>,
+}
+
+impl Table {
+    /// The line just after the last row: where a missing row was expected.
+    fn next_line(&self) -> usize {
+        self.rows.last().unwrap_or(&self.header).line + 1
+    }
+}
+
+/// Reads a CSV file without interpreting it. `flexible` so that rows of the wrong length reach
+/// us and are reported with their column; bytes that are not UTF-8 become U+FFFD and so fail
+/// as "not a number" or as a wrong column name, with their line.
+fn read_table(path: &Path, expected_header: &str) -> Result<Table, DynamicsError> {
+    let file = std::fs::File::open(path).map_err(|source| {
+        if source.kind() == ErrorKind::NotFound {
+            DynamicsError::File {
+                path: path.to_path_buf(),
+                message: format!(
+                    "not found; a dataset folder needs it, header `{expected_header}`"
+                ),
+            }
+        } else {
+            DynamicsError::Io {
+                path: path.to_path_buf(),
+                source,
+            }
+        }
+    })?;
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(file);
+    let mut record = csv::ByteRecord::new();
+    let mut rows = Vec::new();
+    loop {
+        match reader.read_byte_record(&mut record) {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(e) => return Err(csv_error(path, e)),
+        }
+        let line = record.position().map_or(rows.len() + 1, |p| {
+            usize::try_from(p.line()).unwrap_or(usize::MAX)
+        });
+        let cells = record
+            .iter()
+            .map(|b| String::from_utf8_lossy(b).trim().to_owned())
+            .collect();
+        rows.push(Row { line, cells });
+    }
+    let mut rows = rows.into_iter();
+    let Some(header) = rows.next() else {
+        return Err(data_error(
+            path,
+            1,
+            "-",
+            format!("empty file; expected the header `{expected_header}`"),
+        ));
+    };
+    Ok(Table {
+        path: path.to_path_buf(),
+        header,
+        rows: rows.collect(),
+    })
+}
+
+fn csv_error(path: &Path, e: csv::Error) -> DynamicsError {
+    let line = e
+        .position()
+        .map_or(0, |p| usize::try_from(p.line()).unwrap_or(usize::MAX));
+    let message = e.to_string();
+    match e.into_kind() {
+        csv::ErrorKind::Io(source) => DynamicsError::Io {
+            path: path.to_path_buf(),
+            source,
+        },
+        _ => data_error(path, line, "-", format!("unreadable CSV: {message}")),
+    }
+}
+
+/// Checks that the header is exactly `expected`, naming the missing, unexpected or misplaced
+/// column.
+fn check_header(table: &Table, expected: &[&str]) -> Result<(), DynamicsError> {
+    let found: Vec<&str> = table.header.cells.iter().map(String::as_str).collect();
+    if found == expected {
+        return Ok(());
+    }
+    let want = expected.join(",");
+    let got = found.join(",");
+    let missing: Vec<&str> = expected
+        .iter()
+        .copied()
+        .filter(|c| !found.contains(c))
+        .collect();
+    let unexpected: Vec<&str> = found
+        .iter()
+        .copied()
+        .filter(|c| !expected.contains(c))
+        .collect();
+    let (column, what) = if let Some(&m) = missing.first() {
+        let instead = unexpected
+            .first()
+            .map(|u| format!(" (found unexpected column `{u}`: misnamed?)"))
+            .unwrap_or_default();
+        (m, format!("missing column `{m}`{instead}"))
+    } else if let Some(&u) = unexpected.first() {
+        (u, format!("unexpected column `{u}`"))
+    } else {
+        // Same names, but repeated or in another order: name the first misplaced one.
+        let i = expected
+            .iter()
+            .zip(&found)
+            .position(|(e, f)| e != f)
+            .unwrap_or(expected.len().min(found.len()));
+        let at = found.get(i).copied().unwrap_or("");
+        let want_here = expected.get(i).copied().unwrap_or("nothing");
+        (
+            want_here,
+            format!("column {} is `{at}`, expected `{want_here}` there", i + 1),
+        )
+    };
+    Err(data_error(
+        &table.path,
+        table.header.line,
+        column,
+        format!("{what}; expected the header `{want}`, found `{got}`"),
+    ))
+}
+
+/// The cells of one row, with the names of their columns.
+struct Cells<'a> {
+    path: &'a Path,
+    columns: &'a [&'a str],
+    row: &'a Row,
+}
+
+impl Cells<'_> {
+    fn error(&self, column: &str, message: String) -> DynamicsError {
+        data_error(self.path, self.row.line, column, message)
+    }
+
+    /// One cell per column.
+    fn check_count(&self) -> Result<(), DynamicsError> {
+        let (n, want) = (self.row.cells.len(), self.columns.len());
+        if n == want {
+            return Ok(());
+        }
+        let column = self.columns.get(n).copied().unwrap_or("-");
+        let what = if n < want {
+            "missing cells"
+        } else {
+            "too many cells"
+        };
+        Err(self.error(
+            column,
+            format!(
+                "{what}: {n} cells, expected {want} ({})",
+                self.columns.join(",")
+            ),
+        ))
+    }
+
+    /// Cell `i` as a finite number, or `None` when empty.
+    fn optional(&self, i: usize) -> Result<Option<f64>, DynamicsError> {
+        let column = self.columns.get(i).copied().unwrap_or("-");
+        let cell = self.row.cells.get(i).map_or("", String::as_str);
+        if cell.is_empty() {
+            return Ok(None);
+        }
+        match cell.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(Some(v)),
+            Ok(_) => Err(self.error(
+                column,
+                format!("`{cell}` is not finite; expected a finite number"),
+            )),
+            Err(_) => Err(self.error(
+                column,
+                format!("`{cell}` is not a number; expected a finite number"),
+            )),
+        }
+    }
+
+    /// Cell `i` as a finite number; an empty cell is an error.
+    fn required(&self, i: usize) -> Result<f64, DynamicsError> {
+        self.optional(i)?.ok_or_else(|| {
+            self.error(
+                self.columns.get(i).copied().unwrap_or("-"),
+                "empty cell; expected a finite number".to_owned(),
+            )
+        })
+    }
+}
+
+/// Checks `t` against the previous row's time `(t, line)` and remembers it.
+fn check_increasing(
+    path: &Path,
+    line: usize,
+    t: f64,
+    previous: &mut Option<(f64, usize)>,
+) -> Result<(), DynamicsError> {
+    if let Some((tp, lp)) = *previous {
+        if t <= tp {
+            return Err(data_error(
+                path,
+                line,
+                "t",
+                format!(
+                    "t = {t} is not after t = {tp} on line {lp}; expected times strictly \
+                     increasing"
+                ),
+            ));
+        }
+    }
+    *previous = Some((t, line));
+    Ok(())
+}
+
+fn read_inputs(path: &Path) -> Result<Vec<InputSample>, DynamicsError> {
+    let table = read_table(path, &INPUT_COLUMNS.join(","))?;
+    check_header(&table, &INPUT_COLUMNS)?;
+    let mut inputs = Vec::with_capacity(table.rows.len());
+    let mut previous = None;
+    for row in &table.rows {
+        let cells = Cells {
+            path,
+            columns: &INPUT_COLUMNS,
+            row,
+        };
+        cells.check_count()?;
+        let t = cells.required(0)?;
+        let f = [cells.required(1)?, cells.required(2)?, cells.required(3)?];
+        check_increasing(path, row.line, t, &mut previous)?;
+        inputs.push(InputSample { t, f });
+    }
+    if inputs.len() < 2 {
+        return Err(data_error(
+            path,
+            table.next_line(),
+            "-",
+            format!(
+                "{} data row(s); expected at least 2 input rows (the filter needs an interval)",
+                inputs.len()
+            ),
+        ));
+    }
+    Ok(inputs)
+}
+
+fn read_measurements(
+    path: &Path,
+    inputs: &[InputSample],
+) -> Result<Vec<Measurement>, DynamicsError> {
+    let table = read_table(path, &MEASUREMENT_COLUMNS.join(","))?;
+    check_header(&table, &MEASUREMENT_COLUMNS)?;
+    let mut measurements = Vec::with_capacity(table.rows.len());
+    let mut lines = Vec::with_capacity(table.rows.len());
+    let mut previous = None;
+    for row in &table.rows {
+        let cells = Cells {
+            path,
+            columns: &MEASUREMENT_COLUMNS,
+            row,
+        };
+        cells.check_count()?;
+        let t = cells.required(0)?;
+        let v = [cells.optional(1)?, cells.optional(2)?];
+        let p = [cells.optional(3)?, cells.optional(4)?];
+        let velocity = pair(&cells, v, [1, 2], "odometer")?;
+        let position_deg = pair(&cells, p, [3, 4], "GPS")?;
+        if velocity.is_none() && position_deg.is_none() {
+            return Err(cells.error(
+                "v_e,v_n,lat_deg,lon_deg",
+                "all four cells empty: the row says nothing; expected an odometer pair \
+                 (v_e,v_n), a GPS pair (lat_deg,lon_deg) or both"
+                    .to_owned(),
+            ));
+        }
+        if let Some([lat, lon]) = position_deg {
+            if lat.abs() > 90.0 {
+                return Err(cells.error(
+                    "lat_deg",
+                    format!("latitude {lat} is outside [-90, 90]; expected degrees"),
+                ));
+            }
+            if lon.abs() > 360.0 {
+                return Err(cells.error(
+                    "lon_deg",
+                    format!("longitude {lon} is outside [-360, 360]; expected degrees"),
+                ));
+            }
+        }
+        check_increasing(path, row.line, t, &mut previous)?;
+        measurements.push(Measurement {
+            t,
+            velocity,
+            position_deg,
+        });
+        lines.push(row.line);
+    }
+    if measurements.is_empty() {
+        return Err(data_error(
+            path,
+            table.next_line(),
+            "-",
+            "no measurement rows; expected at least one row after the header".to_owned(),
+        ));
+    }
+    // `inputs` has at least two samples, strictly increasing (read_inputs).
+    let (t0, t1) = match (inputs.first(), inputs.last()) {
+        (Some(a), Some(b)) => (a.t, b.t),
+        _ => (f64::NEG_INFINITY, f64::INFINITY),
+    };
+    for (m, &line) in measurements.iter().zip(&lines) {
+        if m.t < t0 || m.t > t1 {
+            return Err(data_error(
+                path,
+                line,
+                "t",
+                format!(
+                    "t = {} is outside the span of {INPUTS_FILE}; expected {t0} <= t <= {t1}",
+                    m.t
+                ),
+            ));
+        }
+    }
+    if let Some((line, why)) = looks_like_radians(&measurements, &lines) {
+        return Err(data_error(
+            path,
+            line,
+            "lat_deg",
+            format!(
+                "lat_deg and lon_deg look like radians (from this first GPS row on, every \
+                 |lat_deg| < 1.6 and |lon_deg| <= 2*pi, and {why}); expected degrees: \
+                 multiply radians by 180/pi"
+            ),
+        ));
+    }
+    Ok(measurements)
+}
+
+/// A sensor pair: both cells or neither; one without the other is an error naming the empty
+/// one.
+fn pair(
+    cells: &Cells<'_>,
+    values: [Option<f64>; 2],
+    idx: [usize; 2],
+    sensor: &str,
+) -> Result<Option<[f64; 2]>, DynamicsError> {
+    let name = |i: usize| cells.columns.get(i).copied().unwrap_or("-");
+    match values {
+        [Some(a), Some(b)] => Ok(Some([a, b])),
+        [None, None] => Ok(None),
+        [None, Some(_)] | [Some(_), None] => {
+            let (empty, full) = if values[0].is_none() {
+                (idx[0], idx[1])
+            } else {
+                (idx[1], idx[0])
+            };
+            Err(cells.error(
+                name(empty),
+                format!(
+                    "empty while `{}` has a value; expected both {sensor} cells or neither \
+                     (both empty = no {sensor} reading)",
+                    name(full)
+                ),
+            ))
+        }
+    }
+}
+
+/// Odometer travel (m) below which it cannot tell degrees from radians.
+const MIN_TRAVEL_M: f64 = 100.0;
+/// If the GPS track read as degrees is shorter than this fraction of the odometer's, the
+/// positions are radians (a radian track read as degrees is 180/pi = 57 times too short).
+const TRAVEL_RATIO: f64 = 0.1;
+/// Without odometer travel: distance from (0, 0) beyond which a small-valued track is radians.
+const ORIGIN_RADIUS: f64 = 0.1;
+
+/// Whether the GPS columns hold radians; if so, the line of the first fix and the evidence.
+///
+/// The heuristic, in order:
+/// 1. Radians are bounded: if any fix has `|lat| >= 1.6` (a little over pi/2) or
+///    `|lon| > 2*pi`, the values are degrees. Otherwise every fix lies, read as degrees,
+///    within 180 km of the equator and 700 km of Greenwich: the open Gulf of Guinea. Real
+///    degree tracks land there only when synthetic (a simulation placed at (0, 0)), so we
+///    need more evidence than the box.
+/// 2. With the odometer: between consecutive GPS fixes, compare the GPS chord (read as
+///    degrees, in metres) with the odometer's displacement over the same interval (its
+///    velocity integrated by trapezoids). Summed over the track, once the odometer has
+///    covered at least [`MIN_TRAVEL_M`], degrees give a GPS length about equal to the
+///    odometer's or longer (GPS noise adds length), radians read as degrees give 1/57 of it.
+///    Below [`TRAVEL_RATIO`] of it, the column is radians. Chords between consecutive fixes
+///    (rather than whole-track lengths) make GPS outages and closed loops harmless.
+/// 3. Without odometer travel (standing still, or no odometer): radians if some fix is more
+///    than [`ORIGIN_RADIUS`] from (0, 0) -- as degrees that is more than 11 km out at sea,
+///    where no vehicle drives and a synthetic run placed at the origin does not start.
+///    A radian track in the few hundred km next to (0, 0) with no odometer travel is
+///    missed; such data are rare.
+fn looks_like_radians(measurements: &[Measurement], lines: &[usize]) -> Option<(usize, String)> {
+    let fixes: Vec<(f64, [f64; 2], usize)> = measurements
+        .iter()
+        .zip(lines)
+        .filter_map(|(m, &l)| m.position_deg.map(|p| (m.t, p, l)))
+        .collect();
+    let first_line = fixes.first()?.2;
+    if fixes
+        .iter()
+        .any(|(_, [lat, lon], _)| lat.abs() >= 1.6 || lon.abs() > std::f64::consts::TAU)
+    {
+        return None;
+    }
+    let odometer: Vec<(f64, [f64; 2])> = measurements
+        .iter()
+        .filter_map(|m| m.velocity.map(|v| (m.t, v)))
+        .collect();
+    let (mut gps_m, mut odo_m) = (0.0, 0.0);
+    for w in fixes.windows(2) {
+        let ((ta, a, _), (tb, b, _)) = (w[0], w[1]);
+        let Some(d) = odometer_displacement(&odometer, ta, tb) else {
+            continue;
+        };
+        odo_m += d;
+        gps_m += chord_m(a, b);
+    }
+    if odo_m >= MIN_TRAVEL_M {
+        return (gps_m < TRAVEL_RATIO * odo_m).then(|| {
+            (
+                first_line,
+                format!(
+                    "read as degrees the GPS track moves {gps_m:.1} m while the odometer \
+                     moves {odo_m:.1} m"
+                ),
+            )
+        });
+    }
+    fixes
+        .iter()
+        .find(|(_, [lat, lon], _)| lat.abs().max(lon.abs()) > ORIGIN_RADIUS)
+        .map(|(_, _, line)| {
+            (
+                first_line,
+                format!(
+                    "read as degrees, the fix on line {line} would lie at sea more than \
+                     {ORIGIN_RADIUS} deg off (0, 0), and no odometer travel tells otherwise"
+                ),
+            )
+        })
+}
+
+/// The length (m) of the odometer's displacement over `[ta, tb]`, from its samples inside
+/// the interval; `None` with fewer than two.
+fn odometer_displacement(odometer: &[(f64, [f64; 2])], ta: f64, tb: f64) -> Option<f64> {
+    let start = odometer.partition_point(|(t, _)| *t < ta);
+    let end = odometer.partition_point(|(t, _)| *t <= tb);
+    let inside = odometer.get(start..end)?;
+    if inside.len() < 2 {
+        return None;
+    }
+    let mut d = [0.0, 0.0];
+    for w in inside.windows(2) {
+        let ((t0, v0), (t1, v1)) = (w[0], w[1]);
+        let dt = t1 - t0;
+        d[0] += 0.5 * (v0[0] + v1[0]) * dt;
+        d[1] += 0.5 * (v0[1] + v1[1]) * dt;
+    }
+    Some(d[0].hypot(d[1]))
+}
+
+/// Distance (m) between two positions in degrees, on the local tangent plane.
+pub(super) fn chord_m(a: [f64; 2], b: [f64; 2]) -> f64 {
+    let lat = (0.5 * (a[0] + b[0])).to_radians();
+    let s = lat.sin();
+    let north = (b[0] - a[0]).to_radians() * meridian_radius(s);
+    let east = (b[1] - a[1]).to_radians() * prime_vertical_radius(s) * lat.cos();
+    north.hypot(east)
+}
+
+/// `dataset.toml`: the `[noise]` and `[simulation]` tables, nothing else.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ConfigFile {
+    #[serde(default)]
+    noise: NoiseConfig,
+    #[serde(default)]
+    simulation: Option<Provenance>,
+}
+
+fn read_config(path: &Path) -> Result<(NoiseConfig, Option<Provenance>), DynamicsError> {
+    let text = std::fs::read_to_string(path).map_err(|source| DynamicsError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let config: ConfigFile = toml::from_str(&text).map_err(|e| DynamicsError::File {
+        path: path.to_path_buf(),
+        message: e.to_string().trim_end().to_owned(),
+    })?;
+    if let Err(message) = config.noise.validate() {
+        // validate() names the key as `noise.<key>`; point at its line when we can find it.
+        let key = message
+            .strip_prefix("noise.")
+            .and_then(|m| m.split_whitespace().next())
+            .unwrap_or("");
+        return Err(match key_line(&text, "noise", key) {
+            Some(line) => data_error(path, line, &format!("noise.{key}"), message),
+            None => DynamicsError::File {
+                path: path.to_path_buf(),
+                message,
+            },
+        });
+    }
+    Ok((config.noise, config.simulation))
+}
+
+/// The 1-based line of `key = ...` inside `[table]`, for the simple layout this project
+/// writes; `None` for other layouts (inline or dotted tables).
+fn key_line(text: &str, table: &str, key: &str) -> Option<usize> {
+    if key.is_empty() {
+        return None;
+    }
+    let header = format!("[{table}]");
+    let mut inside = false;
+    for (i, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.starts_with('[') {
+            inside = line.split('#').next().is_some_and(|h| h.trim() == header);
+        } else if inside {
+            if let Some(rest) = line.strip_prefix(key) {
+                if rest.trim_start().starts_with('=') {
+                    return Some(i + 1);
+                }
+            }
+        }
+    }
+    None
+}
+
+fn read_truth(path: &Path) -> Result<Truth, DynamicsError> {
+    let table = read_table(path, "t,<state names>")?;
+    let header = &table.header;
+    let first = header.cells.first().map_or("", String::as_str);
+    if first != "t" {
+        return Err(data_error(
+            path,
+            header.line,
+            if first.is_empty() { "-" } else { first },
+            format!("first column is `{first}`; expected `t`, then one column per state"),
+        ));
+    }
+    let names: Vec<String> = header.cells.get(1..).unwrap_or_default().to_vec();
+    if names.is_empty() {
+        return Err(data_error(
+            path,
+            header.line,
+            "-",
+            "no state columns; expected `t` then at least one state name".to_owned(),
+        ));
+    }
+    for (i, name) in header.cells.iter().enumerate().skip(1) {
+        if name.is_empty() {
+            return Err(data_error(
+                path,
+                header.line,
+                &format!("#{}", i + 1),
+                format!("column {} has no name; expected a state name", i + 1),
+            ));
+        }
+        if let Some(j) = header.cells[..i].iter().position(|n| n == name) {
+            return Err(data_error(
+                path,
+                header.line,
+                name,
+                format!(
+                    "duplicate column `{name}` (columns {} and {}); expected unique state names",
+                    j + 1,
+                    i + 1
+                ),
+            ));
+        }
+    }
+    let columns: Vec<&str> = header.cells.iter().map(String::as_str).collect();
+    let mut t = Vec::with_capacity(table.rows.len());
+    let mut states = Vec::with_capacity(table.rows.len());
+    let mut previous = None;
+    for row in &table.rows {
+        let cells = Cells {
+            path,
+            columns: &columns,
+            row,
+        };
+        cells.check_count()?;
+        let time = cells.required(0)?;
+        let state = (1..columns.len())
+            .map(|i| cells.required(i))
+            .collect::<Result<Vec<f64>, _>>()?;
+        check_increasing(path, row.line, time, &mut previous)?;
+        t.push(time);
+        states.push(state);
+    }
+    if t.is_empty() {
+        return Err(data_error(
+            path,
+            table.next_line(),
+            "-",
+            "no rows; expected at least one row after the header".to_owned(),
+        ));
+    }
+    Ok(Truth { names, t, states })
+}

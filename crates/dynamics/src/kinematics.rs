@@ -25,6 +25,8 @@ pub struct Kinematics {
     pub cos_l: f64,
     /// tan L.
     pub tan_l: f64,
+    /// 1 / cos L.
+    pub inv_cos: f64,
     /// 1 / RM.
     pub inv_rm: f64,
     /// 1 / RN.
@@ -56,7 +58,8 @@ impl Kinematics {
         let rn = prime_vertical_radius(sin_l);
         let inv_rm = 1.0 / rm;
         let inv_rn = 1.0 / rn;
-        let tan_l = sin_l / cos_l;
+        let inv_cos = 1.0 / cos_l;
+        let tan_l = sin_l * inv_cos;
         // dRM/dL = 6 Re f sinL cosL, dRN/dL = 2 Re f sinL cosL.
         let sc = sin_l * cos_l;
         let d_inv_rm = -6.0 * RE * FLATTENING * sc * inv_rm * inv_rm;
@@ -73,6 +76,7 @@ impl Kinematics {
             sin_l,
             cos_l,
             tan_l,
+            inv_cos,
             inv_rm,
             inv_rn,
             d_inv_rm,

@@ -175,7 +175,7 @@ impl PlatformModel {
             coriolis * k.v_y + nab_x + fx + fy * pz - fz * py,
             -coriolis * k.v_x + nab_y + fy + fz * px - fx * pz,
             k.v_y * k.inv_rm,
-            k.v_x * k.inv_rn / k.cos_l,
+            k.v_x * k.inv_rn * k.inv_cos,
         ];
         for &i in &self.rate_effects {
             let off = self.offsets[i];
@@ -271,7 +271,7 @@ impl SystemModel for PlatformModel {
         p.add(LAT, V_Y, k.inv_rm);
         p.add(LAT, LAT, vy * k.d_inv_rm);
         // lambda' = v_x / (RN cosL); d/dL (1/(RN cosL)) = d_inv_rn / cosL + tanL / (RN cosL)
-        let sec = 1.0 / k.cos_l;
+        let sec = k.inv_cos;
         p.add(LON, V_X, k.inv_rn * sec);
         p.add(LON, LAT, vx * sec * (k.d_inv_rn + k.inv_rn * k.tan_l));
         for &i in &self.rate_effects {

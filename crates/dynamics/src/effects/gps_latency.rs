@@ -34,11 +34,11 @@ impl Effect for GpsLatency {
     }
     fn add_measurement(&self, k: &Kinematics, c: &[f64], z: &mut [f64; MEAS_DIM]) {
         z[2] -= c[0] * k.v_y * k.inv_rm;
-        z[3] -= c[0] * k.v_x * k.inv_rn / k.cos_l;
+        z[3] -= c[0] * k.v_x * k.inv_rn * k.inv_cos;
     }
     fn add_measurement_partials(&self, k: &Kinematics, c: &[f64], offset: usize, p: &mut Partials) {
         let tau = c[0];
-        let sec = 1.0 / k.cos_l;
+        let sec = k.inv_cos;
         p.add(2, offset, -k.v_y * k.inv_rm);
         p.add(2, V_Y, -tau * k.inv_rm);
         p.add(2, LAT, -tau * k.v_y * k.d_inv_rm);

@@ -63,7 +63,7 @@ impl<'a> Partials<'a> {
 /// first of them in the full state (for writing partials).
 ///
 /// ```
-/// use navkf_dynamics::{Effect, Kinematics, Partials, PlatformModel, NoiseConfig};
+/// use navkf_dynamics::{Effect, Kinematics, Partials, PlatformModel, NoiseConfig, SystemModel};
 /// use navkf_dynamics::state::{V_X, NAV_DIM};
 ///
 /// /// A drag-like East velocity damping `v_x' += -kd v_x` (not in the catalogue).

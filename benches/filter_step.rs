@@ -53,7 +53,10 @@ fn model_evaluation(c: &mut Criterion) {
     });
     let mut jac = vec![0.0; sc.model.dynamic_dim() * sc.model.dim()];
     group.bench_function("rate_jacobian", |b| {
-        b.iter(|| sc.model.rate_jacobian(black_box(&x), black_box(&u), &mut jac))
+        b.iter(|| {
+            sc.model
+                .rate_jacobian(black_box(&x), black_box(&u), &mut jac)
+        })
     });
     for count in [41usize, 51] {
         let n = sc.model.dim();
@@ -63,7 +66,8 @@ fn model_evaluation(c: &mut Criterion) {
         group.bench_function(BenchmarkId::new("propagate_points_1s_10sub", count), |b| {
             b.iter(|| {
                 pts.copy_from_slice(&base);
-                sc.model.propagate_points(&mut pts[..count * n], None, &window, &mut scratch);
+                sc.model
+                    .propagate_points(&mut pts[..count * n], None, &window, &mut scratch);
                 black_box(pts[3]);
             })
         });

@@ -72,7 +72,12 @@ impl Scenario {
     /// The window from `t` to `t + 1` s (10 input sub-steps) and the measurement at `t + 1`.
     pub fn window_at(&self, t: f64) -> (InputWindow, [f64; 4], [f64; 4], [bool; 4]) {
         let mut w = InputWindow::with_capacity(11);
-        for s in self.sim.inputs().iter().filter(|s| s.t >= t - 1e-9 && s.t <= t + 1.0 + 1e-9) {
+        for s in self
+            .sim
+            .inputs()
+            .iter()
+            .filter(|s| s.t >= t - 1e-9 && s.t <= t + 1.0 + 1e-9)
+        {
             w.push_linear(s.t, s.f);
         }
         let m = self

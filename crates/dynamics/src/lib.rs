@@ -6,6 +6,7 @@
 //! Effects ([`Effect`]) add coefficients and terms at run time: the state dimension is 20
 //! plus what they add.
 
+pub mod batch_propagation;
 pub mod dataset;
 pub mod earth;
 pub mod effect;

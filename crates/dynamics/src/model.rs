@@ -15,9 +15,11 @@
 //!
 //! One implementation serves the truth simulator and every filter.
 
+use crate::batch_propagation;
 use crate::earth::WIE;
 use crate::effect::{Effect, NoiseChannel, Partials};
 use crate::error::DynamicsError;
+use crate::integrate::{propagate_generic, InputWindow, PropagationScratch};
 use crate::kinematics::{Input, Kinematics};
 use crate::noise::NoiseConfig;
 use crate::state::*;
@@ -320,4 +322,37 @@ impl SystemModel for PlatformModel {
     fn state_names(&self) -> Vec<String> {
         self.names.clone()
     }
+
+    fn propagate_points(
+        &self,
+        points: &mut [f64],
+        noise: Option<&[f64]>,
+        window: &InputWindow,
+        scratch: &mut PropagationScratch,
+    ) {
+        let n = self.dim;
+        let batched = self.rate_effects.is_empty()
+            && self.noise.iter().all(|c| c.state < NAV_DIM)
+            && self.noise.len() <= MAX_BATCH_NOISE
+            && points.len() >= n
+            && batch_propagation::applicable(points, n, window, points[LAT]);
+        if batched {
+            let mut states = [0usize; MAX_BATCH_NOISE];
+            for (s, c) in states.iter_mut().zip(&self.noise) {
+                *s = c.state;
+            }
+            let channels = &states[..self.noise.len()];
+            batch_propagation::propagate(points, n, noise.map(|w| (w, channels)), window);
+        } else {
+            let nw = self.noise.len();
+            scratch.ensure(self.scratch_len(1));
+            for (i, x) in points.chunks_exact_mut(n).enumerate() {
+                let w = noise.map(|w| &w[i * nw..(i + 1) * nw]);
+                propagate_generic(self, x, w, window, scratch.as_mut_slice());
+            }
+        }
+    }
 }
+
+/// Most noise channels the batched path takes (the base model has five).
+const MAX_BATCH_NOISE: usize = 8;

@@ -10,6 +10,7 @@ pub mod batch_propagation;
 pub mod dataset;
 pub mod earth;
 pub mod effect;
+pub mod effect_spec;
 pub mod effects;
 pub mod error;
 pub mod integrate;

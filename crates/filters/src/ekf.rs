@@ -69,6 +69,13 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
         }
     }
 
+    /// Overwrites the estimate (keeping the covariance). Running the covariance recursion with
+    /// the state reset to the truth before every step gives the Riccati bound linearised
+    /// along the true path, which the study reports next to each filter's error.
+    pub fn set_state(&mut self, x: &[f64]) {
+        self.est.x.copy_from_slice(x);
+    }
+
     /// `out = F[:, :d] * rows + F` where `F` is `self.jac` (d x n) and `rows` is d x n:
     /// the stage product `F (I + c K)` with `c` folded into `rows` by the caller.
     fn stage_product(d: usize, n: usize, f: &[f64], rows: &[f64], c: f64, out: &mut [f64]) {

@@ -1,1 +1,15 @@
+//! Monte Carlo studies of the filters on the platform model: seeded runs in parallel,
+//! streaming tallies, summaries, plots and reports; and the diagnosis of model misfit.
 
+pub mod config;
+pub mod error;
+pub mod filters;
+pub mod monte_carlo;
+pub mod stats;
+pub mod summary;
+pub mod tally;
+
+pub use config::StudyConfig;
+pub use error::StudyError;
+pub use monte_carlo::Study;
+pub use tally::Tally;

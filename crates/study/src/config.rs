@@ -1,0 +1,265 @@
+//! A study file (`studies/*.toml`): every choice of a Monte Carlo comparison, in one place.
+//!
+//! The truth's effects and the filters' model effects are set separately, so a study can run
+//! filters whose model lacks an effect the truth carries. Unknown keys are errors.
+
+use crate::error::StudyError;
+use navkf_dynamics::simulate::InitialTilt;
+use navkf_dynamics::{NoiseConfig, TrajectoryConfig, TruthConfig};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The `[study]` table.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StudySection {
+    /// Name: results go to `results/<name>/`.
+    pub name: String,
+    /// Number of Monte Carlo runs.
+    pub runs: usize,
+    /// Seed of every random stream.
+    pub seed: u64,
+    /// Filters to compare: `ekf`, `standard_ukf`, `standard_ukf_25`, `simplified_ukf`.
+    pub filters: Vec<String>,
+    /// Spacing of the stored time series, s.
+    #[serde(default = "default_series_every")]
+    pub series_every_s: f64,
+    /// Run whose estimates are plotted against the truth.
+    #[serde(default)]
+    pub example_run: usize,
+}
+
+fn default_series_every() -> f64 {
+    10.0
+}
+
+/// The `[truth]` table: the truth simulator's settings plus the effects it carries.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TruthSection {
+    /// Effects the truth carries (`name`, `name=value`, `coefficient=value`).
+    pub effects: Vec<String>,
+    /// RK4 rate of the truth integration, Hz.
+    pub rate_hz: f64,
+    /// Rate at which the input is recorded, Hz (the filters' sub-step rate).
+    pub input_rate_hz: f64,
+    /// Odometer and GPS rate, Hz.
+    pub measurement_rate_hz: f64,
+    /// Initial platform tilt.
+    pub initial_tilt: InitialTilt,
+    /// Multiplies the typical sigma of every coefficient the truth draws (a stress study sets
+    /// 10).
+    pub coefficient_scale: f64,
+    /// Priors by coefficient name (override the typical sigmas).
+    pub coefficients: BTreeMap<String, navkf_dynamics::Prior>,
+}
+
+impl Default for TruthSection {
+    fn default() -> Self {
+        let d = TruthConfig::default();
+        TruthSection {
+            effects: Vec::new(),
+            rate_hz: d.rate_hz,
+            input_rate_hz: d.input_rate_hz,
+            measurement_rate_hz: d.measurement_rate_hz,
+            initial_tilt: d.initial_tilt,
+            coefficient_scale: 1.0,
+            coefficients: BTreeMap::new(),
+        }
+    }
+}
+
+impl TruthSection {
+    /// The simulator's configuration (without the effect list's fixed values).
+    pub fn sim_config(&self) -> TruthConfig {
+        TruthConfig {
+            rate_hz: self.rate_hz,
+            input_rate_hz: self.input_rate_hz,
+            measurement_rate_hz: self.measurement_rate_hz,
+            initial_tilt: self.initial_tilt,
+            coefficients: self.coefficients.clone(),
+        }
+    }
+}
+
+/// Initial uncertainty of the filters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct InitialSection {
+    /// One-sigma of the initial velocity, m/s (the vehicle starts at rest, known to the
+    /// odometer's floor).
+    pub velocity_sigma: f64,
+    /// One-sigma of the initial position, m (the first GPS fix).
+    pub position_sigma_m: f64,
+    /// One-sigma of coefficients by name; unnamed ones take the truth's prior sigma.
+    pub coefficient_sigma: BTreeMap<String, f64>,
+    /// Multiplies every initial sigma (a stress study sets 10).
+    pub sigma_scale: f64,
+}
+
+impl Default for InitialSection {
+    fn default() -> Self {
+        InitialSection {
+            velocity_sigma: 0.01,
+            position_sigma_m: 3.0,
+            coefficient_sigma: BTreeMap::new(),
+            sigma_scale: 1.0,
+        }
+    }
+}
+
+/// The `[filter]` table: what every compared filter is built with.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilterSection {
+    /// Effects in the filters' model.
+    #[serde(default)]
+    pub effects: Vec<String>,
+    /// Sigma-point alpha.
+    #[serde(default = "one")]
+    pub alpha: f64,
+    /// Sigma-point beta.
+    #[serde(default = "two")]
+    pub beta: f64,
+    /// Sigma-point kappa.
+    #[serde(default = "one")]
+    pub kappa: f64,
+    /// Initial uncertainty.
+    #[serde(default)]
+    pub initial: InitialSection,
+    /// Scales the process-noise densities the filters assume (1 = the truth's). A value
+    /// other than 1 mis-tunes the filters on purpose (used to test the CI guard).
+    #[serde(default = "one")]
+    pub process_noise_scale: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn two() -> f64 {
+    2.0
+}
+
+impl Default for FilterSection {
+    fn default() -> Self {
+        FilterSection {
+            effects: Vec::new(),
+            alpha: 1.0,
+            beta: 2.0,
+            kappa: 1.0,
+            initial: InitialSection::default(),
+            process_noise_scale: 1.0,
+        }
+    }
+}
+
+/// When a run counts as diverged (besides a typed filter error or a non-finite value).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DivergenceSection {
+    /// A final coefficient error beyond this many initial sigmas.
+    pub max_error_initial_sigmas: f64,
+}
+
+impl Default for DivergenceSection {
+    fn default() -> Self {
+        DivergenceSection {
+            max_error_initial_sigmas: 50.0,
+        }
+    }
+}
+
+/// A whole study file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StudyConfig {
+    /// `[study]`.
+    pub study: StudySection,
+    /// `[trajectory]`.
+    #[serde(default)]
+    pub trajectory: TrajectoryConfig,
+    /// `[truth]`.
+    #[serde(default)]
+    pub truth: TruthSection,
+    /// `[noise]`.
+    #[serde(default)]
+    pub noise: NoiseConfig,
+    /// `[filter]`.
+    #[serde(default)]
+    pub filter: FilterSection,
+    /// `[divergence]`.
+    #[serde(default)]
+    pub divergence: DivergenceSection,
+}
+
+impl StudyConfig {
+    /// Reads and validates a study file; errors name the file and the key.
+    pub fn load(path: &Path) -> Result<Self, StudyError> {
+        let text = std::fs::read_to_string(path).map_err(|source| StudyError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::parse(&text).map_err(|message| StudyError::Config {
+            path: path.to_path_buf(),
+            message,
+        })
+    }
+
+    /// Parses and validates study text.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let cfg: StudyConfig = toml::from_str(text).map_err(|e| e.to_string())?;
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    fn validate(&self) -> Result<(), String> {
+        let s = &self.study;
+        if s.runs == 0 {
+            return Err("study.runs = 0: expected at least one run".into());
+        }
+        if s.filters.is_empty() {
+            return Err("study.filters is empty: expected at least one filter".into());
+        }
+        for f in &s.filters {
+            if !crate::filters::KNOWN.contains(&f.as_str()) {
+                return Err(format!(
+                    "study.filters: unknown filter `{f}`; expected one of {}",
+                    crate::filters::KNOWN.join(", ")
+                ));
+            }
+        }
+        if !(s.series_every_s.is_finite() && s.series_every_s > 0.0) {
+            return Err(format!("study.series_every_s = {}: expected > 0", s.series_every_s));
+        }
+        if s.example_run >= s.runs {
+            return Err(format!(
+                "study.example_run = {}: expected a run index below runs = {}",
+                s.example_run, s.runs
+            ));
+        }
+        self.noise.validate()?;
+        let f = &self.filter;
+        let i = &f.initial;
+        for (key, v) in [
+            ("filter.initial.velocity_sigma", i.velocity_sigma),
+            ("filter.initial.position_sigma_m", i.position_sigma_m),
+            ("filter.initial.sigma_scale", i.sigma_scale),
+            ("filter.process_noise_scale", f.process_noise_scale),
+            ("truth.coefficient_scale", self.truth.coefficient_scale),
+            ("divergence.max_error_initial_sigmas", self.divergence.max_error_initial_sigmas),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("{key} = {v}: expected a finite number > 0"));
+            }
+        }
+        for (name, v) in &i.coefficient_sigma {
+            if !(v.is_finite() && *v > 0.0) {
+                return Err(format!(
+                    "filter.initial.coefficient_sigma.{name} = {v}: expected a finite number > 0"
+                ));
+            }
+        }
+        Ok(())
+    }
+}

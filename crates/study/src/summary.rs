@@ -1,0 +1,173 @@
+//! From a tally to what a reader sees: `summary.json`, CSV time series, tables.
+
+use crate::monte_carlo::Study;
+use crate::stats::mean_chi2_bounds;
+use crate::tally::{quantile, Tally};
+use navkf_dynamics::state::NAV_DIM;
+use navkf_dynamics::SystemModel;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// One filter's results.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FilterSummary {
+    /// RMS over runs of each coefficient's final error.
+    pub final_rms: BTreeMap<String, f64>,
+    /// RMS over runs of the filter's own final sigma of each coefficient.
+    pub final_sigma: BTreeMap<String, f64>,
+    /// The truth-linearised Riccati bound (posterior Cramer-Rao) of each coefficient.
+    pub final_bound: BTreeMap<String, f64>,
+    /// RMS of the navigation states' final errors.
+    pub final_rms_nav: BTreeMap<String, f64>,
+    /// Average NEES at the final time over runs (dof = state dimension).
+    pub nees_mean: f64,
+    /// 95 % bounds of `nees_mean` for a consistent filter.
+    pub nees_bounds: [f64; 2],
+    /// Average NIS over all updates of all runs.
+    pub nis_mean: f64,
+    /// 95 % bounds of `nis_mean` (independent updates assumed).
+    pub nis_bounds: [f64; 2],
+    /// Average measurement dimension (the NIS's expected value).
+    pub nis_dof: f64,
+    /// Runs excluded as diverged.
+    pub diverged: u64,
+    /// Runs included.
+    pub runs_ok: u64,
+    /// Median cost of one predict + update, ns (measured inside the runs).
+    pub step_ns_median: f64,
+    /// 90th percentile of that cost, ns.
+    pub step_ns_p90: f64,
+    /// The first diverged runs and why (at most 20).
+    pub diverged_examples: Vec<crate::tally::Divergence>,
+}
+
+/// Paired comparison of two filters on one coefficient.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PairedDifference {
+    /// First filter.
+    pub a: String,
+    /// Second filter.
+    pub b: String,
+    /// Coefficient.
+    pub coefficient: String,
+    /// Runs where both finished.
+    pub n: u64,
+    /// Mean of `e_a^2 - e_b^2` over runs.
+    pub mean_sq_err_diff: f64,
+    /// Its 95 % confidence interval.
+    pub ci95: [f64; 2],
+    /// The difference relative to `b`'s mean squared error.
+    pub relative: f64,
+}
+
+/// The whole `summary.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// Study name.
+    pub study: String,
+    /// Runs tallied.
+    pub runs: usize,
+    /// Seed.
+    pub seed: u64,
+    /// Per filter, by name (`ekf`, `standard_ukf`, `simplified_ukf`, ...).
+    pub filters: BTreeMap<String, FilterSummary>,
+    /// Paired differences, per pair and coefficient.
+    pub paired: Vec<PairedDifference>,
+    /// The study file's settings, as run.
+    pub settings: crate::config::StudyConfig,
+}
+
+fn rms(sum: f64, n: f64) -> f64 {
+    if n > 0.0 {
+        (sum / n).sqrt()
+    } else {
+        f64::NAN
+    }
+}
+
+/// Builds the summary of a complete tally.
+pub fn summarize(study: &Study, tally: &Tally) -> Summary {
+    let names = &study.names;
+    let n = names.len();
+    let last = study.times.len() - 1;
+    let truth_names = study.sim.model().state_names();
+    let mut filters = BTreeMap::new();
+    for (name, t) in study.filter_names().iter().zip(&tally.filters) {
+        let ok = t.ok as f64;
+        let mut s = FilterSummary {
+            final_rms: BTreeMap::new(),
+            final_sigma: BTreeMap::new(),
+            final_bound: BTreeMap::new(),
+            final_rms_nav: BTreeMap::new(),
+            nees_mean: f64::NAN,
+            nees_bounds: [f64::NAN; 2],
+            nis_mean: f64::NAN,
+            nis_bounds: [f64::NAN; 2],
+            nis_dof: f64::NAN,
+            diverged: t.diverged.len() as u64,
+            runs_ok: t.ok,
+            step_ns_median: quantile(&t.step_cost, 0.5),
+            step_ns_p90: quantile(&t.step_cost, 0.9),
+            diverged_examples: t.diverged.iter().take(20).cloned().collect(),
+        };
+        if t.ok > 0 {
+            for i in 0..n {
+                let r = rms(t.sum_sq_err[last][i], ok);
+                if i < NAV_DIM {
+                    s.final_rms_nav.insert(names[i].clone(), r);
+                } else {
+                    s.final_rms.insert(names[i].clone(), r);
+                    s.final_sigma.insert(names[i].clone(), rms(t.sum_var[last][i], ok));
+                }
+            }
+            s.nees_mean = t.sum_nees[last] / ok;
+            s.nees_bounds = mean_chi2_bounds(ok * n as f64, ok);
+            s.nis_mean = t.sum_nis / t.nis_count as f64;
+            s.nis_dof = t.nis_dof as f64 / t.nis_count as f64;
+            s.nis_bounds = mean_chi2_bounds(t.nis_dof as f64, t.nis_count as f64);
+        }
+        if tally.bound.count > 0 {
+            for i in NAV_DIM..n {
+                if let Some(j) = truth_names.iter().position(|x| *x == names[i]) {
+                    s.final_bound.insert(
+                        names[i].clone(),
+                        rms(tally.bound.sum_var[last][j], tally.bound.count as f64),
+                    );
+                }
+            }
+        }
+        filters.insert(name.clone(), s);
+    }
+    let mut paired = Vec::new();
+    for p in &tally.pairs {
+        if p.n < 2 {
+            continue;
+        }
+        let ib = study.filter_names().iter().position(|f| *f == p.b).unwrap();
+        let tb = &tally.filters[ib];
+        let nn = p.n as f64;
+        for i in NAV_DIM..n {
+            let mean = p.sum_d[i] / nn;
+            let var = ((p.sum_d2[i] - nn * mean * mean) / (nn - 1.0)).max(0.0);
+            let se = (var / nn).sqrt();
+            let msb = tb.sum_sq_err[last][i] / tb.ok.max(1) as f64;
+            paired.push(PairedDifference {
+                a: p.a.clone(),
+                b: p.b.clone(),
+                coefficient: names[i].clone(),
+                n: p.n,
+                mean_sq_err_diff: mean,
+                ci95: [mean - 1.96 * se, mean + 1.96 * se],
+                relative: mean / msb,
+            });
+        }
+    }
+    Summary {
+        study: study.config.study.name.clone(),
+        runs: tally.runs,
+        seed: study.config.study.seed,
+        filters,
+        paired,
+        settings: study.config.clone(),
+    }
+}

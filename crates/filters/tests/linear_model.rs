@@ -91,9 +91,9 @@ impl SystemModel for LinearModel {
         &self.noise
     }
     fn rates(&self, x: &[f64], u: &Input, dx: &mut [f64]) {
-        for r in 0..D {
-            dx[r] = (0..N).map(|c| self.a[r][c] * x[c]).sum::<f64>()
-                + (0..3).map(|j| self.b[r][j] * u[j]).sum::<f64>();
+        for ((d, a), b) in dx.iter_mut().zip(&self.a).zip(&self.b) {
+            *d = a.iter().zip(x).map(|(ai, xi)| ai * xi).sum::<f64>()
+                + b.iter().zip(u).map(|(bi, ui)| bi * ui).sum::<f64>();
         }
     }
     fn rate_jacobian(&self, _x: &[f64], _u: &Input, jac: &mut [f64]) {
@@ -105,8 +105,8 @@ impl SystemModel for LinearModel {
         NZ
     }
     fn measure(&self, x: &[f64], z: &mut [f64]) {
-        for i in 0..NZ {
-            z[i] = (0..N).map(|c| self.h[i][c] * x[c]).sum();
+        for (zi, h) in z.iter_mut().zip(&self.h) {
+            *zi = h.iter().zip(x).map(|(hi, xi)| hi * xi).sum();
         }
     }
     fn measurement_jacobian(&self, _x: &[f64], h: &mut [f64]) {

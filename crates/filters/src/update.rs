@@ -99,6 +99,11 @@ impl GainWorkspace {
         let r = &mut self.report;
         r.step = step;
         r.channels.clear();
+        // With no channel present the report must not keep the previous update's values.
+        r.innovation.clear();
+        r.innovation_cov.clear();
+        r.nis = 0.0;
+        r.log_likelihood = 0.0;
         for i in 0..self.nz {
             if obs.available[i] {
                 if !(obs.z[i].is_finite() && obs.sigma[i].is_finite() && obs.sigma[i] > 0.0) {

@@ -145,7 +145,7 @@ pub fn propagate(
     window: &InputWindow,
 ) {
     let count = points.len() / n;
-    if count == 0 {
+    if count == 0 || window.substeps() == 0 {
         return;
     }
     let lat_ref = points[LAT];

@@ -213,6 +213,7 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
     }
 
     fn predict(&mut self, window: &InputWindow) -> Result<(), FilterError> {
+        crate::filter::check_window(window, self.est.step + 1)?;
         let n = self.est.n;
         let d = self.d;
         self.est.step += 1;

@@ -90,6 +90,43 @@ impl Estimate {
     }
 }
 
+/// Checks an input window before a prediction: at least two knots, times finite and strictly
+/// increasing, inputs finite, one midpoint per sub-step.
+pub(crate) fn check_window(
+    w: &navkf_dynamics::InputWindow,
+    step: usize,
+) -> Result<(), FilterError> {
+    let bad = |what: String| {
+        Err(FilterError::Invalid(format!(
+            "step {step}: input window {what}"
+        )))
+    };
+    if w.t.len() < 2 {
+        return bad(format!("has {} knots: expected at least 2", w.t.len()));
+    }
+    if w.f.len() != w.t.len() || w.f_mid.len() + 1 != w.t.len() {
+        return bad(format!(
+            "has {} times, {} inputs and {} midpoints: expected n, n and n - 1",
+            w.t.len(),
+            w.f.len(),
+            w.f_mid.len()
+        ));
+    }
+    for k in 1..w.t.len() {
+        if !(w.t[k] > w.t[k - 1]) || !w.t[k].is_finite() {
+            return bad(format!(
+                "times {} then {}: expected finite, strictly increasing times",
+                w.t[k - 1],
+                w.t[k]
+            ));
+        }
+    }
+    if !w.f.iter().chain(&w.f_mid).flatten().all(|v| v.is_finite()) {
+        return bad("holds a non-finite input".into());
+    }
+    Ok(())
+}
+
 /// Adds the discrete process noise `Q_k = G Qc G^T T` of `channels` over `dt` to `p`.
 pub(crate) fn add_process_noise(
     p: &mut [f64],

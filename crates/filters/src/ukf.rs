@@ -350,6 +350,7 @@ impl<M: SystemModel + ?Sized> Filter for Ukf<M> {
     }
 
     fn predict(&mut self, window: &InputWindow) -> Result<(), FilterError> {
+        crate::filter::check_window(window, self.est.step + 1)?;
         let n = self.est.n;
         let dt = window.duration();
         self.est.step += 1;

@@ -312,7 +312,7 @@ fn bad_resets_and_inputs_are_typed_errors() {
             ),
             "{name}: infinite covariance"
         );
-        // A NaN specific force: the prediction reports a non-finite state, at step 1.
+        // A NaN specific force: the window is refused before anything moves.
         f.reset(&x, &p).unwrap();
         let mut w = InputWindow::with_capacity(3);
         w.push_linear(0.0, [0.0, 0.0, 9.8]);
@@ -320,14 +320,26 @@ fn bad_resets_and_inputs_are_typed_errors() {
         w.push_linear(1.0, [0.0, 0.0, 9.8]);
         let r = no_panic(&name, || f.predict(&w));
         assert!(
-            matches!(r, Err(FilterError::NonFinite { step: 1, .. })),
+            matches!(&r, Err(FilterError::Invalid(m)) if m.contains("step 1") && m.contains("non-finite")),
             "{name}: NaN input gave {r:?}"
         );
         recovers(&mut *f);
-        // A window without sub-steps predicts nothing (and does not panic).
+        // A window without sub-steps, or running backwards, is refused (and does not panic).
         f.reset(&x, &p).unwrap();
         let empty = InputWindow::default();
-        no_panic(&name, || f.predict(&empty)).unwrap();
+        let r = no_panic(&name, || f.predict(&empty));
+        assert!(
+            matches!(r, Err(FilterError::Invalid(_))),
+            "{name}: empty window gave {r:?}"
+        );
+        let mut back = InputWindow::with_capacity(2);
+        back.push_linear(1.0, [0.0, 0.0, 9.8]);
+        back.push_linear(0.5, [0.0, 0.0, 9.8]);
+        let r = no_panic(&name, || f.predict(&back));
+        assert!(
+            matches!(r, Err(FilterError::Invalid(_))),
+            "{name}: backward window gave {r:?}"
+        );
         for i in 0..n {
             assert!(
                 (f.state()[i] - x[i]).abs() <= 1e-12 * (1.0 + x[i].abs()),

@@ -230,7 +230,10 @@ impl StudyConfig {
             }
         }
         if !(s.series_every_s.is_finite() && s.series_every_s > 0.0) {
-            return Err(format!("study.series_every_s = {}: expected > 0", s.series_every_s));
+            return Err(format!(
+                "study.series_every_s = {}: expected > 0",
+                s.series_every_s
+            ));
         }
         if s.example_run >= s.runs {
             return Err(format!(
@@ -247,7 +250,10 @@ impl StudyConfig {
             ("filter.initial.sigma_scale", i.sigma_scale),
             ("filter.process_noise_scale", f.process_noise_scale),
             ("truth.coefficient_scale", self.truth.coefficient_scale),
-            ("divergence.max_error_initial_sigmas", self.divergence.max_error_initial_sigmas),
+            (
+                "divergence.max_error_initial_sigmas",
+                self.divergence.max_error_initial_sigmas,
+            ),
         ] {
             if !(v.is_finite() && v > 0.0) {
                 return Err(format!("{key} = {v}: expected a finite number > 0"));

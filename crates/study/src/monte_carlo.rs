@@ -109,8 +109,15 @@ pub struct ExampleFilter {
 fn build_model(
     effects: &[String],
     noise: &NoiseConfig,
-) -> Result<(Arc<PlatformModel>, std::collections::BTreeMap<String, navkf_dynamics::Prior>), StudyError> {
-    let EffectSpec { effects, fixed } = EffectSpec::parse(&effects.join(","), &Registry::catalogue())?;
+) -> Result<
+    (
+        Arc<PlatformModel>,
+        std::collections::BTreeMap<String, navkf_dynamics::Prior>,
+    ),
+    StudyError,
+> {
+    let EffectSpec { effects, fixed } =
+        EffectSpec::parse(&effects.join(","), &Registry::catalogue())?;
     Ok((Arc::new(PlatformModel::new(effects, noise)?), fixed))
 }
 
@@ -251,7 +258,14 @@ impl Study {
         &sim_run.truth.states[k.min(sim_run.truth.states.len() - 1)]
     }
 
-    fn run_filter(&self, name: &str, sim_run: &SimulatedRun, x0: &[f64], p0: &[f64], example: bool) -> FilterRun {
+    fn run_filter(
+        &self,
+        name: &str,
+        sim_run: &SimulatedRun,
+        x0: &[f64],
+        p0: &[f64],
+        example: bool,
+    ) -> FilterRun {
         let n = self.filter_model.dim();
         let mut out = FilterRun {
             outcome: Ok(()),
@@ -263,7 +277,8 @@ impl Study {
             step_ns: Vec::with_capacity(sim_run.measurements.len()),
             trace: example.then(Vec::new),
         };
-        let mut filter = match crate::filters::build(name, self.filter_model.clone(), self.scaling) {
+        let mut filter = match crate::filters::build(name, self.filter_model.clone(), self.scaling)
+        {
             Ok(f) => f,
             Err(e) => {
                 out.outcome = Err(e.to_string());

@@ -117,7 +117,8 @@ pub fn summarize(study: &Study, tally: &Tally) -> Summary {
                     s.final_rms_nav.insert(names[i].clone(), r);
                 } else {
                     s.final_rms.insert(names[i].clone(), r);
-                    s.final_sigma.insert(names[i].clone(), rms(t.sum_var[last][i], ok));
+                    s.final_sigma
+                        .insert(names[i].clone(), rms(t.sum_var[last][i], ok));
                 }
             }
             s.nees_mean = t.sum_nees[last] / ok;

@@ -44,6 +44,9 @@ pub struct Study {
     scaling: SigmaScaling,
 }
 
+/// An estimate at one time: `(t, x, sigma)`.
+pub type TracePoint = (f64, Vec<f64>, Vec<f64>);
+
 /// One filter's outcome on one run.
 #[derive(Debug, Clone)]
 pub struct FilterRun {
@@ -62,7 +65,7 @@ pub struct FilterRun {
     /// Step costs, ns.
     pub step_ns: Vec<u64>,
     /// Estimates at every step (only for the example run).
-    pub trace: Option<Vec<(f64, Vec<f64>, Vec<f64>)>>,
+    pub trace: Option<Vec<TracePoint>>,
 }
 
 /// One run: every filter, and the bound.
@@ -352,8 +355,8 @@ impl Study {
         } else {
             let bound = self.config.divergence.max_error_initial_sigmas;
             let last = out.err.last().expect("at least one stored time");
-            for i in NAV_DIM..n {
-                let ratio = last[i].abs() / self.initial_sigma[i];
+            for (i, e) in last.iter().enumerate().skip(NAV_DIM) {
+                let ratio = e.abs() / self.initial_sigma[i];
                 if !(ratio <= bound) {
                     out.outcome = Err(format!(
                         "final {} error is {ratio:.1} initial sigmas (bound {bound})",

@@ -1,13 +1,16 @@
 //! `navkf`: the harness's command line.
 //!
 //! - `simulate`: write a simulated vehicle-test dataset (data-format.md);
-//! - `inspect`: validate a dataset and summarise it.
+//! - `inspect`: validate a dataset and summarise it;
+//! - `study`: run a Monte Carlo study, or a shard of one;
+//! - `merge`: combine shards.
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 mod simulate;
+mod study;
 
 #[derive(Parser)]
 #[command(
@@ -24,6 +27,10 @@ struct Cli {
 enum Command {
     /// Simulate the paper's vehicle test and write a dataset folder.
     Simulate(simulate::Args),
+    /// Run a Monte Carlo study (the paper's: studies/paper.toml).
+    Study(study::Args),
+    /// Combine the shard files of `study --shard` into the study's results.
+    Merge(study::MergeArgs),
     /// Validate a dataset folder and print a summary of it.
     Inspect {
         /// The dataset folder (inputs.csv, measurements.csv, optional dataset.toml, truth.csv).
@@ -39,6 +46,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Simulate(args) => simulate::run(args),
         Command::Inspect { dir, json } => inspect(&dir, json),
+        Command::Study(args) => study::run(args),
+        Command::Merge(args) => study::merge(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -5,6 +5,8 @@ pub mod config;
 pub mod error;
 pub mod filters;
 pub mod monte_carlo;
+pub mod output;
+pub mod report;
 pub mod stats;
 pub mod summary;
 pub mod tally;

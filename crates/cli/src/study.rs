@@ -1,0 +1,163 @@
+//! `navkf study` and `navkf merge`: run a Monte Carlo study (or a shard of it) and combine
+//! shards.
+
+use indicatif::{ProgressBar, ProgressStyle};
+use navkf_study::output::{
+    fold, read_partials, shard_blocks, write_atomic, write_results, Partial,
+};
+use navkf_study::{Study, StudyConfig};
+use std::path::PathBuf;
+use std::sync::Mutex;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The study file, e.g. studies/paper.toml.
+    file: PathBuf,
+    /// Override the number of runs.
+    #[arg(long)]
+    runs: Option<usize>,
+    /// Output folder (default results/<study name>).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Run only shard i of n (`--shard 0/4`) and write its partial tallies for `merge`.
+    #[arg(long)]
+    shard: Option<String>,
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(clap::Args)]
+pub struct MergeArgs {
+    /// Shard files written by `study --shard`.
+    #[arg(required = true)]
+    partials: Vec<PathBuf>,
+    /// Output folder (default results/<study name>).
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+    let (i, n) = s
+        .split_once('/')
+        .ok_or_else(|| format!("--shard {s}: expected i/n, e.g. 0/4"))?;
+    let i: usize = i
+        .trim()
+        .parse()
+        .map_err(|_| format!("--shard {s}: `{i}` is not a whole number"))?;
+    let n: usize = n
+        .trim()
+        .parse()
+        .map_err(|_| format!("--shard {s}: `{n}` is not a whole number"))?;
+    if n == 0 || i >= n {
+        return Err(format!("--shard {s}: expected 0 <= i < n"));
+    }
+    Ok((i, n))
+}
+
+pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
+    let mut config = StudyConfig::load(&a.file)?;
+    if let Some(r) = a.runs {
+        if r == 0 {
+            return Err("--runs 0: expected at least one run".into());
+        }
+        config.study.runs = r;
+        config.study.example_run = config.study.example_run.min(r - 1);
+    }
+    let shard = a.shard.as_deref().map(parse_shard).transpose()?;
+    if let Some(t) = a.threads {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build_global()?;
+    }
+    let out = a
+        .out
+        .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
+    let study = Study::new(config)?;
+    let blocks = match shard {
+        Some((i, n)) => shard_blocks(study.block_count(), i, n),
+        None => 0..study.block_count(),
+    };
+    let total_runs: usize = blocks
+        .clone()
+        .map(|b| {
+            ((b + 1) * navkf_study::tally::BLOCK).min(study.config.study.runs)
+                - b * navkf_study::tally::BLOCK
+        })
+        .sum();
+    let bar = if a.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(total_runs as u64)
+    };
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{prefix} [{bar:40}] {pos}/{len} runs, {elapsed} elapsed, ETA {eta}",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
+    );
+    bar.set_prefix(study.config.study.name.clone());
+    let example = Mutex::new(None);
+    let started = std::time::Instant::now();
+    let tallies = study.run_blocks(blocks, &|done| bar.set_position(done as u64), |rec| {
+        *example.lock().expect("no panics while holding it") = Some(study.example_of(rec))
+    });
+    bar.finish_and_clear();
+    let example = example.into_inner().expect("not poisoned");
+    let wall = started.elapsed().as_secs_f64();
+    match shard {
+        Some((i, n)) => {
+            let partial = Partial {
+                config: study.config.clone(),
+                shard: (i, n),
+                blocks: tallies,
+                example,
+            };
+            let path = out.join(format!("partial-{i}-of-{n}.json"));
+            write_atomic(&path, serde_json::to_string(&partial)?.as_bytes())?;
+            eprintln!(
+                "shard {i}/{n}: {total_runs} runs in {wall:.1} s, wrote {}",
+                path.display()
+            );
+        }
+        None => {
+            let tally = fold(&tallies);
+            let summary = write_results(&study, &tally, example.as_ref(), &out)?;
+            eprintln!(
+                "{} runs in {wall:.1} s, wrote {}",
+                tally.runs,
+                out.display()
+            );
+            print!("{}", navkf_study::report::table(&summary));
+        }
+    }
+    Ok(())
+}
+
+pub fn merge(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
+    let parts = read_partials(&a.partials)?;
+    let config = parts[0].config.clone();
+    let out = a
+        .out
+        .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
+    let study = Study::new(config)?;
+    let blocks: Vec<_> = parts
+        .iter()
+        .flat_map(|p| p.blocks.iter().cloned())
+        .collect();
+    let example = parts.iter().find_map(|p| p.example.clone());
+    let tally = fold(&blocks);
+    let summary = write_results(&study, &tally, example.as_ref(), &out)?;
+    eprintln!(
+        "merged {} shards ({} runs) into {}",
+        parts.len(),
+        tally.runs,
+        out.display()
+    );
+    print!("{}", navkf_study::report::table(&summary));
+    Ok(())
+}

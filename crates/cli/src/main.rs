@@ -3,12 +3,14 @@
 //! - `simulate`: write a simulated vehicle-test dataset (data-format.md);
 //! - `inspect`: validate a dataset and summarise it;
 //! - `study`: run a Monte Carlo study, or a shard of one;
+//! - `diagnose`: compare a model with a dataset and find the missing effect;
 //! - `merge`: combine shards.
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+mod diagnose;
 mod simulate;
 mod study;
 
@@ -29,6 +31,8 @@ enum Command {
     Simulate(simulate::Args),
     /// Run a Monte Carlo study (the paper's: studies/paper.toml).
     Study(study::Args),
+    /// Compare a model with a dataset: where it fails, and which effect is missing.
+    Diagnose(diagnose::Args),
     /// Combine the shard files of `study --shard` into the study's results.
     Merge(study::MergeArgs),
     /// Validate a dataset folder and print a summary of it.
@@ -47,6 +51,7 @@ fn main() -> ExitCode {
         Command::Simulate(args) => simulate::run(args),
         Command::Inspect { dir, json } => inspect(&dir, json),
         Command::Study(args) => study::run(args),
+        Command::Diagnose(args) => diagnose::run(args),
         Command::Merge(args) => study::merge(args),
     };
     match result {

@@ -2,6 +2,7 @@
 //! streaming tallies, summaries, plots and reports; and the diagnosis of model misfit.
 
 pub mod config;
+pub mod diagnose;
 pub mod error;
 pub mod filters;
 pub mod monte_carlo;

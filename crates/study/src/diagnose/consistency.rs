@@ -1,0 +1,199 @@
+//! Where a model fails: NIS against its chi-square bounds overall, in sliding windows and by
+//! motion phase, and the whiteness of each innovation channel.
+//!
+//! A consistent model's normalised innovations are white with unit variance: NIS averages to
+//! the measurement dimension, and each channel's autocorrelation stays inside `+-1.96/sqrt(N)`
+//! at every lag. The Ljung-Box statistic `Q = N (N + 2) sum_l r_l^2 / (N - l)` over `L` lags is
+//! then chi-square with `L` degrees of freedom.
+
+use crate::stats::{chi2_quantile, mean_chi2_bounds};
+use navkf_dynamics::trajectory::Phase;
+use serde::{Deserialize, Serialize};
+
+/// Thresholds of the motion-phase detector (from the inputs and the odometer).
+pub mod thresholds {
+    /// Below this speed the vehicle stands still, m/s.
+    pub const STILL_SPEED: f64 = 0.1;
+    /// Along-track acceleration beyond which it accelerates or decelerates, m/s^2.
+    pub const ALONG_ACCEL: f64 = 0.1;
+    /// Heading rate beyond which it turns, rad/s (1 deg/s).
+    pub const TURN_RATE: f64 = 0.017_453_292_519_943_295;
+}
+
+/// The motion phase at one step, from the mean horizontal specific force over the step and
+/// the odometer velocity. Gravity and Coriolis are below the thresholds' resolution.
+pub fn classify(f_mean: [f64; 2], velocity: Option<[f64; 2]>) -> Phase {
+    let Some(v) = velocity else {
+        return Phase::Cruising;
+    };
+    let speed = v[0].hypot(v[1]);
+    if speed < thresholds::STILL_SPEED {
+        return Phase::Standstill;
+    }
+    let (ux, uy) = (v[0] / speed, v[1] / speed);
+    let along = f_mean[0] * ux + f_mean[1] * uy;
+    let cross = -f_mean[0] * uy + f_mean[1] * ux;
+    if (cross / speed).abs() > thresholds::TURN_RATE {
+        Phase::Turning
+    } else if along > thresholds::ALONG_ACCEL {
+        Phase::Accelerating
+    } else if along < -thresholds::ALONG_ACCEL {
+        Phase::Decelerating
+    } else {
+        Phase::Cruising
+    }
+}
+
+/// NIS statistics over a set of updates.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NisStat {
+    /// Number of updates.
+    pub count: usize,
+    /// Mean NIS.
+    pub mean: f64,
+    /// Mean measurement dimension (the expected mean NIS).
+    pub dof: f64,
+    /// 95 % bounds of the mean for a consistent model.
+    pub bounds: [f64; 2],
+    /// `inside`, `above` (model too confident or missing something) or `below`.
+    pub verdict: String,
+}
+
+impl NisStat {
+    /// From NIS values and their dimensions.
+    pub fn of(nis: &[f64], dims: &[usize]) -> Self {
+        let count = nis.len();
+        let total_dof: usize = dims.iter().sum();
+        if count == 0 || total_dof == 0 {
+            return NisStat {
+                count,
+                mean: f64::NAN,
+                dof: f64::NAN,
+                bounds: [f64::NAN; 2],
+                verdict: "no data".into(),
+            };
+        }
+        let mean = nis.iter().sum::<f64>() / count as f64;
+        let bounds = mean_chi2_bounds(total_dof as f64, count as f64);
+        let verdict = if mean > bounds[1] {
+            "above"
+        } else if mean < bounds[0] {
+            "below"
+        } else {
+            "inside"
+        };
+        NisStat {
+            count,
+            mean,
+            dof: total_dof as f64 / count as f64,
+            bounds,
+            verdict: verdict.into(),
+        }
+    }
+}
+
+/// Whiteness of one innovation channel.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Whiteness {
+    /// Channel name.
+    pub channel: String,
+    /// Number of innovations.
+    pub count: usize,
+    /// Normalised autocorrelation at lags 1..=L.
+    pub autocorrelation: Vec<f64>,
+    /// 95 % band for white noise, `1.96 / sqrt(N)`.
+    pub band: f64,
+    /// Ljung-Box statistic over the lags.
+    pub ljung_box: f64,
+    /// Its 99 % critical value (chi-square, L dof).
+    pub critical: f64,
+    /// Mean of the normalised innovation (a bias shows here).
+    pub mean: f64,
+    /// Variance of the normalised innovation (1 when consistent).
+    pub variance: f64,
+    /// Whether the channel passes (Ljung-Box below critical, |mean| within its band and
+    /// variance within its 99 % chi-square range).
+    pub white: bool,
+}
+
+/// Whiteness of a sequence of normalised innovations `nu / sqrt(S_ii)`.
+pub fn whiteness(channel: &str, e: &[f64], lags: usize) -> Whiteness {
+    let n = e.len();
+    let nf = n as f64;
+    let mean = if n > 0 {
+        e.iter().sum::<f64>() / nf
+    } else {
+        f64::NAN
+    };
+    let var = if n > 1 {
+        e.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / nf
+    } else {
+        f64::NAN
+    };
+    let lags = lags.min(n.saturating_sub(2));
+    let mut ac = Vec::with_capacity(lags);
+    let mut q = 0.0;
+    for l in 1..=lags {
+        let c: f64 = (l..n)
+            .map(|i| (e[i] - mean) * (e[i - l] - mean))
+            .sum::<f64>()
+            / nf;
+        let r = if var > 0.0 { c / var } else { 0.0 };
+        ac.push(r);
+        q += r * r / (nf - l as f64);
+    }
+    q *= nf * (nf + 2.0);
+    let critical = if lags > 0 {
+        chi2_quantile(0.99, lags as f64)
+    } else {
+        f64::NAN
+    };
+    // Raw second moment about zero tests the unit variance (chi-square with n dof).
+    let m2 = if n > 0 {
+        e.iter().map(|v| v * v).sum::<f64>() / nf
+    } else {
+        f64::NAN
+    };
+    let var_ok = n > 10 && {
+        let lo = chi2_quantile(0.005, nf) / nf;
+        let hi = chi2_quantile(0.995, nf) / nf;
+        m2 >= lo && m2 <= hi
+    };
+    let mean_ok = mean.abs() <= 2.576 / nf.sqrt();
+    Whiteness {
+        channel: channel.into(),
+        count: n,
+        autocorrelation: ac,
+        band: 1.96 / nf.sqrt(),
+        ljung_box: q,
+        critical,
+        mean,
+        variance: m2,
+        white: lags > 0 && q <= critical && mean_ok && var_ok,
+    }
+}
+
+/// NIS in sliding windows of `width` updates, stepping by `width / 2`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NisWindow {
+    /// Start and end time of the window, s.
+    pub t: [f64; 2],
+    /// The statistic.
+    pub stat: NisStat,
+}
+
+/// Sliding-window NIS.
+pub fn nis_windows(t: &[f64], nis: &[f64], dims: &[usize], width: usize) -> Vec<NisWindow> {
+    let width = width.max(2);
+    let mut out = Vec::new();
+    let mut start = 0;
+    while start + width <= nis.len() {
+        let end = start + width;
+        out.push(NisWindow {
+            t: [t[start], t[end - 1]],
+            stat: NisStat::of(&nis[start..end], &dims[start..end]),
+        });
+        start += width / 2;
+    }
+    out
+}

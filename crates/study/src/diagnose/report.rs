@@ -1,0 +1,261 @@
+//! The diagnosis in words and as `report.md`.
+
+use super::{Candidate, Diagnosis, FitSummary, DECISIVE_BIC};
+use std::fmt::Write as _;
+
+fn fmt(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:.4e}")
+    } else {
+        "-".into()
+    }
+}
+
+/// Plain-language findings: which channels and phases are inconsistent, which effect the
+/// evidence supports, and which effects cannot be told apart.
+pub fn findings(model: &FitSummary, cands: &[Candidate], best: Option<&str>) -> Vec<String> {
+    let mut out = Vec::new();
+    if let Some(f) = &model.failure {
+        out.push(format!("The filter failed on this model: {f}."));
+    }
+    let n = &model.nis;
+    out.push(format!(
+        "NIS averages {:.3} against an expected {:.2} (95 % bounds {:.3}-{:.3}): {}.",
+        n.mean,
+        n.dof,
+        n.bounds[0],
+        n.bounds[1],
+        match n.verdict.as_str() {
+            "inside" => "consistent",
+            "above" => "the innovations are larger than the model predicts",
+            "below" => "the innovations are smaller than the model predicts (noise set too high?)",
+            _ => "no data",
+        }
+    ));
+    let bad_channels: Vec<String> = model
+        .whiteness
+        .iter()
+        .filter(|w| w.count > 0 && !w.white)
+        .map(|w| {
+            let mut why = Vec::new();
+            if w.ljung_box > w.critical {
+                why.push(format!(
+                    "correlated in time (Ljung-Box {:.0} > {:.0})",
+                    w.ljung_box, w.critical
+                ));
+            }
+            if w.mean.abs() > 2.576 / (w.count as f64).sqrt() {
+                why.push(format!("biased (mean {:+.2} sigma)", w.mean));
+            }
+            if !(w.variance > 0.8 && w.variance < 1.2) {
+                why.push(format!("variance {:.2} of the predicted", w.variance));
+            }
+            format!("{} ({})", w.channel, why.join(", "))
+        })
+        .collect();
+    if bad_channels.is_empty() {
+        out.push("Every channel's innovations are white.".into());
+    } else {
+        out.push(format!(
+            "Inconsistent channels: {}.",
+            bad_channels.join("; ")
+        ));
+    }
+    let bad_phases: Vec<String> = model
+        .nis_by_phase
+        .iter()
+        .filter(|(_, s)| s.verdict != "inside" && s.count > 0)
+        .map(|(p, s)| {
+            format!(
+                "{p} (NIS {:.2}, {} updates, {})",
+                s.mean, s.count, s.verdict
+            )
+        })
+        .collect();
+    if !bad_phases.is_empty() {
+        out.push(format!(
+            "Phases where NIS leaves its bounds: {}.",
+            bad_phases.join("; ")
+        ));
+    }
+    match best {
+        Some(b) => {
+            let c = cands
+                .iter()
+                .find(|c| c.effect == b)
+                .expect("best is a candidate");
+            out.push(format!(
+                "The evidence supports adding `{b}`: log-likelihood +{:.1}, BIC gain {:.1}, it removes {:.0} % of the excess NIS{}.",
+                c.delta_loglik,
+                c.bic_gain,
+                100.0 * c.excess_removed,
+                if c.consistent { " and makes the innovations consistent" } else { "; misfit remains, so diagnose again with it added" }
+            ));
+        }
+        None => {
+            if !model.consistent {
+                out.push(format!(
+                    "No catalogued effect explains the misfit: none has decisive evidence (BIC gain > {DECISIVE_BIC}) and removes at least half of the excess NIS. The cause is outside the catalogue."
+                ));
+            }
+        }
+    }
+    for c in cands {
+        if !c.confused_with.is_empty() && c.bic_gain > 0.0 {
+            let pairs: Vec<String> = c
+                .confused_with
+                .iter()
+                .map(|(p, r)| format!("{p} (correlation {r:+.2})"))
+                .collect();
+            out.push(format!(
+                "`{}` cannot be told apart from coefficients already in the model on this trajectory: {}.",
+                c.effect,
+                pairs.join(", ")
+            ));
+        }
+    }
+    out
+}
+
+fn fit_table(out: &mut String, title: &str, f: &FitSummary) {
+    let _ = writeln!(out, "### {title}\n");
+    let _ = writeln!(
+        out,
+        "Effects: {}. Log-likelihood {:.1}. NIS {:.3} (expected {:.2}, 95 % bounds {:.3}-{:.3}, {}).\n",
+        if f.effects.is_empty() { "none (base model)".to_string() } else { f.effects.join(", ") },
+        f.loglik,
+        f.nis.mean,
+        f.nis.dof,
+        f.nis.bounds[0],
+        f.nis.bounds[1],
+        f.nis.verdict
+    );
+    let _ = writeln!(
+        out,
+        "| channel | white | Ljung-Box (99 % critical) | mean | variance |\n|---|---|---|---|---|"
+    );
+    for w in &f.whiteness {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {:.1} ({:.1}) | {:+.3} | {:.3} |",
+            w.channel,
+            if w.white { "yes" } else { "no" },
+            w.ljung_box,
+            w.critical,
+            w.mean,
+            w.variance
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\n| phase | updates | NIS | bounds | verdict |\n|---|---|---|---|---|"
+    );
+    for (p, s) in &f.nis_by_phase {
+        let _ = writeln!(
+            out,
+            "| {p} | {} | {:.3} | {:.3}-{:.3} | {} |",
+            s.count, s.mean, s.bounds[0], s.bounds[1], s.verdict
+        );
+    }
+    let has_truth = f.coefficients.iter().any(|c| c.truth.is_some());
+    let _ = write!(out, "\n| coefficient | estimate | sigma | initial sigma |");
+    if has_truth {
+        let _ = write!(out, " true | error / sigma |");
+    }
+    let _ = writeln!(out);
+    let _ = writeln!(
+        out,
+        "|---|---|---|---|{}",
+        if has_truth { "---|---|" } else { "" }
+    );
+    for c in &f.coefficients {
+        let _ = write!(
+            out,
+            "| {} | {} | {} | {} |",
+            c.name,
+            fmt(c.estimate),
+            fmt(c.sigma),
+            fmt(c.prior_sigma)
+        );
+        if has_truth {
+            match c.truth {
+                Some(t) => {
+                    let _ = write!(out, " {} | {:+.2} |", fmt(t), (c.estimate - t) / c.sigma);
+                }
+                None => {
+                    let _ = write!(out, " - | - |");
+                }
+            }
+        }
+        let _ = writeln!(out);
+    }
+    let _ = writeln!(out);
+}
+
+/// `report.md` of a diagnosis (figures, when drawn, are linked by the caller).
+pub fn markdown(d: &Diagnosis, command: &str, figures: &[(String, String)]) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "# Diagnosis of `{}`\n", d.dataset);
+    let _ = writeln!(out, "Command: `{command}`\n");
+    let _ = writeln!(
+        out,
+        "**Verdict: {}**{}\n",
+        d.verdict,
+        d.best
+            .as_ref()
+            .map(|b| format!(" - missing effect: `{b}`"))
+            .unwrap_or_default()
+    );
+    for f in &d.findings {
+        let _ = writeln!(out, "- {f}");
+    }
+    let _ = writeln!(out, "\n## Candidates (best first)\n");
+    let _ = writeln!(
+        out,
+        "| effect | delta loglik | BIC gain | excess NIS removed | consistent with it | named | cannot be told apart from |\n|---|---|---|---|---|---|---|"
+    );
+    for c in &d.candidates {
+        let _ = writeln!(
+            out,
+            "| {} | {:.1} | {:.1} | {:.0} % | {} | {} | {} |",
+            c.effect,
+            c.delta_loglik,
+            c.bic_gain,
+            100.0 * c.excess_removed,
+            if c.consistent { "yes" } else { "no" },
+            if c.supported { "yes" } else { "no" },
+            c.confused_with
+                .iter()
+                .map(|(p, r)| format!("{p} ({r:+.2})"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    let _ = writeln!(out, "\nCandidate coefficients:\n\n| effect | coefficient | estimate | sigma | initial sigma | true |\n|---|---|---|---|---|---|");
+    for c in &d.candidates {
+        for k in &c.coefficients {
+            let _ = writeln!(
+                out,
+                "| {} | {} | {} | {} | {} | {} |",
+                c.effect,
+                k.name,
+                fmt(k.estimate),
+                fmt(k.sigma),
+                fmt(k.prior_sigma),
+                k.truth.map(fmt).unwrap_or("-".into())
+            );
+        }
+    }
+    let _ = writeln!(out, "\n## The model under test\n");
+    fit_table(&mut out, "After", &d.model);
+    if let Some(b) = &d.before {
+        fit_table(&mut out, "Before (base model)", b);
+    }
+    if !figures.is_empty() {
+        let _ = writeln!(out, "## Figures\n");
+        for (title, path) in figures {
+            let _ = writeln!(out, "### {title}\n\n![{title}]({path})\n");
+        }
+    }
+    out
+}

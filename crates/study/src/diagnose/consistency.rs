@@ -6,7 +6,7 @@
 //! at every lag. The Ljung-Box statistic `Q = N (N + 2) sum_l r_l^2 / (N - l)` over `L` lags is
 //! then chi-square with `L` degrees of freedom.
 
-use crate::stats::{chi2_quantile, mean_chi2_bounds};
+use crate::stats::{chi2_quantile, mean_chi2_bounds, normal_quantile};
 use navkf_dynamics::trajectory::Phase;
 use serde::{Deserialize, Serialize};
 
@@ -105,19 +105,40 @@ pub struct Whiteness {
     pub band: f64,
     /// Ljung-Box statistic over the lags.
     pub ljung_box: f64,
-    /// Its 99 % critical value (chi-square, L dof).
+    /// Its critical value (chi-square, L dof, at the test's level).
     pub critical: f64,
     /// Mean of the normalised innovation (a bias shows here).
     pub mean: f64,
     /// Variance of the normalised innovation (1 when consistent).
     pub variance: f64,
-    /// Whether the channel passes (Ljung-Box below critical, |mean| within its band and
-    /// variance within its 99 % chi-square range).
+    /// Whether the channel passes all three tests.
     pub white: bool,
+    /// Why it fails, in words (empty when white).
+    pub problems: Vec<String>,
 }
 
-/// Whiteness of a sequence of normalised innovations `nu / sqrt(S_ii)`.
-pub fn whiteness(channel: &str, e: &[f64], lags: usize) -> Whiteness {
+/// The sentence form of the three tests' failures.
+fn problems(w: &Whiteness, mean_ok: bool, var_ok: bool) -> Vec<String> {
+    let mut why = Vec::new();
+    if w.ljung_box > w.critical {
+        why.push(format!(
+            "correlated in time (Ljung-Box {:.0} > {:.0})",
+            w.ljung_box, w.critical
+        ));
+    }
+    if !mean_ok {
+        why.push(format!("biased (mean {:+.2} sigma)", w.mean));
+    }
+    if !var_ok {
+        why.push(format!("variance {:.2} of the predicted", w.variance));
+    }
+    why
+}
+
+/// Whiteness of a sequence of normalised innovations `nu / sqrt(S_ii)`. Each of its three
+/// tests (autocorrelation, mean, variance) is made at level `alpha`; the caller divides its
+/// family-wise level among channels and tests (Bonferroni).
+pub fn whiteness(channel: &str, e: &[f64], lags: usize, alpha: f64) -> Whiteness {
     let n = e.len();
     let nf = n as f64;
     let mean = if n > 0 {
@@ -155,12 +176,12 @@ pub fn whiteness(channel: &str, e: &[f64], lags: usize) -> Whiteness {
         f64::NAN
     };
     let var_ok = n > 10 && {
-        let lo = chi2_quantile(0.005, nf) / nf;
-        let hi = chi2_quantile(0.995, nf) / nf;
+        let lo = chi2_quantile(0.5 * alpha, nf) / nf;
+        let hi = chi2_quantile(1.0 - 0.5 * alpha, nf) / nf;
         m2 >= lo && m2 <= hi
     };
-    let mean_ok = mean.abs() <= 2.576 / nf.sqrt();
-    Whiteness {
+    let mean_ok = mean.abs() <= normal_quantile(1.0 - 0.5 * alpha) / nf.sqrt();
+    let mut w = Whiteness {
         channel: channel.into(),
         count: n,
         autocorrelation: ac,
@@ -170,7 +191,10 @@ pub fn whiteness(channel: &str, e: &[f64], lags: usize) -> Whiteness {
         mean,
         variance: m2,
         white: lags > 0 && q <= critical && mean_ok && var_ok,
-    }
+        problems: Vec::new(),
+    };
+    w.problems = problems(&w, mean_ok, var_ok);
+    w
 }
 
 /// NIS in sliding windows of `width` updates, stepping by `width / 2`.

@@ -36,22 +36,7 @@ pub fn findings(model: &FitSummary, cands: &[Candidate], best: Option<&str>) -> 
         .whiteness
         .iter()
         .filter(|w| w.count > 0 && !w.white)
-        .map(|w| {
-            let mut why = Vec::new();
-            if w.ljung_box > w.critical {
-                why.push(format!(
-                    "correlated in time (Ljung-Box {:.0} > {:.0})",
-                    w.ljung_box, w.critical
-                ));
-            }
-            if w.mean.abs() > 2.576 / (w.count as f64).sqrt() {
-                why.push(format!("biased (mean {:+.2} sigma)", w.mean));
-            }
-            if !(w.variance > 0.8 && w.variance < 1.2) {
-                why.push(format!("variance {:.2} of the predicted", w.variance));
-            }
-            format!("{} ({})", w.channel, why.join(", "))
-        })
+        .map(|w| format!("{} ({})", w.channel, w.problems.join(", ")))
         .collect();
     if bad_channels.is_empty() {
         out.push("Every channel's innovations are white.".into());
@@ -95,12 +80,21 @@ pub fn findings(model: &FitSummary, cands: &[Candidate], best: Option<&str>) -> 
         None => {
             if !model.consistent {
                 out.push(format!(
-                    "No catalogued effect explains the misfit: none has decisive evidence (BIC gain > {DECISIVE_BIC}) and removes at least half of the excess NIS. The cause is outside the catalogue."
+                    "No catalogued effect explains the misfit: none has decisive evidence (BIC gain > {DECISIVE_BIC}) and repairs it (consistent innovations, or 90 % of the excess NIS removed). The cause is outside the catalogue."
                 ));
             }
         }
     }
     for c in cands {
+        if !c.supported && c.bic_gain > DECISIVE_BIC && c.confused_with.is_empty() {
+            out.push(format!(
+                "`{}` improves the likelihood (BIC gain {:.0}) but removes only {:.0} % of the excess NIS{}: it is not the cause, or not the only one.",
+                c.effect,
+                c.bic_gain,
+                100.0 * c.excess_removed,
+                if c.coefficients.is_empty() { " (it only adds process noise, which can soak up any slow misfit)" } else { "" }
+            ));
+        }
         if !c.confused_with.is_empty() && c.bic_gain > 0.0 {
             let pairs: Vec<String> = c
                 .confused_with

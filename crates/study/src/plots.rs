@@ -715,6 +715,7 @@ fn estimate_panel(study: &Study, ex: &ExampleRun, i: usize, big: bool) -> Panel 
     }
     match truth_at_start {
         Some(_) => p.line(BLACK.stroke_width(2), true, truth),
+        None if ex.t.is_empty() => p.notes.push("no true values recorded".into()),
         None => p
             .notes
             .push(format!("the truth model has no {name}: no true value")),

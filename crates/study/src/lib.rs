@@ -7,6 +7,7 @@ pub mod error;
 pub mod filters;
 pub mod monte_carlo;
 pub mod output;
+pub mod plots;
 pub mod report;
 pub mod stats;
 pub mod summary;

@@ -58,8 +58,8 @@ pub fn fold(blocks: &[Tally]) -> Tally {
     total
 }
 
-/// Writes `summary.json`, the time series and the example run into `dir`; returns the
-/// summary.
+/// Writes `summary.json`, the time series, the example run, the figures and `report.md`
+/// into `dir`; returns the summary.
 pub fn write_results(
     study: &Study,
     tally: &Tally,
@@ -77,6 +77,13 @@ pub fn write_results(
     if let Some(ex) = example {
         write_atomic(&dir.join("example_run.csv"), example_csv(ex).as_bytes())?;
     }
+    crate::report::write_report(
+        study,
+        tally,
+        example,
+        dir,
+        &std::env::args().collect::<Vec<_>>().join(" "),
+    )?;
     Ok(summary)
 }
 

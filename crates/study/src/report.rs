@@ -1,4 +1,4 @@
-//! Human-readable tables of a summary (terminal and report.md).
+//! Human-readable tables of a summary (terminal and report.md), and `report.md` itself.
 
 use crate::summary::Summary;
 use std::fmt::Write as _;
@@ -71,4 +71,341 @@ pub fn table(s: &Summary) -> String {
         );
     }
     out
+}
+
+/// Escapes text for a Markdown table cell.
+fn cell(s: &str) -> String {
+    s.replace('|', "\\|").replace('\n', " ")
+}
+
+/// Where an average lies against its 95 % bounds, in words: `consistent` inside,
+/// `optimistic` above (errors larger than the filter's covariance claims), `pessimistic`
+/// below (the covariance larger than the errors).
+pub fn verdict(mean: f64, bounds: [f64; 2]) -> &'static str {
+    if !(mean.is_finite() && bounds[0].is_finite() && bounds[1].is_finite()) {
+        "no verdict"
+    } else if mean > bounds[1] {
+        "optimistic"
+    } else if mean < bounds[0] {
+        "pessimistic"
+    } else {
+        "consistent"
+    }
+}
+
+/// What a paired difference says: its 95 % interval above zero means `a` has the larger
+/// squared error, below zero `b`.
+pub fn paired_verdict(d: &crate::summary::PairedDifference) -> String {
+    let [lo, hi] = d.ci95;
+    if !(lo.is_finite() && hi.is_finite()) {
+        "no verdict".into()
+    } else if lo > 0.0 {
+        format!("{} worse", d.a)
+    } else if hi < 0.0 {
+        format!("{} worse", d.b)
+    } else {
+        "no significant difference".into()
+    }
+}
+
+/// A Markdown table of the paired differences of final squared errors, with their 95 %
+/// intervals and what they say.
+pub fn paired_table(s: &Summary) -> String {
+    let mut out = String::new();
+    if s.paired.is_empty() {
+        out.push_str("\nNo paired comparison (fewer than two filters, or fewer than two runs where both finished).\n");
+        return out;
+    }
+    let _ = writeln!(
+        out,
+        "\nPaired differences of the final squared error, `e_a^2 - e_b^2`, over the runs where both filters finished (95 % intervals; `relative` is the mean difference over `b`'s mean squared error).\n"
+    );
+    let _ = writeln!(
+        out,
+        "| a | b | coefficient | runs | mean difference | 95 % interval | relative | verdict |"
+    );
+    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|");
+    let mut significant = 0;
+    for d in &s.paired {
+        let v = paired_verdict(d);
+        if v.ends_with("worse") {
+            significant += 1;
+        }
+        let pct = 100.0 * d.relative;
+        let rel = if !pct.is_finite() {
+            "-".into()
+        } else if pct.abs() >= 0.1 || pct == 0.0 {
+            format!("{pct:+.1} %")
+        } else {
+            format!("{pct:+.1e} %")
+        };
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} | {} | {} to {} | {} | {} |",
+            cell(&d.a),
+            cell(&d.b),
+            cell(&d.coefficient),
+            d.n,
+            g(d.mean_sq_err_diff),
+            g(d.ci95[0]),
+            g(d.ci95[1]),
+            rel,
+            v
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\n{significant} of {} comparisons exclude zero at 95 % (about {:.1} would by chance alone if the filters were equal).",
+        s.paired.len(),
+        0.05 * s.paired.len() as f64
+    );
+    out
+}
+
+/// The consistency verdict of every filter, in words.
+pub fn consistency(s: &Summary) -> String {
+    let mut out = String::new();
+    for (name, f) in &s.filters {
+        if f.runs_ok == 0 {
+            let _ = writeln!(
+                out,
+                "- **{name}**: no run finished, so no verdict ({} diverged).",
+                f.diverged
+            );
+            continue;
+        }
+        let nees = verdict(f.nees_mean, f.nees_bounds);
+        let nis = verdict(f.nis_mean, f.nis_bounds);
+        let overall = if nees == nis {
+            nees.to_string()
+        } else {
+            format!("NEES {nees}, NIS {nis}")
+        };
+        let _ = writeln!(
+            out,
+            "- **{name}**: {overall}. Final NEES {:.2} against its 95 % bounds {:.2}-{:.2} ({nees}); NIS {:.3} against {:.3}-{:.3} ({nis}; {:.2} measurement dimensions on average).",
+            f.nees_mean,
+            f.nees_bounds[0],
+            f.nees_bounds[1],
+            f.nis_mean,
+            f.nis_bounds[0],
+            f.nis_bounds[1],
+            f.nis_dof
+        );
+    }
+    out.push_str(
+        "\nConsistent: the average lies inside the 95 % band of a filter whose covariance is right. \
+         Optimistic: above it, the errors are larger than the covariance claims. \
+         Pessimistic: below it, the covariance is larger than the errors.\n",
+    );
+    out
+}
+
+fn settings(s: &Summary) -> String {
+    let c = &s.settings;
+    let list = |v: &[String]| {
+        if v.is_empty() {
+            "base model only".to_string()
+        } else {
+            v.join(", ")
+        }
+    };
+    let mut out = String::new();
+    let lines = [
+        format!("runs: {} (seed {})", s.runs, c.study.seed),
+        format!("filters: {}", c.study.filters.join(", ")),
+        format!(
+            "trajectory: {} s, {} s at rest first, legs {} m north and {} m east, cruise {} m/s, start {} deg N {} deg E",
+            c.trajectory.duration_s,
+            c.trajectory.initial_standstill_s,
+            c.trajectory.leg_north_m,
+            c.trajectory.leg_east_m,
+            c.trajectory.cruise_speed,
+            c.trajectory.start_lat_deg,
+            c.trajectory.start_lon_deg
+        ),
+        format!(
+            "truth: effects {}; integration {} Hz, inputs {} Hz, measurements {} Hz; coefficients drawn at {} x their typical sigma",
+            list(&c.truth.effects),
+            c.truth.rate_hz,
+            c.truth.input_rate_hz,
+            c.truth.measurement_rate_hz,
+            c.truth.coefficient_scale
+        ),
+        format!(
+            "noise: gyro PSD {:e} rad^2/s, accel PSD {:e} (m/s^2)^2/s, odometer {} relative (floor {} m/s), GPS {} m",
+            c.noise.gyro_psd, c.noise.accel_psd, c.noise.odometer_rel, c.noise.odometer_floor, c.noise.gps_m
+        ),
+        format!(
+            "filters' model: effects {}; sigma points alpha {}, beta {}, kappa {}; process noise x {}; initial sigmas x {}",
+            list(&c.filter.effects),
+            c.filter.alpha,
+            c.filter.beta,
+            c.filter.kappa,
+            c.filter.process_noise_scale,
+            c.filter.initial.sigma_scale
+        ),
+        format!(
+            "series every {} s; example run {}; a run diverges beyond {} initial sigmas of final error",
+            c.study.series_every_s, c.study.example_run, c.divergence.max_error_initial_sigmas
+        ),
+    ];
+    for l in lines {
+        let _ = writeln!(out, "- {l}");
+    }
+    if let Ok(toml) = toml::to_string(c) {
+        let _ = writeln!(
+            out,
+            "\n<details><summary>The study file as run</summary>\n\n```toml\n{}```\n\n</details>",
+            toml
+        );
+    }
+    out
+}
+
+fn diverged(study: &crate::monte_carlo::Study, tally: &crate::tally::Tally) -> String {
+    const SHOWN: usize = 50;
+    let mut out = String::new();
+    let total: usize = tally.filters.iter().map(|f| f.diverged.len()).sum();
+    if total == 0 {
+        let _ = writeln!(out, "No run diverged.");
+        return out;
+    }
+    for (name, f) in study.filter_names().iter().zip(&tally.filters) {
+        if f.diverged.is_empty() {
+            let _ = writeln!(out, "- **{name}**: none of {} runs.", tally.runs);
+            continue;
+        }
+        let _ = writeln!(
+            out,
+            "- **{name}**: {} of {} runs diverged:",
+            f.diverged.len(),
+            tally.runs
+        );
+        for d in f.diverged.iter().take(SHOWN) {
+            let _ = writeln!(out, "  - run {}: {}", d.run, d.reason.replace('\n', " "));
+        }
+        if f.diverged.len() > SHOWN {
+            let _ = writeln!(out, "  - ... and {} more", f.diverged.len() - SHOWN);
+        }
+    }
+    out
+}
+
+fn figures(figs: &[crate::plots::FigureOutcome]) -> String {
+    let mut out = String::new();
+    let ok = |n: &str| figs.iter().any(|f| f.name == n && f.result.is_ok());
+    let sections = [
+        (
+            "rms_over_time",
+            "RMS error over time",
+            "Each coefficient's RMS error over the runs that finished, divided by its initial sigma (log scale), per filter; dashed: the truth-linearised bound.",
+        ),
+        (
+            "nees_nis_over_time",
+            "Consistency over time",
+            "Average NEES and NIS per filter against the 95 % band of a consistent filter.",
+        ),
+        (
+            "estimates_all",
+            "Estimates against the truth (example run)",
+            "The example run: every filter's estimate of each coefficient with its +-1 sigma band, and the true value (the paper's Figures 2 and 3).",
+        ),
+        (
+            "step_cost",
+            "Cost per step",
+            "Median and 90th percentile of one predict + update, and the distribution over all steps.",
+        ),
+    ];
+    for (name, heading, text) in sections {
+        if ok(name) {
+            let _ = writeln!(out, "\n### {heading}\n\n{text}\n\n![{heading}]({name}.png)");
+        }
+    }
+    let per: Vec<String> = figs
+        .iter()
+        .filter(|f| f.name.starts_with("estimates_") && f.name != "estimates_all")
+        .filter(|f| f.result.is_ok())
+        .map(|f| format!("[{}]({}.png)", &f.name["estimates_".len()..], f.name))
+        .collect();
+    if !per.is_empty() {
+        let _ = writeln!(
+            out,
+            "\nOne coefficient per figure (PNG; SVG alongside): {}",
+            per.join(" · ")
+        );
+    }
+    let failed: Vec<&crate::plots::FigureOutcome> =
+        figs.iter().filter(|f| f.result.is_err()).collect();
+    if !failed.is_empty() {
+        let _ = writeln!(out, "\nFigures that could not be drawn:\n");
+        for f in failed {
+            let _ = writeln!(
+                out,
+                "- {}: {}",
+                f.name,
+                f.result.as_ref().err().map_or("", String::as_str)
+            );
+        }
+    }
+    out
+}
+
+/// The text of `report.md`: the command, the settings, the tables, the paired differences,
+/// the consistency verdicts, the figures (relative links) and the diverged runs.
+pub fn report_md(
+    study: &crate::monte_carlo::Study,
+    tally: &crate::tally::Tally,
+    summary: &Summary,
+    command: &str,
+    figs: &[crate::plots::FigureOutcome],
+) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "# Monte Carlo study `{}`\n", summary.study);
+    let _ = writeln!(out, "Produced by:\n\n```\n{command}\n```\n");
+    let _ = writeln!(out, "## Settings\n");
+    out.push_str(&settings(summary));
+    let _ = writeln!(out, "\n## Results");
+    out.push_str(&table(summary));
+    let _ = writeln!(
+        out,
+        "\nRMS and sigma are of the final error over the runs that finished (SI units: rad/s, rad/s/(m/s^2), m/s^2, dimensionless); the bound is the truth-linearised Riccati (posterior Cramer-Rao) bound."
+    );
+    let _ = writeln!(out, "\n## Paired differences");
+    out.push_str(&paired_table(summary));
+    let _ = writeln!(out, "\n## Consistency\n");
+    out.push_str(&consistency(summary));
+    let _ = writeln!(out, "\n## Figures");
+    out.push_str(&figures(figs));
+    let _ = writeln!(out, "\n## Diverged runs\n");
+    out.push_str(&diverged(study, tally));
+    out
+}
+
+/// Draws the figures and writes `report.md` into `dir`. `command` is the command line that
+/// produced the results. The report is written even if some figure fails; the failure is
+/// then listed in it and returned.
+pub fn write_report(
+    study: &crate::monte_carlo::Study,
+    tally: &crate::tally::Tally,
+    example: Option<&crate::monte_carlo::ExampleRun>,
+    dir: &std::path::Path,
+    command: &str,
+) -> Result<(), crate::error::StudyError> {
+    let summary = crate::summary::summarize(study, tally);
+    let figs = crate::plots::write_all(study, tally, &summary, example, dir);
+    let md = report_md(study, tally, &summary, command, &figs);
+    crate::output::write_atomic(&dir.join("report.md"), md.as_bytes())?;
+    let failed: Vec<String> = figs
+        .iter()
+        .filter_map(|f| f.result.as_ref().err().map(|e| format!("{}: {e}", f.name)))
+        .collect();
+    if failed.is_empty() {
+        Ok(())
+    } else {
+        Err(crate::error::StudyError::Other(format!(
+            "report.md written, but some figures failed: {}",
+            failed.join("; ")
+        )))
+    }
 }

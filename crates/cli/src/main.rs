@@ -10,7 +10,11 @@ use std::process::ExitCode;
 mod simulate;
 
 #[derive(Parser)]
-#[command(name = "navkf", version, about = "Nonlinear Kalman filtering on inertial-platform error models")]
+#[command(
+    name = "navkf",
+    version,
+    about = "Nonlinear Kalman filtering on inertial-platform error models"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

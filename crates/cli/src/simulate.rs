@@ -1,7 +1,9 @@
 //! `navkf simulate`: one run of the truth simulator written as a dataset folder.
 
 use navkf_dynamics::effect_spec::EffectSpec;
-use navkf_dynamics::{NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TrajectoryConfig, TruthConfig};
+use navkf_dynamics::{
+    NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TrajectoryConfig, TruthConfig,
+};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -57,7 +59,11 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     eprintln!(
         "wrote {} (effects: {})",
         a.out.display(),
-        if effect_names.is_empty() { "none".to_string() } else { effect_names.join(", ") }
+        if effect_names.is_empty() {
+            "none".to_string()
+        } else {
+            effect_names.join(", ")
+        }
     );
     println!("{}", ds.summary());
     Ok(())

@@ -47,7 +47,9 @@ impl EffectSpec {
                         ))
                     })?;
                     if !v.is_finite() {
-                        return Err(DynamicsError::Effect(format!("`{item}`: value must be finite")));
+                        return Err(DynamicsError::Effect(format!(
+                            "`{item}`: value must be finite"
+                        )));
                     }
                     (n.trim(), Some(v))
                 }
@@ -73,13 +75,17 @@ impl EffectSpec {
                     )));
                 }
                 let v = value.ok_or_else(|| {
-                    DynamicsError::Effect(format!("`{item}`: a base coefficient needs a value ({name}=...)"))
+                    DynamicsError::Effect(format!(
+                        "`{item}`: a base coefficient needs a value ({name}=...)"
+                    ))
                 })?;
                 spec.fixed.insert(name.to_string(), Prior::fixed(v));
             } else if let Some(owner) = registry.owner_of(name) {
                 spec.ensure(&owner, registry)?;
                 let v = value.ok_or_else(|| {
-                    DynamicsError::Effect(format!("`{item}`: a coefficient needs a value ({name}=...)"))
+                    DynamicsError::Effect(format!(
+                        "`{item}`: a coefficient needs a value ({name}=...)"
+                    ))
                 })?;
                 spec.fixed.insert(name.to_string(), Prior::fixed(v));
             } else {

@@ -5,6 +5,20 @@
 //! hands large products to a packing kernel) or carry dispatch overhead that dominates at
 //! these sizes; the README records the comparison.
 
+/// `a * b + c`, fused (one rounding) when the target has FMA, else multiply then add. Which
+/// one is fixed at compile time, so a given binary is deterministic.
+#[inline(always)]
+pub fn fmadd(a: f64, b: f64, c: f64) -> f64 {
+    #[cfg(target_feature = "fma")]
+    {
+        a.mul_add(b, c)
+    }
+    #[cfg(not(target_feature = "fma"))]
+    {
+        a * b + c
+    }
+}
+
 /// In-place Cholesky `A = L L^T` of a symmetric positive-definite `n x n` matrix stored
 /// column-major. On success the lower triangle holds `L` and the strict upper triangle is
 /// zeroed. On failure returns the failing pivot's index and value; `a` is then garbage.
@@ -75,7 +89,11 @@ pub fn symmetrize(a: &mut [f64], n: usize) {
 
 /// Whether every value is finite.
 pub fn all_finite(a: &[f64]) -> bool {
-    a.iter().all(|v| v.is_finite())
+    // A value is infinite or NaN exactly when its exponent bits are all set. No early exit:
+    // the OR over the whole slice vectorises.
+    const EXP: u64 = 0x7ff0_0000_0000_0000;
+    !a.iter()
+        .fold(false, |bad, v| bad | (v.to_bits() & EXP == EXP))
 }
 
 /// `C += alpha * sum_k w_k d_k d_k^T` over the columns `d_k` of the column-major `n x m`

@@ -49,7 +49,7 @@ impl<'a> Partials<'a> {
     pub fn get(&self, row: usize, col: usize) -> f64 {
         self.data[row * self.cols + col]
     }
-    /// Number of columns (the state dimension).
+    /// Number of columns: the row stride, at least the state dimension.
     pub fn cols(&self) -> usize {
         self.cols
     }

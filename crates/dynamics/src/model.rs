@@ -191,36 +191,12 @@ impl PlatformModel {
         let off = self.offsets[i];
         &x[off..off + self.effects[i].coefficient_names().len()]
     }
-}
 
-fn channel(name: &str, state: usize, psd: f64) -> NoiseChannel {
-    NoiseChannel {
-        name: name.to_string(),
-        state,
-        psd,
-    }
-}
-
-impl SystemModel for PlatformModel {
-    fn dim(&self) -> usize {
-        self.dim
-    }
-    fn dynamic_dim(&self) -> usize {
-        NAV_DIM
-    }
-    fn noise_channels(&self) -> &[NoiseChannel] {
-        &self.noise
-    }
-    #[inline]
-    fn rates(&self, x: &[f64], u: &Input, dx: &mut [f64]) {
-        let k = Kinematics::new(x, u);
-        dx[..NAV_DIM].copy_from_slice(&self.nav_rates(x, &k));
-    }
-
-    fn rate_jacobian(&self, x: &[f64], u: &Input, jac: &mut [f64]) {
-        let n = self.dim;
+    /// The rate Jacobian (`NAV_DIM` rows `stride >= dim` apart) given the kinematics at `x`.
+    fn jacobian_with(&self, x: &[f64], k: &Kinematics, jac: &mut [f64], stride: usize) {
+        assert!(stride >= self.dim);
+        let n = stride;
         jac[..NAV_DIM * n].fill(0.0);
-        let k = Kinematics::new(x, u);
         let [fx, fy, fz] = k.f;
         let [px, py, pz] = k.phi;
         let [w1, w2, w3] = k.w_cmd;
@@ -278,8 +254,51 @@ impl SystemModel for PlatformModel {
         p.add(LON, LAT, vx * sec * (k.d_inv_rn + k.inv_rn * k.tan_l));
         for &i in &self.rate_effects {
             let c = self.effect_coeffs(i, x);
-            self.effects[i].add_rate_partials(&k, c, self.offsets[i], &mut p);
+            self.effects[i].add_rate_partials(k, c, self.offsets[i], &mut p);
         }
+    }
+}
+
+fn channel(name: &str, state: usize, psd: f64) -> NoiseChannel {
+    NoiseChannel {
+        name: name.to_string(),
+        state,
+        psd,
+    }
+}
+
+impl SystemModel for PlatformModel {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+    fn dynamic_dim(&self) -> usize {
+        NAV_DIM
+    }
+    fn noise_channels(&self) -> &[NoiseChannel] {
+        &self.noise
+    }
+    #[inline]
+    fn rates(&self, x: &[f64], u: &Input, dx: &mut [f64]) {
+        let k = Kinematics::new(x, u);
+        dx[..NAV_DIM].copy_from_slice(&self.nav_rates(x, &k));
+    }
+
+    fn rate_jacobian(&self, x: &[f64], u: &Input, jac: &mut [f64]) {
+        self.jacobian_with(x, &Kinematics::new(x, u), jac, self.dim);
+    }
+
+    fn rates_and_jacobian(
+        &self,
+        x: &[f64],
+        u: &Input,
+        dx: &mut [f64],
+        jac: &mut [f64],
+        stride: usize,
+    ) {
+        // One evaluation of the kinematics (a sin_cos and three divisions) for both.
+        let k = Kinematics::new(x, u);
+        dx[..NAV_DIM].copy_from_slice(&self.nav_rates(x, &k));
+        self.jacobian_with(x, &k, jac, stride);
     }
 
     fn meas_dim(&self) -> usize {

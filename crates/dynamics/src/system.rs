@@ -24,6 +24,27 @@ pub trait SystemModel: Send + Sync {
     fn rates(&self, x: &[f64], u: &Input, dx: &mut [f64]);
     /// Writes the Jacobian of [`SystemModel::rates`], row-major `dynamic_dim() x dim()`.
     fn rate_jacobian(&self, x: &[f64], u: &Input, jac: &mut [f64]);
+    /// [`SystemModel::rates`] and [`SystemModel::rate_jacobian`] at the same point (the EKF
+    /// needs both at every RK4 stage), the Jacobian's rows `stride >= dim()` apart in `jac`
+    /// (padding columns zeroed). A model may override it to share work between the two.
+    fn rates_and_jacobian(
+        &self,
+        x: &[f64],
+        u: &Input,
+        dx: &mut [f64],
+        jac: &mut [f64],
+        stride: usize,
+    ) {
+        let (d, n) = (self.dynamic_dim(), self.dim());
+        assert!(stride >= n && jac.len() >= d * stride);
+        self.rates(x, u, dx);
+        self.rate_jacobian(x, u, &mut jac[..d * n]);
+        // Spread the rows out, last first (they only move right).
+        for r in (0..d).rev() {
+            jac.copy_within(r * n..(r + 1) * n, r * stride);
+            jac[r * stride + n..(r + 1) * stride].fill(0.0);
+        }
+    }
     /// Measurement dimension.
     fn meas_dim(&self) -> usize;
     /// Writes the noise-free measurement `h(x)`.
@@ -60,6 +81,75 @@ pub trait SystemModel: Send + Sync {
         for (i, x) in points.chunks_exact_mut(n).enumerate() {
             let w = noise.map(|w| &w[i * nw..(i + 1) * nw]);
             propagate_generic(self, x, w, window, scratch.as_mut_slice());
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{NoiseChannel, NoiseConfig, PlatformModel};
+
+    /// The platform model through the trait's default `rates_and_jacobian`.
+    struct Defaults(PlatformModel);
+    impl SystemModel for Defaults {
+        fn dim(&self) -> usize {
+            self.0.dim()
+        }
+        fn dynamic_dim(&self) -> usize {
+            self.0.dynamic_dim()
+        }
+        fn noise_channels(&self) -> &[NoiseChannel] {
+            self.0.noise_channels()
+        }
+        fn rates(&self, x: &[f64], u: &Input, dx: &mut [f64]) {
+            self.0.rates(x, u, dx)
+        }
+        fn rate_jacobian(&self, x: &[f64], u: &Input, jac: &mut [f64]) {
+            self.0.rate_jacobian(x, u, jac)
+        }
+        fn meas_dim(&self) -> usize {
+            self.0.meas_dim()
+        }
+        fn measure(&self, x: &[f64], z: &mut [f64]) {
+            self.0.measure(x, z)
+        }
+        fn measurement_jacobian(&self, x: &[f64], h: &mut [f64]) {
+            self.0.measurement_jacobian(x, h)
+        }
+        fn measurement_is_linear(&self) -> bool {
+            true
+        }
+        fn state_names(&self) -> Vec<String> {
+            self.0.state_names()
+        }
+    }
+
+    #[test]
+    fn strided_rates_and_jacobian_match_the_plain_ones() {
+        let model = PlatformModel::base(&NoiseConfig::default());
+        let (d, n) = (model.dynamic_dim(), model.dim());
+        let x: Vec<f64> = (0..n).map(|i| 1e-4 * (i as f64 + 1.0)).collect();
+        let u = [0.3, -0.2, 9.8];
+        let mut jac = vec![0.0; d * n];
+        let mut dx = vec![0.0; d];
+        model.rate_jacobian(&x, &u, &mut jac);
+        model.rates(&x, &u, &mut dx);
+        let stride = n + 5;
+        for m in [
+            &model as &dyn SystemModel,
+            &Defaults(PlatformModel::base(&NoiseConfig::default())),
+        ] {
+            let mut js = vec![f64::NAN; d * stride];
+            let mut dxs = vec![0.0; d];
+            m.rates_and_jacobian(&x, &u, &mut dxs, &mut js, stride);
+            assert_eq!(dxs, dx);
+            for r in 0..d {
+                assert_eq!(&js[r * stride..r * stride + n], &jac[r * n..(r + 1) * n]);
+                assert!(js[r * stride + n..(r + 1) * stride]
+                    .iter()
+                    .all(|&v| v == 0.0));
+            }
         }
     }
 }

@@ -12,27 +12,139 @@
 
 use crate::error::FilterError;
 use crate::filter::{add_process_noise, Estimate, Filter};
+use crate::linalg::fmadd;
 use crate::update::{GainWorkspace, Observation, UpdateReport};
 use navkf_dynamics::{InputWindow, SystemModel};
 use std::sync::Arc;
+
+/// Lanes of a chunk: rows of the transition matrix are stored padded to a multiple of this,
+/// as `[f64; LANES]` chunks, so that every row operation is whole SIMD vectors.
+const LANES: usize = 8;
+type Chunk = [f64; LANES];
+
+/// `acc += a * src`, lane by lane.
+#[inline(always)]
+fn axpy(acc: &mut Chunk, a: f64, src: &Chunk) {
+    for (o, s) in acc.iter_mut().zip(src) {
+        *o = fmadd(a, *s, *o);
+    }
+}
+
+/// `out[r] = base[r] + sum_m coef[r * d + m] * rows[m]` for the `d` rows of `nc` chunks each
+/// (a `d x d` matrix times `d` padded rows, plus `base`).
+fn rows_product(
+    d: usize,
+    nc: usize,
+    coef: &[f64],
+    rows: &[Chunk],
+    base: &[Chunk],
+    out: &mut [Chunk],
+) {
+    match nc {
+        1 => rows_product_n::<1>(d, coef, rows, base, out),
+        2 => rows_product_n::<2>(d, coef, rows, base, out),
+        3 => rows_product_n::<3>(d, coef, rows, base, out),
+        4 => rows_product_n::<4>(d, coef, rows, base, out),
+        5 => rows_product_n::<5>(d, coef, rows, base, out),
+        _ => {
+            for ((o_row, b_row), c_row) in out
+                .chunks_exact_mut(nc)
+                .zip(base.chunks_exact(nc))
+                .zip(coef.chunks_exact(d))
+                .take(d)
+            {
+                o_row.copy_from_slice(b_row);
+                for (&a, src) in c_row.iter().zip(rows.chunks_exact(nc)) {
+                    for (o, s) in o_row.iter_mut().zip(src) {
+                        axpy(o, a, s);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// [`rows_product`] with the row width known: blocks of rows keep their accumulators in
+/// registers, several independent chains at once.
+#[inline(always)]
+fn rows_product_n<const NC: usize>(
+    d: usize,
+    coef: &[f64],
+    rows: &[Chunk],
+    base: &[Chunk],
+    out: &mut [Chunk],
+) {
+    let mut r = 0;
+    while r + 4 <= d {
+        row_block::<NC, 4>(d, r, coef, rows, base, out);
+        r += 4;
+    }
+    if r + 2 <= d {
+        row_block::<NC, 2>(d, r, coef, rows, base, out);
+        r += 2;
+    }
+    if r < d {
+        row_block::<NC, 1>(d, r, coef, rows, base, out);
+    }
+}
+
+/// Rows `r0..r0 + R` of [`rows_product_n`].
+#[inline(always)]
+fn row_block<const NC: usize, const R: usize>(
+    d: usize,
+    r0: usize,
+    coef: &[f64],
+    rows: &[Chunk],
+    base: &[Chunk],
+    out: &mut [Chunk],
+) {
+    let coef = &coef[r0 * d..(r0 + R) * d];
+    let mut acc = [[[0.0; LANES]; NC]; R];
+    for (a, b) in acc
+        .iter_mut()
+        .zip(base[r0 * NC..(r0 + R) * NC].chunks_exact(NC))
+    {
+        a.copy_from_slice(b);
+    }
+    for (m, src) in rows.chunks_exact(NC).take(d).enumerate() {
+        for (i, a) in acc.iter_mut().enumerate() {
+            let c = coef[i * d + m];
+            for (o, s) in a.iter_mut().zip(src) {
+                axpy(o, c, s);
+            }
+        }
+    }
+    for (o, a) in out[r0 * NC..(r0 + R) * NC].chunks_exact_mut(NC).zip(&acc) {
+        o.copy_from_slice(a);
+    }
+}
 
 /// See the module documentation.
 pub struct Ekf<M: SystemModel + ?Sized> {
     model: Arc<M>,
     est: Estimate,
     d: usize,
-    /// Dynamic rows of the period's transition matrix, row-major d x n.
-    phi: Vec<f64>,
-    /// Dynamic rows of the sub-step's transition matrix.
-    phi_sub: Vec<f64>,
-    /// Stage Jacobians and their chained products, row-major d x n.
-    jac: Vec<f64>,
-    kst: [Vec<f64>; 4],
-    tmp_rows: Vec<f64>,
+    /// Chunks per padded row.
+    nc: usize,
+    /// Dynamic rows of the period's transition matrix, d padded rows (`[A B]`).
+    phi: Vec<Chunk>,
+    /// Dynamic rows of the sub-step's transition matrix with the first d columns zeroed
+    /// (`[0 B_sub]`), and its `A_sub` block (d x d, row-major).
+    phi_sub: Vec<Chunk>,
+    a_sub: Vec<f64>,
+    /// The model's Jacobian, d padded rows.
+    jac: Vec<Chunk>,
+    /// `c * F[:, :d]` of the current stage (d x d).
+    cf: Vec<f64>,
+    /// Stage Jacobians (chained products), d padded rows each.
+    kst: [Vec<Chunk>; 4],
+    tmp_rows: Vec<Chunk>,
     /// RK4 stage rates and states.
     k: [Vec<f64>; 4],
+    /// Stage state (the coefficients are constant over the window).
     xs: Vec<f64>,
-    x0: Vec<f64>,
+    /// P copied into padded rows (n x nc chunks) for the covariance propagation.
+    p_pad: Vec<Chunk>,
     /// Update scratch.
     h: Vec<f64>,
     hsel: Vec<f64>,
@@ -48,17 +160,21 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
         let n = model.dim();
         let d = model.dynamic_dim();
         let nz = model.meas_dim();
+        let nc = n.div_ceil(LANES);
         Ekf {
             est: Estimate::new(n),
             d,
-            phi: vec![0.0; d * n],
-            phi_sub: vec![0.0; d * n],
-            jac: vec![0.0; d * n],
-            kst: std::array::from_fn(|_| vec![0.0; d * n]),
-            tmp_rows: vec![0.0; d * n],
+            nc,
+            phi: vec![[0.0; LANES]; d * nc],
+            phi_sub: vec![[0.0; LANES]; d * nc],
+            a_sub: vec![0.0; d * d],
+            jac: vec![[0.0; LANES]; d * nc],
+            cf: vec![0.0; d * d],
+            kst: std::array::from_fn(|_| vec![[0.0; LANES]; d * nc]),
+            tmp_rows: vec![[0.0; LANES]; d * nc],
             k: std::array::from_fn(|_| vec![0.0; d]),
             xs: vec![0.0; n],
-            x0: vec![0.0; n],
+            p_pad: vec![[0.0; LANES]; n * nc],
             h: vec![0.0; nz * n],
             hsel: vec![0.0; nz * n],
             pzz: vec![0.0; nz * nz],
@@ -76,112 +192,131 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
         self.est.x.copy_from_slice(x);
     }
 
-    /// `out = F[:, :d] * rows + F` where `F` is `self.jac` (d x n) and `rows` is d x n:
-    /// the stage product `F (I + c K)` with `c` folded into `rows` by the caller.
-    fn stage_product(d: usize, n: usize, f: &[f64], rows: &[f64], c: f64, out: &mut [f64]) {
-        out.copy_from_slice(f);
-        for r in 0..d {
-            let o = &mut out[r * n..(r + 1) * n];
-            for m in 0..d {
-                let a = c * f[r * n + m];
-                if a != 0.0 {
-                    let src = &rows[m * n..(m + 1) * n];
-                    for (oi, si) in o.iter_mut().zip(src) {
-                        *oi += a * si;
-                    }
-                }
-            }
-        }
-    }
-
+    /// One RK4 sub-step of the state (its dynamic rows; `xs` holds the coefficients) and of
+    /// the transition matrix.
     fn rk4_substep(&mut self, window: &InputWindow, j: usize) {
-        let n = self.est.n;
         let d = self.d;
+        let nc = self.nc;
+        let np = nc * LANES;
         let h = window.t[j + 1] - window.t[j];
         let (f0, fm, f1) = (&window.f[j], &window.f_mid[j], &window.f[j + 1]);
         let model = &*self.model;
-        self.x0.copy_from_slice(&self.est.x);
-        self.xs.copy_from_slice(&self.est.x);
+        let x0 = &self.est.x[..d];
+        self.xs[..d].copy_from_slice(x0);
         let stages: [(f64, &navkf_dynamics::Input); 4] =
             [(0.0, f0), (0.5 * h, fm), (0.5 * h, fm), (h, f1)];
         for (s, &(c, u)) in stages.iter().enumerate() {
+            let (prev, cur) = self.k.split_at_mut(s);
             if s > 0 {
-                for i in 0..d {
-                    self.xs[i] = self.x0[i] + c * self.k[s - 1][i];
+                for ((xs, x), k) in self.xs.iter_mut().zip(x0).zip(&prev[s - 1]) {
+                    *xs = x + c * k;
                 }
             }
-            model.rates(&self.xs, u, &mut self.k[s]);
-            model.rate_jacobian(&self.xs, u, &mut self.jac);
             if s == 0 {
-                self.kst[0].copy_from_slice(&self.jac);
+                // K1 = F.
+                let out = self.kst[0].as_flattened_mut();
+                model.rates_and_jacobian(&self.xs, u, &mut cur[0], out, np);
             } else {
-                let (prev, cur) = self.kst.split_at_mut(s);
-                Self::stage_product(d, n, &self.jac, &prev[s - 1], c, &mut cur[0]);
-            }
-        }
-        for i in 0..d {
-            self.est.x[i] = self.x0[i]
-                + h / 6.0 * (self.k[0][i] + 2.0 * (self.k[1][i] + self.k[2][i]) + self.k[3][i]);
-        }
-        // Phi_sub rows = [I 0] + h/6 (K1 + 2 K2 + 2 K3 + K4).
-        for (idx, v) in self.phi_sub.iter_mut().enumerate() {
-            let (r, c) = (idx / n, idx % n);
-            let eye = if r == c { 1.0 } else { 0.0 };
-            *v = eye
-                + h / 6.0
-                    * (self.kst[0][idx]
-                        + 2.0 * (self.kst[1][idx] + self.kst[2][idx])
-                        + self.kst[3][idx]);
-        }
-        // Phi = Phi_sub * Phi: new rows = A_sub * rows(Phi) + [0 B_sub].
-        self.tmp_rows.copy_from_slice(&self.phi);
-        for r in 0..d {
-            let o = &mut self.phi[r * n..(r + 1) * n];
-            o[..d].fill(0.0);
-            o[d..].copy_from_slice(&self.phi_sub[r * n + d..(r + 1) * n]);
-            for m in 0..d {
-                let a = self.phi_sub[r * n + m];
-                if a != 0.0 {
-                    let src = &self.tmp_rows[m * n..(m + 1) * n];
-                    for (oi, si) in o.iter_mut().zip(src) {
-                        *oi += a * si;
+                // K_s = F (I + c K_{s-1}) = F + (c F[:, :d]) K_{s-1}.
+                let jac = self.jac.as_flattened_mut();
+                model.rates_and_jacobian(&self.xs, u, &mut cur[0], jac, np);
+                for (cf, row) in self.cf.chunks_exact_mut(d).zip(jac.chunks_exact(np)) {
+                    for (a, f) in cf.iter_mut().zip(&row[..d]) {
+                        *a = c * f;
                     }
                 }
+                let (prev, cur) = self.kst.split_at_mut(s);
+                rows_product(d, nc, &self.cf, &prev[s - 1], &self.jac, &mut cur[0]);
             }
         }
+        let h6 = h / 6.0;
+        let [k1, k2, k3, k4] = &self.k;
+        for (i, x) in self.est.x[..d].iter_mut().enumerate() {
+            *x += h6 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+        }
+        // Phi_sub rows = [I 0] + h/6 (K1 + 2 K2 + 2 K3 + K4).
+        let [k1, k2, k3, k4] = &self.kst;
+        for ((((o, a), b), c), e) in self
+            .phi_sub
+            .as_flattened_mut()
+            .iter_mut()
+            .zip(k1.as_flattened())
+            .zip(k2.as_flattened())
+            .zip(k3.as_flattened())
+            .zip(k4.as_flattened())
+        {
+            *o = h6 * (a + 2.0 * (b + c) + e);
+        }
+        // Split into A_sub (+ I) and [0 B_sub].
+        let ps = self.phi_sub.as_flattened_mut();
+        for (r, (a_row, p_row)) in self
+            .a_sub
+            .chunks_exact_mut(d)
+            .zip(ps.chunks_exact_mut(np))
+            .enumerate()
+        {
+            a_row.copy_from_slice(&p_row[..d]);
+            a_row[r] += 1.0;
+            p_row[..d].fill(0.0);
+        }
+        // Phi = Phi_sub * Phi: new rows = A_sub * rows(Phi) + [0 B_sub].
+        std::mem::swap(&mut self.phi, &mut self.tmp_rows);
+        rows_product(
+            d,
+            nc,
+            &self.a_sub,
+            &self.tmp_rows,
+            &self.phi_sub,
+            &mut self.phi,
+        );
     }
 
     /// `P = Phi P Phi^T` with `Phi = [R; 0 I]`, `R` the dynamic rows.
     fn propagate_covariance(&mut self) {
         let n = self.est.n;
         let d = self.d;
+        let nc = self.nc;
+        let np = nc * LANES;
         let p = &mut self.est.p;
-        // T = R P (d x n, row-major in tmp_rows).
-        let t = &mut self.tmp_rows;
-        t.fill(0.0);
-        for r in 0..d {
-            let tr = &mut t[r * n..(r + 1) * n];
-            for m in 0..n {
-                let a = self.phi[r * n + m];
-                if a != 0.0 {
-                    // Row m of P equals column m (symmetric); column-major column is contiguous.
-                    let pm = &p[m * n..(m + 1) * n];
-                    for (ti, pi) in tr.iter_mut().zip(pm) {
-                        *ti += a * pi;
-                    }
+        // P in padded rows (row m of P is column m: P is symmetric).
+        for (dst, src) in self
+            .p_pad
+            .as_flattened_mut()
+            .chunks_exact_mut(np)
+            .zip(p.chunks_exact(n))
+        {
+            dst[..n].copy_from_slice(src);
+        }
+        // T = R P (d padded rows in tmp_rows).
+        let phi = self.phi.as_flattened();
+        for (t_row, r_row) in self.tmp_rows.chunks_exact_mut(nc).zip(phi.chunks_exact(np)) {
+            for (ch, t) in t_row.iter_mut().enumerate() {
+                let mut acc = [0.0; LANES];
+                for (&a, src) in r_row[..n]
+                    .iter()
+                    .zip(self.p_pad.iter().skip(ch).step_by(nc))
+                {
+                    axpy(&mut acc, a, src);
                 }
+                *t = acc;
             }
         }
         // Top-left block T R^T, top-right T[:, d..], bottom-right unchanged.
+        let t = self.tmp_rows.as_flattened();
         for r in 0..d {
+            let tr = &t[r * np..(r + 1) * np];
             for c in 0..d {
-                let tr = &t[r * n..(r + 1) * n];
-                let rc = &self.phi[c * n..(c + 1) * n];
-                let v: f64 = tr.iter().zip(rc).map(|(a, b)| a * b).sum();
-                p[r + c * n] = v;
+                let rc = &phi[c * np..(c + 1) * np];
+                let mut acc = [0.0; LANES];
+                for (x, y) in tr.chunks_exact(LANES).zip(rc.chunks_exact(LANES)) {
+                    for l in 0..LANES {
+                        acc[l] += x[l] * y[l];
+                    }
+                }
+                p[r + c * n] = acc.iter().sum();
             }
             for c in d..n {
-                let v = t[r * n + c];
+                let v = tr[c];
                 p[r + c * n] = v;
                 p[c + r * n] = v;
             }
@@ -217,10 +352,13 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
         let n = self.est.n;
         let d = self.d;
         self.est.step += 1;
-        self.phi.fill(0.0);
+        let np = self.nc * LANES;
+        let phi = self.phi.as_flattened_mut();
+        phi.fill(0.0);
         for r in 0..d {
-            self.phi[r * n + r] = 1.0;
+            phi[r * np + r] = 1.0;
         }
+        self.xs.copy_from_slice(&self.est.x);
         for j in 0..window.substeps() {
             self.rk4_substep(window, j);
         }
@@ -306,19 +444,16 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
                 }
             }
         }
-        // T H^T is (T H^T)[i, a] = sum_m T[i, m] H[a, m]: column m of T gives T[:, m].
+        // P+ = T - th K^T + K R K^T, column j: P[:, j] += K[j, a] (R_a K[:, a] - th[:, a]).
         for a in 0..k {
             let sig = obs.sigma[self.gain.report.channels[a]];
             let r = sig * sig;
             let ka = &g[a * n..(a + 1) * n];
-            for j in 0..n {
-                let th_j = self.pxz[j + a * n];
-                let kj = ka[j];
-                let pj = &mut p[j * n..(j + 1) * n];
-                for i in 0..n {
-                    pj[i] += -self.pxz[i + a * n] * kj + r * ka[i] * kj;
+            let th = &self.pxz[a * n..(a + 1) * n];
+            for (pj, &kj) in p.chunks_exact_mut(n).zip(ka) {
+                for ((pi, ki), ti) in pj.iter_mut().zip(ka).zip(th) {
+                    *pi += -ti * kj + r * ki * kj;
                 }
-                let _ = th_j;
             }
         }
         self.est.finish("state after update")?;

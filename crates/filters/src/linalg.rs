@@ -5,6 +5,20 @@
 //! hands large products to a packing kernel) or carry dispatch overhead that dominates at
 //! these sizes; the README records the comparison.
 
+/// `a * b + c`, fused (one rounding) when the target has FMA, else multiply then add. Which
+/// one is fixed at compile time, so a given binary is deterministic.
+#[inline(always)]
+pub fn fmadd(a: f64, b: f64, c: f64) -> f64 {
+    #[cfg(target_feature = "fma")]
+    {
+        a.mul_add(b, c)
+    }
+    #[cfg(not(target_feature = "fma"))]
+    {
+        a * b + c
+    }
+}
+
 /// In-place Cholesky `A = L L^T` of a symmetric positive-definite `n x n` matrix stored
 /// column-major. On success the lower triangle holds `L` and the strict upper triangle is
 /// zeroed. On failure returns the failing pivot's index and value; `a` is then garbage.
@@ -75,7 +89,11 @@ pub fn symmetrize(a: &mut [f64], n: usize) {
 
 /// Whether every value is finite.
 pub fn all_finite(a: &[f64]) -> bool {
-    a.iter().all(|v| v.is_finite())
+    // A value is infinite or NaN exactly when its exponent bits are all set. No early exit:
+    // the OR over the whole slice vectorises.
+    const EXP: u64 = 0x7ff0_0000_0000_0000;
+    !a.iter()
+        .fold(false, |bad, v| bad | (v.to_bits() & EXP == EXP))
 }
 
 /// `C += alpha * sum_k w_k d_k d_k^T` over the columns `d_k` of the column-major `n x m`
@@ -97,4 +115,42 @@ pub fn weighted_outer_sum(c: &mut [f64], n: usize, d: &[f64], w: &[f64]) {
             c[j + i * n] = c[i + j * n];
         }
     }
+}
+
+/// Rows per block of [`row_dots`]; matrices given to it have their row count padded to a
+/// multiple of this with zero rows.
+pub const DOT_BLOCK: usize = 4;
+const DOT_LANES: usize = 8;
+
+/// Dot products of rows `a0..a0 + 4` of `x` with rows `b0..b0 + 4` of `y`, both row-major
+/// with rows `len` long (`len` a multiple of 8): `out[i][j] = x[a0 + i] . y[b0 + j]`.
+/// Sixteen independent SIMD accumulators.
+#[inline(always)]
+pub fn row_dots(x: &[f64], a0: usize, y: &[f64], b0: usize, len: usize) -> [[f64; 4]; 4] {
+    debug_assert_eq!(len % DOT_LANES, 0);
+    type Chunk = [f64; DOT_LANES];
+    let chunk = |m: &[f64], row: usize, c: usize| -> Chunk {
+        let at = row * len + c * DOT_LANES;
+        m[at..at + DOT_LANES].try_into().unwrap()
+    };
+    let mut acc = [[[0.0; DOT_LANES]; 4]; 4];
+    for c in 0..len / DOT_LANES {
+        let xs: [Chunk; 4] = std::array::from_fn(|i| chunk(x, a0 + i, c));
+        let ys: [Chunk; 4] = std::array::from_fn(|j| chunk(y, b0 + j, c));
+        for (acc_i, xi) in acc.iter_mut().zip(&xs) {
+            for (acc_ij, yj) in acc_i.iter_mut().zip(&ys) {
+                for ((a, xv), yv) in acc_ij.iter_mut().zip(xi).zip(yj) {
+                    *a = fmadd(*xv, *yv, *a);
+                }
+            }
+        }
+    }
+    let mut out = [[0.0; 4]; 4];
+    for i in 0..4 {
+        for j in 0..4 {
+            let a = &acc[i][j];
+            out[i][j] = ((a[0] + a[4]) + (a[1] + a[5])) + ((a[2] + a[6]) + (a[3] + a[7]));
+        }
+    }
+    out
 }

@@ -16,7 +16,7 @@
 
 use crate::error::FilterError;
 use crate::filter::{add_process_noise, Estimate, Filter};
-use crate::linalg::{cholesky_in_place, weighted_outer_sum};
+use crate::linalg::{cholesky_in_place, row_dots, DOT_BLOCK};
 use crate::sigma_points::{SigmaPoints, SigmaScaling};
 use crate::update::{GainWorkspace, Observation, UpdateReport};
 use navkf_dynamics::{InputWindow, PropagationScratch, SystemModel};
@@ -53,13 +53,18 @@ pub struct Ukf<M: SystemModel + ?Sized> {
     points: Vec<f64>,
     noise_pts: Vec<f64>,
     noise_sd: Vec<f64>,
-    weights_c: Vec<f64>,
     weights_m: Vec<f64>,
     z_pts: Vec<f64>,
     z_hat: Vec<f64>,
     pzz: Vec<f64>,
     pxz: Vec<f64>,
     h: Vec<f64>,
+    /// Deviations of the points from the mean, state-major: row `s` holds state `s` of every
+    /// point (`dev_len` long, zero-padded), rows padded to a multiple of [`DOT_BLOCK`].
+    dev: Vec<f64>,
+    /// Measurement deviations of the selected channels, laid out like `dev`.
+    dz: Vec<f64>,
+    dev_len: usize,
     scratch: PropagationScratch,
     gain: GainWorkspace,
     /// Whether `points` holds the propagated points of the last prediction (augmented
@@ -95,7 +100,8 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
         let nprop = 1 + 2 * (n + nw);
         let mut scratch = PropagationScratch::default();
         scratch.ensure(model.scratch_len(npts));
-        let weights_c = (0..sp.count()).map(|i| sp.wc(i)).collect();
+        let dev_len = npts.div_ceil(8) * 8;
+        let pad = |rows: usize| rows.div_ceil(DOT_BLOCK) * DOT_BLOCK;
         let weights_m = (0..sp.count()).map(|i| sp.wm(i)).collect();
         Ok(Ukf {
             name,
@@ -114,13 +120,15 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
             points: vec![0.0; n * npts],
             noise_pts: vec![0.0; nw.max(1) * npts],
             noise_sd: vec![0.0; nw],
-            weights_c,
             weights_m,
             z_pts: vec![0.0; nz * npts],
             z_hat: vec![0.0; nz],
             pzz: vec![0.0; nz * nz],
             pxz: vec![0.0; n * nz],
             h: vec![0.0; nz * n],
+            dev: vec![0.0; pad(n) * dev_len],
+            dz: vec![0.0; pad(nz) * dev_len],
+            dev_len,
             scratch,
             gain: GainWorkspace::new(n, nz),
             have_points: false,
@@ -184,7 +192,7 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
         Ok(())
     }
 
-    /// Weighted mean of the first `count` points into `x`, then deviations in place.
+    /// Weighted mean of the first `count` points into `x`.
     fn mean_and_deviations(&mut self, count: usize) {
         let n = self.est.n;
         let x = &mut self.est.x;
@@ -197,22 +205,52 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
         }
     }
 
-    fn covariance_from_points(&mut self, count: usize) {
+    /// Deviations `chi_i - x_bar` of the first `count` points into `dev` (state-major). The
+    /// centre-relative form keeps rounding small (the states are O(1) rad and their spread
+    /// O(1e-7)).
+    fn build_deviations(&mut self, count: usize) {
         let n = self.est.n;
-        // Deviations in place: points become chi_i - x_bar. The centre-relative form keeps
-        // rounding small (the states are O(1) rad and their spread O(1e-7)).
-        for i in 0..count {
-            for (pi, xi) in self.points[i * n..(i + 1) * n].iter_mut().zip(&self.est.x) {
-                *pi -= xi;
+        let len = self.dev_len;
+        for (s, (row, &xs)) in self.dev.chunks_exact_mut(len).zip(&self.est.x).enumerate() {
+            for (d, p) in row[..count]
+                .iter_mut()
+                .zip(self.points.iter().skip(s).step_by(n))
+            {
+                *d = p - xs;
+            }
+            row[count..].fill(0.0);
+        }
+    }
+
+    /// `P = sum_i wc_i d_i d_i^T` from `dev`, the weights being `wc0` for the centre and `wi`
+    /// for every other point: `wi * D D^T + (wc0 - wi) d_0 d_0^T`.
+    fn covariance_from_deviations(&mut self, wc0: f64, wi: f64) {
+        let n = self.est.n;
+        let len = self.dev_len;
+        let rows = n.div_ceil(DOT_BLOCK) * DOT_BLOCK;
+        let dev = &self.dev;
+        let p = &mut self.est.p;
+        let dc = wc0 - wi;
+        for a0 in (0..rows).step_by(DOT_BLOCK) {
+            for b0 in (a0..rows).step_by(DOT_BLOCK) {
+                let g = row_dots(dev, a0, dev, b0, len);
+                for (i, gi) in g.iter().enumerate() {
+                    let a = a0 + i;
+                    if a >= n {
+                        break;
+                    }
+                    for (j, gij) in gi.iter().enumerate() {
+                        let b = b0 + j;
+                        if b >= n {
+                            break;
+                        }
+                        let v = wi * gij + dc * dev[a * len] * dev[b * len];
+                        p[a + b * n] = v;
+                        p[b + a * n] = v;
+                    }
+                }
             }
         }
-        self.est.p.fill(0.0);
-        weighted_outer_sum(
-            &mut self.est.p,
-            n,
-            &self.points[..count * n],
-            &self.weights_c[..count],
-        );
     }
 
     fn update_linear(&mut self, obs: &Observation) -> Result<(), FilterError> {
@@ -252,7 +290,8 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
     }
 
     /// Sigma-point update from `count` points in `points` (full states, not deviations),
-    /// with weights of `sp`; `v_aug` adds the measurement-noise points.
+    /// with weights of `sp`; `v_aug` adds the measurement-noise points. `dev` must hold the
+    /// points' deviations from the state.
     fn update_sigma(
         &mut self,
         obs: &Observation,
@@ -289,21 +328,46 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
                 *zh += w * zi;
             }
         }
-        self.pzz[..k * k].fill(0.0);
-        self.pxz[..n * k].fill(0.0);
+        // Measurement deviations of the selected channels, state-major like `dev`.
+        let len = self.dev_len;
         let chans = &self.gain.report.channels;
-        for i in 0..count {
-            let w = sp.wc(i);
-            let zi = &self.z_pts[i * nz..(i + 1) * nz];
-            let xi = &self.points[i * n..(i + 1) * n];
-            for (a, &ca) in chans.iter().enumerate() {
-                let da = w * (zi[ca] - self.z_hat[ca]);
-                for (b, &cb) in chans.iter().enumerate() {
-                    self.pzz[a + b * k] += da * (zi[cb] - self.z_hat[cb]);
+        for (row, &ca) in self.dz.chunks_exact_mut(len).zip(chans) {
+            let zh = self.z_hat[ca];
+            for (d, z) in row[..count]
+                .iter_mut()
+                .zip(self.z_pts.iter().skip(ca).step_by(nz))
+            {
+                *d = z - zh;
+            }
+            row[count..].fill(0.0);
+        }
+        // Rows k.. of dz stay zero (blocks of DOT_BLOCK rows read them).
+        for row in self.dz.chunks_exact_mut(len).skip(k) {
+            row.fill(0.0);
+        }
+        // Pzz = sum_i wc_i dz_i dz_i^T and Pxz = sum_i wc_i dx_i dz_i^T, with wc = wc0 for the
+        // centre and wi elsewhere.
+        let (wi, dc) = (sp.wi, sp.wc0 - sp.wi);
+        let rows_x = n.div_ceil(DOT_BLOCK) * DOT_BLOCK;
+        let rows_z = k.div_ceil(DOT_BLOCK) * DOT_BLOCK;
+        let (dev, dz) = (&self.dev, &self.dz);
+        for b0 in (0..rows_z).step_by(DOT_BLOCK) {
+            for a0 in (0..rows_z).step_by(DOT_BLOCK) {
+                let g = row_dots(dz, a0, dz, b0, len);
+                for (i, gi) in g.iter().enumerate().take(k.saturating_sub(a0)) {
+                    for (j, gij) in gi.iter().enumerate().take(k.saturating_sub(b0)) {
+                        let (a, b) = (a0 + i, b0 + j);
+                        self.pzz[a + b * k] = wi * gij + dc * dz[a * len] * dz[b * len];
+                    }
                 }
-                let col = &mut self.pxz[a * n..(a + 1) * n];
-                for ((c, xv), xm) in col.iter_mut().zip(xi).zip(&self.est.x) {
-                    *c += da * (xv - xm);
+            }
+            for s0 in (0..rows_x).step_by(DOT_BLOCK) {
+                let g = row_dots(dev, s0, dz, b0, len);
+                for (i, gi) in g.iter().enumerate().take(n.saturating_sub(s0)) {
+                    for (j, gij) in gi.iter().enumerate().take(k.saturating_sub(b0)) {
+                        let (s, b) = (s0 + i, b0 + j);
+                        self.pxz[s + b * n] = wi * gij + dc * dev[s * len] * dz[b * len];
+                    }
                 }
             }
         }
@@ -389,16 +453,16 @@ impl<M: SystemModel + ?Sized> Filter for Ukf<M> {
         }
         let count = self.npts;
         self.mean_and_deviations(count);
+        self.build_deviations(count);
+        self.covariance_from_deviations(sp.wc0, sp.wi);
         match self.noise {
             NoiseHandling::Additive => {
-                self.covariance_from_points(count);
                 add_process_noise(&mut self.est.p, n, model.noise_channels(), dt);
                 self.have_points = false;
             }
             _ => {
-                // Keep the propagated points for the update (classic augmented UKF): the
-                // covariance is formed from deviations computed on a copy.
-                self.scratch_covariance(count);
+                // Keep the propagated points and their deviations for the update (classic
+                // augmented UKF).
                 self.have_points = true;
             }
         }
@@ -421,40 +485,11 @@ impl<M: SystemModel + ?Sized> Filter for Ukf<M> {
             // Additive filter, non-linear measurement: redraw points from the prediction.
             let sp = self.sp_state;
             self.draw_state_points(sp.gamma, sp.n)?;
+            self.build_deviations(sp.count());
             self.update_sigma(obs, sp.count(), sp, false)?;
         }
         self.have_points = false;
         self.est.finish("state after update")?;
         Ok(&self.gain.report)
-    }
-}
-
-impl<M: SystemModel + ?Sized> Ukf<M> {
-    /// Covariance of the propagated points without destroying them (augmented filters).
-    fn scratch_covariance(&mut self, count: usize) {
-        let n = self.est.n;
-        let p = &mut self.est.p;
-        p.fill(0.0);
-        let x = &self.est.x;
-        // Row-by-row deviation into the (now unused) chol buffer, one point at a time.
-        let dev = &mut self.chol[..n];
-        for i in 0..count {
-            for ((d, pi), xi) in dev.iter_mut().zip(&self.points[i * n..(i + 1) * n]).zip(x) {
-                *d = pi - xi;
-            }
-            let w = self.weights_c[i];
-            for j in 0..n {
-                let f = w * dev[j];
-                let pj = &mut p[j * n + j..(j + 1) * n];
-                for (pv, dv) in pj.iter_mut().zip(&dev[j..n]) {
-                    *pv += f * dv;
-                }
-            }
-        }
-        for j in 0..n {
-            for i in j + 1..n {
-                p[j + i * n] = p[i + j * n];
-            }
-        }
     }
 }

@@ -7,7 +7,7 @@
 //! `log p(z) = -(NIS + log det S + k log 2 pi) / 2`, `K = Pxz S^-1`, `x += K nu`.
 
 use crate::error::FilterError;
-use crate::linalg::{backward_substitute, cholesky_in_place, forward_substitute};
+use crate::linalg::{cholesky_in_place, forward_substitute};
 
 /// One measurement: values, one-sigma of each channel (diagonal `R`), and which channels are
 /// present (an empty cell in `measurements.csv` is an absent channel). All three are
@@ -166,32 +166,50 @@ impl GainWorkspace {
         r.nis = w.iter().map(|v| v * v).sum();
         let log_det: f64 = (0..k).map(|i| 2.0 * l[i + i * k].ln()).sum();
         r.log_likelihood = -0.5 * (r.nis + log_det + k as f64 * (2.0 * std::f64::consts::PI).ln());
-        // U = Pxz L^-T: row i of U solves L u_i = pxz_i (row i of Pxz).
+        // U = Pxz L^-T (row i of U solves L u_i = pxz_i), solved for all rows at once, column
+        // by column: U[:, a] = (Pxz[:, a] - sum_{b<a} L[a, b] U[:, b]) / L[a, a].
+        for a in 0..k {
+            self.tmp[a] = 1.0 / l[a + a * k];
+        }
+        let inv_diag = &self.tmp[..k];
         let u = &mut self.u[..n * k];
-        for i in 0..n {
-            for a in 0..k {
-                w[a] = pxz[i + a * n];
+        u.copy_from_slice(&pxz[..n * k]);
+        for a in 0..k {
+            let (done, rest) = u.split_at_mut(a * n);
+            let ua = &mut rest[..n];
+            for b in 0..a {
+                let lab = l[a + b * k];
+                for (x, y) in ua.iter_mut().zip(&done[b * n..(b + 1) * n]) {
+                    *x -= lab * y;
+                }
             }
-            forward_substitute(l, k, w);
-            for a in 0..k {
-                u[i + a * n] = w[a];
+            let inv = inv_diag[a];
+            for x in ua.iter_mut() {
+                *x *= inv;
             }
         }
-        // K = U L^-1: row i of K solves L^T k_i = u_i.
+        // K = U L^-1 (row i of K solves L^T k_i = u_i), columns last first:
+        // K[:, a] = (U[:, a] - sum_{b>a} L[b, a] K[:, b]) / L[a, a].
         let g = &mut self.gain[..n * k];
-        for i in 0..n {
-            for a in 0..k {
-                w[a] = u[i + a * n];
+        g.copy_from_slice(u);
+        for a in (0..k).rev() {
+            let (head, done) = g.split_at_mut((a + 1) * n);
+            let ga = &mut head[a * n..];
+            for b in a + 1..k {
+                let lba = l[b + a * k];
+                for (x, y) in ga.iter_mut().zip(&done[(b - a - 1) * n..(b - a) * n]) {
+                    *x -= lba * y;
+                }
             }
-            backward_substitute(l, k, w);
-            for a in 0..k {
-                g[i + a * n] = w[a];
+            let inv = inv_diag[a];
+            for x in ga.iter_mut() {
+                *x *= inv;
             }
         }
         for a in 0..k {
             let nu = r.innovation[a];
-            for i in 0..n {
-                x[i] += g[i + a * n] * nu;
+            for (xi, gi) in x.iter_mut().zip(&g[a * n..(a + 1) * n]) {
+                *xi += gi * nu;
             }
         }
         Ok(())

@@ -4,6 +4,7 @@
 pub mod config;
 pub mod error;
 pub mod filters;
+pub mod guard;
 pub mod monte_carlo;
 pub mod output;
 pub mod report;

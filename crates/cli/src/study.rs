@@ -125,9 +125,21 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     bar.set_prefix(study.config.study.name.clone());
     let example = Mutex::new(None);
     let started = std::time::Instant::now();
-    let tallies = study.run_blocks(blocks, &|done| bar.set_position(done as u64), |rec| {
+    let progress = |done| bar.set_position(done as u64);
+    let keep_example = |rec: &navkf_study::monte_carlo::RunRecord| {
         *example.lock().expect("no panics while holding it") = Some(study.example_of(rec))
-    });
+    };
+    // A shard keeps its blocks for `merge`; a whole study folds them as they complete.
+    let (tallies, tally) = match shard {
+        Some(_) => (
+            study.run_blocks(blocks, &progress, keep_example),
+            Default::default(),
+        ),
+        None => (
+            Vec::new(),
+            study.run_folded(blocks, &progress, keep_example),
+        ),
+    };
     bar.finish_and_clear();
     let example = example.into_inner().expect("not poisoned");
     let wall = started.elapsed().as_secs_f64();
@@ -147,7 +159,6 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             );
         }
         None => {
-            let tally = fold(&tallies);
             let summary = write_results(&study, &tally, example.as_ref(), &out)?;
             eprintln!(
                 "{} runs in {wall:.1} s, wrote {}",

@@ -5,7 +5,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use navkf_study::output::{
     fold, read_partials, shard_blocks, write_atomic, write_results, Partial,
 };
-use navkf_study::{Study, StudyConfig};
+use navkf_study::{guard, Study, StudyConfig};
 use std::path::PathBuf;
 use std::sync::Mutex;
 
@@ -28,6 +28,10 @@ pub struct Args {
     /// No progress bar.
     #[arg(long)]
     quiet: bool,
+    /// Compare the results with a baseline summary.json (same study file and seed) and fail
+    /// with a table of what got worse (the CI accuracy guard: see navkf_study::guard).
+    #[arg(long)]
+    baseline: Option<PathBuf>,
 }
 
 #[derive(clap::Args)]
@@ -68,6 +72,24 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         config.study.example_run = config.study.example_run.min(r - 1);
     }
     let shard = a.shard.as_deref().map(parse_shard).transpose()?;
+    let baseline = match &a.baseline {
+        Some(_) if shard.is_some() => {
+            return Err("--baseline compares a whole study: it cannot be used with --shard".into())
+        }
+        Some(path) => Some((path, guard::load_baseline(path)?)),
+        None => None,
+    };
+    if let Some((path, base)) = &baseline {
+        let diffs = guard::settings_differences(base, &config);
+        if !diffs.is_empty() {
+            return Err(format!(
+                "{}: the baseline was made with other settings than this run ({}); the guard compares the same study and seed: rerun without --runs, or regenerate the baseline (see the study file's header)",
+                path.display(),
+                diffs.join("; ")
+            )
+            .into());
+        }
+    }
     if let Some(t) = a.threads {
         rayon::ThreadPoolBuilder::new()
             .num_threads(t)
@@ -103,9 +125,21 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     bar.set_prefix(study.config.study.name.clone());
     let example = Mutex::new(None);
     let started = std::time::Instant::now();
-    let tallies = study.run_blocks(blocks, &|done| bar.set_position(done as u64), |rec| {
+    let progress = |done| bar.set_position(done as u64);
+    let keep_example = |rec: &navkf_study::monte_carlo::RunRecord| {
         *example.lock().expect("no panics while holding it") = Some(study.example_of(rec))
-    });
+    };
+    // A shard keeps its blocks for `merge`; a whole study folds them as they complete.
+    let (tallies, tally) = match shard {
+        Some(_) => (
+            study.run_blocks(blocks, &progress, keep_example),
+            Default::default(),
+        ),
+        None => (
+            Vec::new(),
+            study.run_folded(blocks, &progress, keep_example),
+        ),
+    };
     bar.finish_and_clear();
     let example = example.into_inner().expect("not poisoned");
     let wall = started.elapsed().as_secs_f64();
@@ -125,7 +159,6 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             );
         }
         None => {
-            let tally = fold(&tallies);
             let summary = write_results(&study, &tally, example.as_ref(), &out)?;
             eprintln!(
                 "{} runs in {wall:.1} s, wrote {}",
@@ -133,6 +166,19 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
                 out.display()
             );
             print!("{}", navkf_study::report::table(&summary));
+            if let Some((path, base)) = &baseline {
+                let report = guard::compare(base, &summary, guard::DEFAULT_K);
+                print!("{}", report.table());
+                if !report.passed() {
+                    return Err(format!(
+                        "accuracy guard: {} of {} checks worse than {} (table above)",
+                        report.worse.len(),
+                        report.checks,
+                        path.display()
+                    )
+                    .into());
+                }
+            }
         }
     }
     Ok(())

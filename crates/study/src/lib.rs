@@ -5,6 +5,7 @@ pub mod config;
 pub mod diagnose;
 pub mod error;
 pub mod filters;
+pub mod guard;
 pub mod monte_carlo;
 pub mod output;
 pub mod plots;

@@ -431,10 +431,37 @@ impl Study {
         &self,
         blocks: std::ops::Range<usize>,
         progress: &(dyn Fn(usize) + Sync),
-        mut example: impl FnMut(&RunRecord),
+        example: impl FnMut(&RunRecord),
     ) -> Vec<Tally> {
-        let total = self.config.study.runs;
         let mut out = Vec::with_capacity(blocks.len());
+        self.for_each_block(blocks, progress, example, |t| out.push(t));
+        out
+    }
+
+    /// [`Study::run_blocks`] folded into one tally as the blocks complete: bit-identical to
+    /// `output::fold(&run_blocks(..))`, but holding one group of blocks at a time, so memory
+    /// does not grow with the number of runs.
+    pub fn run_folded(
+        &self,
+        blocks: std::ops::Range<usize>,
+        progress: &(dyn Fn(usize) + Sync),
+        example: impl FnMut(&RunRecord),
+    ) -> Tally {
+        let mut total = Tally::default();
+        self.for_each_block(blocks, progress, example, |t| total.merge(&t));
+        total
+    }
+
+    /// Runs `blocks` and hands each block's tally to `sink` as soon as it is complete, in
+    /// block order.
+    fn for_each_block(
+        &self,
+        blocks: std::ops::Range<usize>,
+        progress: &(dyn Fn(usize) + Sync),
+        mut example: impl FnMut(&RunRecord),
+        mut sink: impl FnMut(Tally),
+    ) {
+        let total = self.config.study.runs;
         // Several blocks in flight at once for parallelism; folding stays per block, in
         // order, so the thread count changes nothing but speed.
         let in_flight = (rayon::current_num_threads() * 4).div_ceil(BLOCK).max(1);
@@ -462,10 +489,9 @@ impl Study {
                         example(rec);
                     }
                 }
-                out.push(tally);
+                sink(tally);
             }
         }
-        out
     }
 
     /// Number of blocks in the study.

@@ -459,7 +459,8 @@ impl Trajectory {
         let a = [ds * sp + s * dpsi * cp, ds * cp - s * dpsi * sp];
         // Cubic Hermite between grid points, with the exact position rates at both ends.
         let k = ((t / GRID).floor() as usize).min(self.grid.len() - 2);
-        let (t0, t1) = (k as f64 * GRID, (k + 1) as f64 * GRID);
+        let t0 = k as f64 * GRID;
+        let t1 = t0 + GRID;
         let (p0, p1) = (self.grid[k], self.grid[k + 1]);
         let (m0, m1) = (
             position_rate(self.velocity(t0), p0[0]),
@@ -472,7 +473,6 @@ impl Trajectory {
             u * u * (3.0 - 2.0 * u),
             u * u * (u - 1.0),
         );
-        let _ = t1;
         let pos = [
             h00 * p0[0] + h10 * GRID * m0[0] + h01 * p1[0] + h11 * GRID * m1[0],
             h00 * p0[1] + h10 * GRID * m0[1] + h01 * p1[1] + h11 * GRID * m1[1],

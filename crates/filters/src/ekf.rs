@@ -378,14 +378,12 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
         if k == 0 {
             return Ok(&self.gain.report);
         }
-        let nz = self.model.meas_dim();
         self.model.measure(&self.est.x, &mut self.z_hat);
         self.model.measurement_jacobian(&self.est.x, &mut self.h);
         // Selected rows of H, row-major k x n.
         for (a, &ch) in self.gain.report.channels.iter().enumerate() {
             self.hsel[a * n..(a + 1) * n].copy_from_slice(&self.h[ch * n..(ch + 1) * n]);
         }
-        let _ = nz;
         let p = &self.est.p;
         // Pxz = P H^T (n x k, column-major): column a = P * h_a.
         for a in 0..k {

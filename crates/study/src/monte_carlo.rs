@@ -251,7 +251,7 @@ impl Study {
         RunRecord {
             run,
             filters,
-            bound: self.run_bound(&sim_run, &x0),
+            bound: self.run_bound(&sim_run),
             truth: example.then(|| sim_run.truth.clone()),
         }
     }
@@ -369,7 +369,7 @@ impl Study {
         out
     }
 
-    fn run_bound(&self, sim_run: &SimulatedRun, x0: &[f64]) -> Option<Vec<Vec<f64>>> {
+    fn run_bound(&self, sim_run: &SimulatedRun) -> Option<Vec<Vec<f64>>> {
         let model = self.sim.model().clone();
         let nt = model.dim();
         let mut ekf = Ekf::new(model.clone());
@@ -385,7 +385,6 @@ impl Study {
             p0[i + i * nt] = s * s;
         }
         let mut xt0 = sim_run.truth.states[0].clone();
-        let _ = x0;
         xt0.truncate(nt);
         ekf.reset(&xt0, &p0).ok()?;
         let mut out = Vec::with_capacity(self.times.len());

@@ -46,8 +46,13 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         .out
         .unwrap_or_else(|| PathBuf::from("results/diagnose").join(&ds.name));
     let started = std::time::Instant::now();
-    let (d, fit) = diagnose(&ds, &registry, &opts)?;
-    let figures = navkf_study::diagnose::plots::draw(&ds, &d, &fit, &out)?;
+    let (d, fits) = diagnose(&ds, &registry, &opts)?;
+    let figures = navkf_study::diagnose::plots::draw(&d, &fits, &out);
+    for f in &figures {
+        if let Err(e) = &f.result {
+            eprintln!("warning: figure {} not drawn: {e}", f.name);
+        }
+    }
     let command = std::env::args().collect::<Vec<_>>().join(" ");
     write_atomic(
         &out.join("diagnosis.json"),

@@ -419,13 +419,22 @@ pub struct Diagnosis {
     pub findings: Vec<String>,
 }
 
-/// Runs the whole diagnosis. Returns the diagnosis and the fit of the model under test
-/// (for plots).
+/// The filter passes behind a diagnosis, kept for its figures.
+#[derive(Debug, Clone)]
+pub struct Fits {
+    /// The model under test (base plus `--with`).
+    pub model: Fit,
+    /// The base model, when `--with` added effects.
+    pub before: Option<Fit>,
+}
+
+/// Runs the whole diagnosis. Returns the diagnosis and the fits of the model under test and,
+/// with `--with`, of the base model (for the figures).
 pub fn diagnose(
     ds: &Dataset,
     registry: &Registry,
     opts: &Options,
-) -> Result<(Diagnosis, Fit), DiagnoseError> {
+) -> Result<(Diagnosis, Fits), DiagnoseError> {
     let with = opts.with.clone();
     let mut todo: Vec<Vec<String>> = vec![with.clone()];
     if !with.is_empty() {
@@ -447,11 +456,12 @@ pub fn diagnose(
         .collect();
     let mut fits = fits.into_iter().collect::<Result<Vec<Fit>, _>>()?;
     let main = fits.remove(0);
-    let before = if with.is_empty() {
+    let before_fit = if with.is_empty() {
         None
     } else {
-        Some(summarize_fit(ds, &fits.remove(0), opts))
+        Some(fits.remove(0))
     };
+    let before = before_fit.as_ref().map(|f| summarize_fit(ds, f, opts));
     let model = summarize_fit(ds, &main, opts);
     let n_meas: usize = main.dims.iter().sum();
     let ln_n = (n_meas.max(1) as f64).ln();
@@ -526,7 +536,10 @@ pub fn diagnose(
             candidates: cands,
             findings,
         },
-        main,
+        Fits {
+            model: main,
+            before: before_fit,
+        },
     ))
 }
 

@@ -1,6 +1,7 @@
 //! The diagnosis in words and as `report.md`.
 
 use super::{Candidate, Diagnosis, FitSummary, DECISIVE_BIC};
+use crate::plots::FigureOutcome;
 use std::fmt::Write as _;
 
 fn fmt(v: f64) -> String {
@@ -186,8 +187,9 @@ fn fit_table(out: &mut String, title: &str, f: &FitSummary) {
     let _ = writeln!(out);
 }
 
-/// `report.md` of a diagnosis (figures, when drawn, are linked by the caller).
-pub fn markdown(d: &Diagnosis, command: &str, figures: &[(String, String)]) -> String {
+/// `report.md` of a diagnosis, linking the figures drawn next to it (and saying which could
+/// not be drawn, and why).
+pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "# Diagnosis of `{}`\n", d.dataset);
     let _ = writeln!(out, "Command: `{command}`\n");
@@ -247,8 +249,19 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[(String, String)]) -> S
     }
     if !figures.is_empty() {
         let _ = writeln!(out, "## Figures\n");
-        for (title, path) in figures {
-            let _ = writeln!(out, "### {title}\n\n![{title}]({path})\n");
+        for f in figures {
+            match &f.result {
+                Ok(()) => {
+                    let _ = writeln!(
+                        out,
+                        "### {}\n\n![{}]({}.png)\n",
+                        f.caption, f.caption, f.name
+                    );
+                }
+                Err(e) => {
+                    let _ = writeln!(out, "### {}\n\nNot drawn: {e}\n", f.caption);
+                }
+            }
         }
     }
     out

@@ -3,6 +3,8 @@
 //!
 //! - `odometer-scale` kod = 0.5 % (tyre pressure and wear change the wheel radius by that much);
 //! - `gps-latency` tau = 0.2 s (an unmodelled receiver output delay);
+//! - `gyro-fz` Kg13 = 0.1 deg/h/g (4.9e-8 rad/s per m/s^2) on every axis, a g-sensitive drift
+//!   of an ordinary mechanical gyro, which on a level vehicle looks like a constant drift;
 //! - outside the catalogue: a velocity-proportional drag on the platform's velocity,
 //!   `v' -= kd v` with kd = 5e-5 1/s (7.5e-4 m/s^2 = 75 micro-g at 15 m/s), a term no
 //!   catalogued effect has.
@@ -171,4 +173,38 @@ fn an_effect_outside_the_catalogue_is_not_attributed_to_a_catalogued_one() {
     reg.register("drag", || Box::new(Drag));
     let d = diagnose(&ds, &reg, &Options::default()).unwrap().0;
     assert_eq!(d.best.as_deref(), Some("drag"), "{:#?}", d.candidates);
+}
+
+#[test]
+fn an_effect_the_trajectory_cannot_separate_is_reported_as_such_not_named() {
+    // On a level vehicle fz is gravity, so Kg13 fz is a constant drift: Kg0 absorbs it.
+    let k = 4.9e-8;
+    let ds = dataset(
+        catalogue(&["gyro-fz"]),
+        &[("Kg13x", k), ("Kg13y", k), ("Kg13z", k)],
+        14,
+    );
+    let d = run(&ds, &[]);
+    assert_ne!(d.best.as_deref(), Some("gyro-fz"), "{:#?}", d.findings);
+    let c = d
+        .candidates
+        .iter()
+        .find(|c| c.effect == "gyro-fz")
+        .expect("gyro-fz is a candidate");
+    assert!(!c.supported);
+    assert!(
+        c.confused_with
+            .iter()
+            .any(|(p, r)| p.contains("Kg0") && r.abs() > 0.9),
+        "{:?}",
+        c.confused_with
+    );
+    assert!(
+        d.findings
+            .iter()
+            .any(|f| f.contains("`gyro-fz` cannot be told apart")),
+        "{:#?}",
+        d.findings
+    );
+    assert_ne!(d.verdict, "explained", "{:#?}", d.findings);
 }

@@ -80,9 +80,24 @@ pub fn findings(model: &FitSummary, cands: &[Candidate], best: Option<&str>) -> 
         }
         None => {
             if !model.consistent {
-                out.push(format!(
-                    "No catalogued effect explains the misfit: none has decisive evidence (BIC gain > {DECISIVE_BIC}) and repairs it (consistent innovations, or 90 % of the excess NIS removed). The cause is outside the catalogue."
-                ));
+                // A candidate with decisive evidence that the trajectory cannot separate from
+                // the model's coefficients may be the cause: the data cannot say. One without
+                // decisive evidence is ruled out whatever the split (adding it did not help).
+                let strong: Vec<String> = cands
+                    .iter()
+                    .filter(|c| c.bic_gain > DECISIVE_BIC && !c.confused_with.is_empty())
+                    .map(|c| format!("`{}`", c.effect))
+                    .collect();
+                if strong.is_empty() {
+                    out.push(format!(
+                        "No catalogued effect explains the misfit: none has decisive evidence (BIC gain > {DECISIVE_BIC}) and repairs it (consistent innovations, or 90 % of the excess NIS removed). The cause is outside the catalogue, or too small to attribute on this dataset."
+                    ));
+                } else {
+                    out.push(format!(
+                        "No catalogued effect can be named: {} has decisive evidence but cannot be told apart from coefficients already in the model on this trajectory (see below), so the data cannot say whether it or those coefficients carry the misfit. A trajectory that separates them (for `gyro-fz`, one with varying vertical specific force) would.",
+                        strong.join(", ")
+                    ));
+                }
             }
         }
     }
@@ -96,14 +111,16 @@ pub fn findings(model: &FitSummary, cands: &[Candidate], best: Option<&str>) -> 
                 if c.coefficients.is_empty() { " (it only adds process noise, which can soak up any slow misfit)" } else { "" }
             ));
         }
-        if !c.confused_with.is_empty() && c.bic_gain > 0.0 {
+        // Said whatever the evidence: an effect the trajectory cannot separate is absorbed
+        // into the model's own coefficients, so its absence from the ranking proves nothing.
+        if !c.confused_with.is_empty() {
             let pairs: Vec<String> = c
                 .confused_with
                 .iter()
                 .map(|(p, r)| format!("{p} (correlation {r:+.2})"))
                 .collect();
             out.push(format!(
-                "`{}` cannot be told apart from coefficients already in the model on this trajectory: {}.",
+                "`{}` cannot be told apart from coefficients already in the model on this trajectory: {}. If present, it is absorbed into them (their estimates then carry it).",
                 c.effect,
                 pairs.join(", ")
             ));

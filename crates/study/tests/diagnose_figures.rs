@@ -83,6 +83,7 @@ fn before_and_after_figures_are_drawn_and_linked() {
     let nis = std::fs::read_to_string(dir.join("nis.svg")).unwrap();
     assert!(nis.contains("before: base model") && nis.contains("after: with odometer-scale"));
     let md = report::markdown(&d, "navkf diagnose test", &figs);
+    assert!(md.contains("## Before and after") && md.contains("| kod | not in the model |"));
     for n in expected {
         assert!(md.contains(&format!("({n}.png)")), "report.md lacks {n}");
     }

@@ -204,6 +204,86 @@ fn fit_table(out: &mut String, title: &str, f: &FitSummary) {
     let _ = writeln!(out);
 }
 
+/// The before/after table: log-likelihood, NIS, each channel's whiteness and, with a truth,
+/// each coefficient's error in units of its final sigma, side by side.
+fn before_after(out: &mut String, b: &FitSummary, a: &FitSummary) {
+    let _ = writeln!(
+        out,
+        "\n## Before and after\n\nBefore: the base model. After: with {}.\n",
+        a.effects.join(", ")
+    );
+    let _ = writeln!(out, "| | before | after |\n|---|---|---|");
+    let _ = writeln!(
+        out,
+        "| log-likelihood | {:.1} | {:.1} |",
+        b.loglik, a.loglik
+    );
+    let nis = |f: &FitSummary| {
+        format!(
+            "{:.3} ({}, bounds {:.3}-{:.3})",
+            f.nis.mean, f.nis.verdict, f.nis.bounds[0], f.nis.bounds[1]
+        )
+    };
+    let _ = writeln!(out, "| NIS | {} | {} |", nis(b), nis(a));
+    let _ = writeln!(
+        out,
+        "| consistent | {} | {} |",
+        if b.consistent { "yes" } else { "no" },
+        if a.consistent { "yes" } else { "no" }
+    );
+    for wa in &a.whiteness {
+        let white = |w: &super::Whiteness| {
+            format!(
+                "{} (Ljung-Box {:.0}, variance {:.2})",
+                if w.white { "white" } else { "not white" },
+                w.ljung_box,
+                w.variance
+            )
+        };
+        let wb = b
+            .whiteness
+            .iter()
+            .find(|w| w.channel == wa.channel)
+            .map_or("-".to_string(), white);
+        let _ = writeln!(out, "| {} | {} | {} |", wa.channel, wb, white(wa));
+    }
+    let err = |c: &super::Coefficient| c.truth.map(|t| (c.estimate - t) / c.prior_sigma);
+    let rows: Vec<(String, Option<f64>, Option<f64>)> = a
+        .coefficients
+        .iter()
+        .map(|ca| {
+            let eb = b
+                .coefficients
+                .iter()
+                .find(|c| c.name == ca.name)
+                .and_then(err);
+            (ca.name.clone(), eb, err(ca))
+        })
+        .filter(|r| r.1.is_some() || r.2.is_some())
+        .collect();
+    if !rows.is_empty() {
+        let cell =
+            |v: Option<f64>| v.map_or("not in the model".to_string(), |e| format!("{e:+.3}"));
+        let _ = writeln!(
+            out,
+            "\nCoefficient errors against truth.csv, (estimate - truth) / initial sigma:\n\n| coefficient | before | after |\n|---|---|---|"
+        );
+        for (name, eb, ea) in &rows {
+            let _ = writeln!(out, "| {name} | {} | {} |", cell(*eb), cell(*ea));
+        }
+        let rms = |f: fn(&(String, Option<f64>, Option<f64>)) -> Option<f64>| {
+            let v: Vec<f64> = rows.iter().filter_map(f).collect();
+            (v.iter().map(|e| e * e).sum::<f64>() / v.len().max(1) as f64).sqrt()
+        };
+        let _ = writeln!(
+            out,
+            "| RMS over the coefficients each has | {:.3} | {:.3} |",
+            rms(|r| r.1),
+            rms(|r| r.2)
+        );
+    }
+}
+
 /// `report.md` of a diagnosis, linking the figures drawn next to it (and saying which could
 /// not be drawn, and why).
 pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> String {
@@ -258,6 +338,9 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
                 k.truth.map(fmt).unwrap_or("-".into())
             );
         }
+    }
+    if let Some(b) = &d.before {
+        before_after(&mut out, b, &d.model);
     }
     let _ = writeln!(out, "\n## The model under test\n");
     fit_table(&mut out, "After", &d.model);

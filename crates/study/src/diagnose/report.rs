@@ -204,6 +204,9 @@ fn fit_table(out: &mut String, title: &str, f: &FitSummary) {
     let _ = writeln!(out);
 }
 
+/// A coefficient's name and its normalised errors before and after.
+type ErrorRow = (String, Option<f64>, Option<f64>);
+
 /// The before/after table: log-likelihood, NIS, each channel's whiteness and, with a truth,
 /// each coefficient's error in units of its final sigma, side by side.
 fn before_after(out: &mut String, b: &FitSummary, a: &FitSummary) {
@@ -248,7 +251,7 @@ fn before_after(out: &mut String, b: &FitSummary, a: &FitSummary) {
         let _ = writeln!(out, "| {} | {} | {} |", wa.channel, wb, white(wa));
     }
     let err = |c: &super::Coefficient| c.truth.map(|t| (c.estimate - t) / c.prior_sigma);
-    let rows: Vec<(String, Option<f64>, Option<f64>)> = a
+    let rows: Vec<ErrorRow> = a
         .coefficients
         .iter()
         .map(|ca| {
@@ -271,7 +274,7 @@ fn before_after(out: &mut String, b: &FitSummary, a: &FitSummary) {
         for (name, eb, ea) in &rows {
             let _ = writeln!(out, "| {name} | {} | {} |", cell(*eb), cell(*ea));
         }
-        let rms = |f: fn(&(String, Option<f64>, Option<f64>)) -> Option<f64>| {
+        let rms = |f: fn(&ErrorRow) -> Option<f64>| {
             let v: Vec<f64> = rows.iter().filter_map(f).collect();
             (v.iter().map(|e| e * e).sum::<f64>() / v.len().max(1) as f64).sqrt()
         };

@@ -6,7 +6,9 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use navkf_benches::Scenario;
 use navkf_dynamics::{PropagationScratch, SystemModel};
-use navkf_filters::{simplified_ukf, standard_ukf, Ekf, Filter, Observation, SigmaScaling};
+use navkf_filters::{
+    simplified_ukf, standard_ukf, Ekf, Filter, Observation, SigmaScaling, SquareRootUkf,
+};
 use std::hint::black_box;
 
 fn filter_steps(c: &mut Criterion) {
@@ -23,6 +25,7 @@ fn filter_steps(c: &mut Criterion) {
         Box::new(simplified_ukf::new(sc.model.clone(), SigmaScaling::default()).unwrap()),
         Box::new(standard_ukf::new(sc.model.clone(), SigmaScaling::default()).unwrap()),
         Box::new(standard_ukf::process_only(sc.model.clone(), SigmaScaling::default()).unwrap()),
+        Box::new(SquareRootUkf::new(sc.model.clone(), SigmaScaling::default()).unwrap()),
     ];
     for mut f in filters {
         sc.warm_up(&mut *f, 300.0);

@@ -1,5 +1,6 @@
 //! Filters for the platform model, generic over [`navkf_dynamics::SystemModel`]: the EKF, the
-//! paper's standard (augmented) UKF and its simplified UKF.
+//! paper's standard (augmented) UKF, its simplified UKF, and a square-root UKF that carries
+//! a Cholesky factor of the covariance instead of the covariance.
 //!
 //! Every filter implements [`Filter`]: `predict` across an input window, `update` with an
 //! [`Observation`], each returning a typed [`FilterError`] (with the step) rather than
@@ -12,7 +13,9 @@ pub mod linalg;
 pub mod runner;
 pub mod sigma_points;
 pub mod simplified_ukf;
+pub mod square_root_ukf;
 pub mod standard_ukf;
+pub mod triangular;
 pub mod ukf;
 pub mod update;
 
@@ -21,5 +24,6 @@ pub use error::FilterError;
 pub use filter::{nees, Filter};
 pub use runner::{RunError, Runner, StepView};
 pub use sigma_points::{SigmaPoints, SigmaScaling};
+pub use square_root_ukf::SquareRootUkf;
 pub use ukf::{NoiseHandling, Ukf};
 pub use update::{Observation, UpdateReport};

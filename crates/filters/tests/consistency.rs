@@ -77,6 +77,7 @@ fn filters(model: &std::sync::Arc<PlatformModel>) -> Vec<Box<dyn Filter>> {
         Box::new(Ekf::new(model.clone())),
         Box::new(standard_ukf::new(model.clone(), SigmaScaling::default()).unwrap()),
         Box::new(simplified_ukf::new(model.clone(), SigmaScaling::default()).unwrap()),
+        Box::new(SquareRootUkf::new(model.clone(), SigmaScaling::default()).unwrap()),
     ]
 }
 

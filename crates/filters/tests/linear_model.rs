@@ -383,6 +383,10 @@ fn every_filter_equals_the_kalman_filter_on_a_linear_model() {
             false,
         ),
         (
+            Box::new(SquareRootUkf::new(m.clone(), SigmaScaling::default()).unwrap()),
+            false,
+        ),
+        (
             Box::new(standard_ukf::new(m.clone(), SigmaScaling::default()).unwrap()),
             true,
         ),

@@ -82,6 +82,7 @@ fn filters(m: &Arc<PlatformModel>) -> Vec<Box<dyn Filter>> {
         Box::new(simplified_ukf::new(m.clone(), SigmaScaling::default()).unwrap()),
         Box::new(standard_ukf::new(m.clone(), SigmaScaling::default()).unwrap()),
         Box::new(standard_ukf::process_only(m.clone(), SigmaScaling::default()).unwrap()),
+        Box::new(SquareRootUkf::new(m.clone(), SigmaScaling::default()).unwrap()),
     ]
 }
 

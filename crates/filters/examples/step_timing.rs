@@ -1,7 +1,7 @@
 //! Times one predict + update per filter on the benchmark's scenario (base model warmed up
 //! for 300 s, then the 1 s window at t = 300 with 10 input sub-steps), for profiling:
 //! `cargo run --release -p navkf-filters --example step_timing [-- FILTER [SECONDS]]`
-//! with FILTER one of `ekf`, `simplified_ukf`, `standard_ukf`, `standard_ukf_25` or `all`.
+//! with FILTER one of `ekf`, `simplified_ukf`, `standard_ukf`, `standard_ukf_25`, `square_root_ukf` or `all`.
 //! Prints the median over batches and, with `--dump`, the state and covariance after one
 //! step (to compare results between versions).
 use navkf_dynamics::simulate::base_coefficient_sigma;
@@ -71,6 +71,7 @@ fn main() {
         Box::new(simplified_ukf::new(model.clone(), SigmaScaling::default()).unwrap()),
         Box::new(standard_ukf::new(model.clone(), SigmaScaling::default()).unwrap()),
         Box::new(standard_ukf::process_only(model.clone(), SigmaScaling::default()).unwrap()),
+        Box::new(SquareRootUkf::new(model.clone(), SigmaScaling::default()).unwrap()),
     ];
     for mut f in filters {
         if which != "all" && which != f.name() {

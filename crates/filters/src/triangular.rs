@@ -24,7 +24,7 @@ pub fn householder_r(a: &mut [f64], m: usize, n: usize) {
         let (head, tail) = a.split_at_mut((j + 1) * m);
         let v = &mut head[j * m + j..(j + 1) * m];
         let x0 = v[0];
-        let tail_sq: f64 = v[1..].iter().map(|x| x * x).sum();
+        let tail_sq = dot(&v[1..], &v[1..]);
         let norm = (x0 * x0 + tail_sq).sqrt();
         if tail_sq == 0.0 {
             // Already triangular in this column.
@@ -38,8 +38,7 @@ pub fn householder_r(a: &mut [f64], m: usize, n: usize) {
         v[0] = v0;
         for c in tail.chunks_exact_mut(m).take(n - j - 1) {
             let col = &mut c[j..m];
-            let s: f64 = col.iter().zip(v.iter()).map(|(a, b)| a * b).sum();
-            let f = beta * s;
+            let f = beta * dot(col, v);
             for (ci, vi) in col.iter_mut().zip(v.iter()) {
                 *ci -= f * vi;
             }
@@ -55,6 +54,22 @@ pub fn householder_r(a: &mut [f64], m: usize, n: usize) {
             }
         }
     }
+}
+
+/// Dot product with four independent accumulators (a plain fold is one serial chain of
+/// adds, which the compiler may not reorder).
+#[inline(always)]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0; 4];
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        for l in 0..4 {
+            acc[l] = crate::linalg::fmadd(x[l], y[l], acc[l]);
+        }
+    }
+    let tail: f64 = ra.iter().zip(rb).map(|(x, y)| x * y).sum();
+    (acc[0] + acc[2]) + (acc[1] + acc[3]) + tail
 }
 
 /// Rank-one update (`sign = 1`) or downdate (`sign = -1`) of a lower Cholesky factor:
@@ -100,17 +115,22 @@ pub fn rank_one_update(
     Ok(())
 }
 
-/// `P = S S^T` for a lower-triangular `S` (column-major `n x n`), written in full.
-pub fn outer_of_lower(s: &[f64], n: usize, p: &mut [f64]) {
+/// `P = S S^T` for a lower-triangular `S` (column-major `n x n`), written in full. `rows`
+/// (at least `n * n`) receives the rows of `S` contiguously, so each entry is one dot
+/// product over contiguous memory.
+pub fn outer_of_lower(s: &[f64], n: usize, p: &mut [f64], rows: &mut [f64]) {
     for j in 0..n {
+        for i in 0..n {
+            rows[j + i * n] = s[i + j * n];
+        }
+    }
+    for j in 0..n {
+        let rj = &rows[j * n..j * n + j + 1];
         for i in j..n {
-            // Columns of S^T: (S S^T)[i, j] = sum_{c <= j} S[i, c] S[j, c].
-            let mut acc = 0.0;
-            for c in 0..=j {
-                acc += s[i + c * n] * s[j + c * n];
-            }
-            p[i + j * n] = acc;
-            p[j + i * n] = acc;
+            // (S S^T)[i, j] = sum_{c <= j} S[i, c] S[j, c].
+            let v = dot(&rows[i * n..i * n + j + 1], rj);
+            p[i + j * n] = v;
+            p[j + i * n] = v;
         }
     }
 }
@@ -200,7 +220,7 @@ mod tests {
         let mut l = p.clone();
         cholesky_in_place(&mut l, n).unwrap();
         let mut back = vec![0.0; n * n];
-        outer_of_lower(&l, n, &mut back);
+        outer_of_lower(&l, n, &mut back, &mut vec![0.0; n * n]);
         for (b, q) in back.iter().zip(&p) {
             assert!((b - q).abs() < 1e-12 * q.abs().max(1.0));
         }

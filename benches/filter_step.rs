@@ -6,9 +6,7 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use navkf_benches::Scenario;
 use navkf_dynamics::{PropagationScratch, SystemModel};
-use navkf_filters::{
-    simplified_ukf, standard_ukf, Ekf, Filter, Observation, SigmaScaling, SquareRootUkf,
-};
+use navkf_filters::Observation;
 use std::hint::black_box;
 
 fn filter_steps(c: &mut Criterion) {
@@ -20,13 +18,7 @@ fn filter_steps(c: &mut Criterion) {
         available: &avail,
     };
     let mut group = c.benchmark_group("predict_update");
-    let filters: Vec<Box<dyn Filter>> = vec![
-        Box::new(Ekf::new(sc.model.clone())),
-        Box::new(simplified_ukf::new(sc.model.clone(), SigmaScaling::default()).unwrap()),
-        Box::new(standard_ukf::new(sc.model.clone(), SigmaScaling::default()).unwrap()),
-        Box::new(standard_ukf::process_only(sc.model.clone(), SigmaScaling::default()).unwrap()),
-        Box::new(SquareRootUkf::new(sc.model.clone(), SigmaScaling::default()).unwrap()),
-    ];
+    let filters = navkf_benches::all_filters(&sc.model);
     for mut f in filters {
         sc.warm_up(&mut *f, 300.0);
         let x = f.state().to_vec();

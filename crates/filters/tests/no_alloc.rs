@@ -89,20 +89,7 @@ fn filters(m: &Arc<PlatformModel>) -> Vec<Box<dyn Filter>> {
 /// `steps` predict + update steps at rest, everything built up front, counted.
 fn steps_allocate_nothing(m: Arc<PlatformModel>, steps: usize) {
     let n = m.dim();
-    let mut x0 = vec![0.0; n];
-    x0[LAT] = 45.78f64.to_radians();
-    x0[LON] = 126.63f64.to_radians();
-    let mut p0 = vec![0.0; n * n];
-    for i in 0..n {
-        let s = match i {
-            PHI_X | PHI_Y => 4.85e-5,
-            PHI_Z => 2.91e-4,
-            V_X | V_Y => 1e-2,
-            LAT | LON => 5e-7,
-            _ => 1e-6,
-        };
-        p0[i + i * n] = s * s;
-    }
+    let (x0, p0) = common::at_rest(n, |_| 1e-6);
     let mut window = InputWindow::with_capacity(11);
     for k in 0..=10 {
         window.push_linear(k as f64 * 0.1, [0.01, -0.02, 9.806]);

@@ -35,22 +35,7 @@ fn ukfs(m: &Arc<PlatformModel>) -> Vec<Box<dyn Filter>> {
 
 /// A level platform at rest at 45.78 N, a good diagonal covariance.
 fn start() -> (Vec<f64>, Vec<f64>) {
-    let n = BASE_DIM;
-    let mut x = vec![0.0; n];
-    x[LAT] = 45.78f64.to_radians();
-    x[LON] = 126.63f64.to_radians();
-    let mut p = vec![0.0; n * n];
-    for i in 0..n {
-        let s = match i {
-            PHI_X | PHI_Y => 4.85e-5,
-            PHI_Z => 2.91e-4,
-            V_X | V_Y => 1e-2,
-            LAT | LON => 5e-7,
-            _ => navkf_dynamics::simulate::base_coefficient_sigma(i),
-        };
-        p[i + i * n] = s * s;
-    }
-    (x, p)
+    common::at_rest(BASE_DIM, navkf_dynamics::simulate::base_coefficient_sigma)
 }
 
 /// One second at rest, ten sub-steps.

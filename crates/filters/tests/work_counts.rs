@@ -13,6 +13,8 @@
 //! the wrong number of RK4 stages or sub-steps, an update that redraws or re-propagates
 //! points it already has, an EKF that evaluates more Jacobians than stages.
 
+mod common;
+
 use navkf_dynamics::state::*;
 use navkf_dynamics::*;
 use navkf_filters::*;
@@ -86,24 +88,6 @@ impl SystemModel for Counted {
     }
 }
 
-fn start(n: usize) -> (Vec<f64>, Vec<f64>) {
-    let mut x = vec![0.0; n];
-    x[LAT] = 45.78f64.to_radians();
-    x[LON] = 126.63f64.to_radians();
-    let mut p = vec![0.0; n * n];
-    for i in 0..n {
-        let s = match i {
-            PHI_X | PHI_Y => 4.85e-5,
-            PHI_Z => 2.91e-4,
-            V_X | V_Y => 1e-2,
-            LAT | LON => 5e-7,
-            _ => 1e-6,
-        };
-        p[i + i * n] = s * s;
-    }
-    (x, p)
-}
-
 fn window(substeps: usize) -> InputWindow {
     let mut w = InputWindow::with_capacity(substeps + 1);
     for k in 0..=substeps {
@@ -115,7 +99,7 @@ fn window(substeps: usize) -> InputWindow {
 /// Counts of one predict and of the update that follows, for `f` on `m`.
 fn one_step(f: &mut dyn Filter, m: &Counted, substeps: usize) -> ([usize; 4], [usize; 4]) {
     let n = m.dim();
-    let (x, p) = start(n);
+    let (x, p) = common::at_rest(n, |_| 1e-6);
     f.reset(&x, &p).unwrap();
     m.take();
     f.predict(&window(substeps)).unwrap();

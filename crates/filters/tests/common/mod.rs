@@ -61,3 +61,24 @@ pub fn initial_estimate(sim: &Simulator, run: &SimulatedRun) -> (Vec<f64>, Vec<f
     }
     (x0, p0)
 }
+
+/// A level platform at rest at 45.78 N, 126.63 E with a diagonal covariance: 10 arcsec level
+/// and 1 arcmin azimuth tilt, 1 cm/s velocity, 3 m position, and `coefficient_sigma(i)` for
+/// every state from index `NAV_DIM` on.
+pub fn at_rest(n: usize, coefficient_sigma: impl Fn(usize) -> f64) -> (Vec<f64>, Vec<f64>) {
+    let mut x = vec![0.0; n];
+    x[LAT] = 45.78f64.to_radians();
+    x[LON] = 126.63f64.to_radians();
+    let mut p = vec![0.0; n * n];
+    for i in 0..n {
+        let s = match i {
+            PHI_X | PHI_Y => 4.85e-5,
+            PHI_Z => 2.91e-4,
+            V_X | V_Y => 1e-2,
+            LAT | LON => 5e-7,
+            _ => coefficient_sigma(i),
+        };
+        p[i + i * n] = s * s;
+    }
+    (x, p)
+}

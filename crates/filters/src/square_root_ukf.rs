@@ -177,6 +177,24 @@ impl<M: SystemModel + ?Sized> SquareRootUkf<M> {
         Ok(())
     }
 
+    /// With `z_hat`, the innovation factor `szz` and `u` (`K S_zz`, n x k) in place: fills the
+    /// report and applies `x += K nu = U S_zz^-1 nu`.
+    fn apply_innovation(&mut self, obs: &Observation, k: usize) -> Result<(), FilterError> {
+        let n = self.est.n;
+        let r = &mut self.gain.report;
+        r.innovation.clear();
+        for &ca in &r.channels {
+            r.innovation.push(obs.z[ca] - self.z_hat[ca]);
+        }
+        self.report_from_factor(k)?;
+        for (b, &wb) in self.w[..k].iter().enumerate() {
+            for (xi, ui) in self.est.x.iter_mut().zip(&self.u[b * n..(b + 1) * n]) {
+                *xi += ui * wb;
+            }
+        }
+        Ok(())
+    }
+
     fn update_linear(&mut self, obs: &Observation) -> Result<(), FilterError> {
         let n = self.est.n;
         let k = self.gain.report.channels.len();
@@ -222,19 +240,7 @@ impl<M: SystemModel + ?Sized> SquareRootUkf<M> {
                 };
             }
         }
-        let r = &mut self.gain.report;
-        r.innovation.clear();
-        for &ca in &r.channels {
-            r.innovation.push(obs.z[ca] - self.z_hat[ca]);
-        }
-        self.report_from_factor(k)?;
-        // x += K nu = K' S_zz^-1 nu = K' w.
-        for (b, &wb) in self.w[..k].iter().enumerate() {
-            for (xi, ui) in self.est.x.iter_mut().zip(&self.u[b * n..(b + 1) * n]) {
-                *xi += ui * wb;
-            }
-        }
-        Ok(())
+        self.apply_innovation(obs, k)
     }
 
     fn update_sigma(&mut self, obs: &Observation) -> Result<(), FilterError> {
@@ -307,17 +313,7 @@ impl<M: SystemModel + ?Sized> SquareRootUkf<M> {
                 *x *= inv;
             }
         }
-        let r = &mut self.gain.report;
-        r.innovation.clear();
-        for &ca in &r.channels {
-            r.innovation.push(obs.z[ca] - self.z_hat[ca]);
-        }
-        self.report_from_factor(k)?;
-        for (b, &wb) in self.w[..k].iter().enumerate() {
-            for (xi, ui) in self.est.x.iter_mut().zip(&self.u[b * n..(b + 1) * n]) {
-                *xi += ui * wb;
-            }
-        }
+        self.apply_innovation(obs, k)?;
         // S+ S+^T = S S^T - U U^T: one downdate per column of U.
         for b in 0..k {
             self.d0[..n].copy_from_slice(&self.u[b * n..(b + 1) * n]);

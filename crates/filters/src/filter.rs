@@ -29,6 +29,29 @@ pub trait Filter: Send {
     fn last_report(&self) -> &UpdateReport;
 }
 
+/// The [`Filter`] accessors every filter answers from its `est: Estimate` and its
+/// `gain: GainWorkspace` (use inside `impl Filter for ...`).
+macro_rules! estimate_accessors {
+    () => {
+        fn dim(&self) -> usize {
+            self.est.n
+        }
+        fn state(&self) -> &[f64] {
+            &self.est.x
+        }
+        fn covariance(&self) -> &[f64] {
+            &self.est.p
+        }
+        fn step_index(&self) -> usize {
+            self.est.step
+        }
+        fn last_report(&self) -> &$crate::update::UpdateReport {
+            &self.gain.report
+        }
+    };
+}
+pub(crate) use estimate_accessors;
+
 /// Estimate and covariance with the checks every filter applies.
 #[derive(Debug, Clone)]
 pub(crate) struct Estimate {

@@ -328,21 +328,7 @@ impl<M: SystemModel + ?Sized> Filter for SquareRootUkf<M> {
     fn name(&self) -> &str {
         "square_root_ukf"
     }
-    fn dim(&self) -> usize {
-        self.est.n
-    }
-    fn state(&self) -> &[f64] {
-        &self.est.x
-    }
-    fn covariance(&self) -> &[f64] {
-        &self.est.p
-    }
-    fn step_index(&self) -> usize {
-        self.est.step
-    }
-    fn last_report(&self) -> &UpdateReport {
-        &self.gain.report
-    }
+    crate::filter::estimate_accessors!();
 
     fn reset(&mut self, x0: &[f64], p0: &[f64]) -> Result<(), FilterError> {
         self.est.reset(x0, p0)?;

@@ -1,11 +1,13 @@
 //! Extended Kalman filter with the exact Jacobian of the RK4 propagation.
 //!
 //! The transition matrix over a filter period is the derivative of the very RK4 map the
-//! UKFs and the truth use, not a single Euler step `I + F T`: for each sub-step,
-//! `K1 = F(x)`, `K2 = F(x + h/2 k1) (I + h/2 K1)`, `K3 = F(x + h/2 k2) (I + h/2 K2)`,
-//! `K4 = F(x + h k3) (I + h K3)`, `Phi_sub = I + h/6 (K1 + 2 K2 + 2 K3 + K4)`, chained over the
-//! sub-steps. Only the model's dynamic rows differ from the identity (`Phi = [A B; 0 I]`, the
-//! coefficients being constants), which the products exploit.
+//! UKFs and the truth use, not a single Euler step `I + F T`. It is carried through the
+//! sub-steps as a tangent, differentiated stage by stage with the state:
+//! `dK_1 = F(x) Phi`, `dK_2 = F(x + h/2 k1) (Phi + h/2 dK_1)`, `dK_3 = F(x + h/2 k2) (Phi +
+//! h/2 dK_2)`, `dK_4 = F(x + h k3) (Phi + h dK_3)`, `Phi += h/6 (dK_1 + 2 dK_2 + 2 dK_3 +
+//! dK_4)`. Only the model's dynamic rows differ from the identity (`Phi = [A B; 0 I]`, the
+//! coefficients being constants), and the Jacobian's dynamic block is sparse (27 of 49
+//! entries for the platform model); the stage products use both.
 //!
 //! Prediction `P = Phi P Phi^T + Q_k` with `Q_k = G Qc G^T T`; update in Joseph form
 //! `P = (I - K H) P (I - K H)^T + K R K^T`, evaluated as two rank-k corrections.
@@ -17,9 +19,13 @@ use crate::update::{GainWorkspace, Observation, UpdateReport};
 use navkf_dynamics::{InputWindow, SystemModel};
 use std::sync::Arc;
 
-/// Lanes of a chunk: rows of the transition matrix are stored padded to a multiple of this,
-/// as `[f64; LANES]` chunks, so that every row operation is whole SIMD vectors.
+/// Lanes of a chunk: rows of the tangent are stored padded to a multiple of this, as
+/// `[f64; LANES]` chunks, so that every row operation is whole SIMD vectors (four lanes is one
+/// AVX2 register; n = 20 then needs no padding).
+#[cfg(target_feature = "avx512f")]
 const LANES: usize = 8;
+#[cfg(not(target_feature = "avx512f"))]
+const LANES: usize = 4;
 type Chunk = [f64; LANES];
 
 /// `acc += a * src`, lane by lane.
@@ -30,92 +36,138 @@ fn axpy(acc: &mut Chunk, a: f64, src: &Chunk) {
     }
 }
 
-/// `out[r] = base[r] + sum_m coef[r * d + m] * rows[m]` for the `d` rows of `nc` chunks each
-/// (a `d x d` matrix times `d` padded rows, plus `base`).
-fn rows_product(
+/// The nonzero entries of the model Jacobian's dynamic block `F[:, :d]`, row by row (the
+/// platform model's 7 x 7 block has 27 of 49, and the longitude column is empty), so that
+/// the tangent products skip the zeros. Rebuilt from the values at every stage.
+struct SparseRows {
     d: usize,
-    nc: usize,
-    coef: &[f64],
-    rows: &[Chunk],
-    base: &[Chunk],
-    out: &mut [Chunk],
-) {
-    match nc {
-        1 => rows_product_n::<1>(d, coef, rows, base, out),
-        2 => rows_product_n::<2>(d, coef, rows, base, out),
-        3 => rows_product_n::<3>(d, coef, rows, base, out),
-        4 => rows_product_n::<4>(d, coef, rows, base, out),
-        5 => rows_product_n::<5>(d, coef, rows, base, out),
-        _ => {
-            for ((o_row, b_row), c_row) in out
-                .chunks_exact_mut(nc)
-                .zip(base.chunks_exact(nc))
-                .zip(coef.chunks_exact(d))
-                .take(d)
-            {
-                o_row.copy_from_slice(b_row);
-                for (&a, src) in c_row.iter().zip(rows.chunks_exact(nc)) {
-                    for (o, s) in o_row.iter_mut().zip(src) {
-                        axpy(o, a, s);
-                    }
+    len: Vec<usize>,
+    cols: Vec<usize>,
+    vals: Vec<f64>,
+}
+
+impl SparseRows {
+    fn new(d: usize) -> Self {
+        SparseRows {
+            d,
+            len: vec![0; d],
+            cols: vec![0; d * d],
+            vals: vec![0.0; d * d],
+        }
+    }
+
+    /// Takes the first `d` columns of each padded row of `jac` and zeroes them there, leaving
+    /// `[0 F[:, d..]]`.
+    fn take_dynamic_block(&mut self, jac: &mut [f64], np: usize) {
+        let d = self.d;
+        for (r, row) in jac.chunks_exact_mut(np).take(d).enumerate() {
+            let mut q = r * d;
+            for (m, v) in row[..d].iter_mut().enumerate() {
+                if *v != 0.0 {
+                    self.cols[q] = m;
+                    self.vals[q] = *v;
+                    q += 1;
+                }
+                *v = 0.0;
+            }
+            self.len[r] = q - r * d;
+        }
+    }
+}
+
+/// One RK4 stage of the tangent, fused: for every dynamic row `r`,
+/// `t = [0 F_b][r] + sum_m F_a[r, m] y_in[m]` (the stage's tangent rate, never stored),
+/// then `acc[r] = (first ? base[r] : acc[r]) + w t` and, for the next stage,
+/// `y_out[r] = base[r] + c t`.
+struct Stage<'a> {
+    fa: &'a SparseRows,
+    fb: &'a [Chunk],
+    y_in: &'a [Chunk],
+    base: &'a [Chunk],
+    w: f64,
+    first: bool,
+}
+
+impl Stage<'_> {
+    fn run(&self, nc: usize, acc: &mut [Chunk], y_out: Option<(&mut [Chunk], f64)>) {
+        macro_rules! fixed {
+            ($($n:literal)*) => {
+                match nc {
+                    $($n => self.run_n::<$n>(acc, y_out),)*
+                    _ => self.run_any(nc, acc, y_out),
+                }
+            };
+        }
+        fixed!(1 2 3 4 5 6 7 8)
+    }
+
+    /// With the row width known, the row's rate `t` lives in registers.
+    #[inline(always)]
+    fn run_n<const NC: usize>(&self, acc: &mut [Chunk], mut y_out: Option<(&mut [Chunk], f64)>) {
+        let d = self.fa.d;
+        for r in 0..d {
+            let mut t: [Chunk; NC] = self.fb[r * NC..(r + 1) * NC].try_into().unwrap();
+            let q0 = r * d;
+            for q in q0..q0 + self.fa.len[r] {
+                let (m, a) = (self.fa.cols[q], self.fa.vals[q]);
+                for (o, s) in t.iter_mut().zip(&self.y_in[m * NC..(m + 1) * NC]) {
+                    axpy(o, a, s);
+                }
+            }
+            self.finish_row(r, &t, NC, acc, &mut y_out);
+        }
+    }
+
+    /// Any row width: the rate is accumulated one chunk at a time.
+    fn run_any(&self, nc: usize, acc: &mut [Chunk], mut y_out: Option<(&mut [Chunk], f64)>) {
+        let d = self.fa.d;
+        for r in 0..d {
+            let q0 = r * d;
+            for ch in 0..nc {
+                let mut t = self.fb[r * nc + ch];
+                for q in q0..q0 + self.fa.len[r] {
+                    let (m, a) = (self.fa.cols[q], self.fa.vals[q]);
+                    axpy(&mut t, a, &self.y_in[m * nc + ch]);
+                }
+                let i = r * nc + ch;
+                let b = &self.base[i];
+                if self.first {
+                    acc[i] = *b;
+                }
+                axpy(&mut acc[i], self.w, &t);
+                if let Some((y, c)) = y_out.as_mut() {
+                    y[i] = *b;
+                    axpy(&mut y[i], *c, &t);
                 }
             }
         }
     }
-}
 
-/// [`rows_product`] with the row width known: blocks of rows keep their accumulators in
-/// registers, several independent chains at once.
-#[inline(always)]
-fn rows_product_n<const NC: usize>(
-    d: usize,
-    coef: &[f64],
-    rows: &[Chunk],
-    base: &[Chunk],
-    out: &mut [Chunk],
-) {
-    let mut r = 0;
-    while r + 4 <= d {
-        row_block::<NC, 4>(d, r, coef, rows, base, out);
-        r += 4;
-    }
-    if r + 2 <= d {
-        row_block::<NC, 2>(d, r, coef, rows, base, out);
-        r += 2;
-    }
-    if r < d {
-        row_block::<NC, 1>(d, r, coef, rows, base, out);
-    }
-}
-
-/// Rows `r0..r0 + R` of [`rows_product_n`].
-#[inline(always)]
-fn row_block<const NC: usize, const R: usize>(
-    d: usize,
-    r0: usize,
-    coef: &[f64],
-    rows: &[Chunk],
-    base: &[Chunk],
-    out: &mut [Chunk],
-) {
-    let coef = &coef[r0 * d..(r0 + R) * d];
-    let mut acc = [[[0.0; LANES]; NC]; R];
-    for (a, b) in acc
-        .iter_mut()
-        .zip(base[r0 * NC..(r0 + R) * NC].chunks_exact(NC))
-    {
-        a.copy_from_slice(b);
-    }
-    for (m, src) in rows.chunks_exact(NC).take(d).enumerate() {
-        for (i, a) in acc.iter_mut().enumerate() {
-            let c = coef[i * d + m];
-            for (o, s) in a.iter_mut().zip(src) {
-                axpy(o, c, s);
+    #[inline(always)]
+    fn finish_row(
+        &self,
+        r: usize,
+        t: &[Chunk],
+        nc: usize,
+        acc: &mut [Chunk],
+        y_out: &mut Option<(&mut [Chunk], f64)>,
+    ) {
+        let rows = r * nc..(r + 1) * nc;
+        let base = &self.base[rows.clone()];
+        let acc = &mut acc[rows.clone()];
+        if self.first {
+            acc.copy_from_slice(base);
+        }
+        for (o, s) in acc.iter_mut().zip(t) {
+            axpy(o, self.w, s);
+        }
+        if let Some((y, c)) = y_out.as_mut() {
+            let y = &mut y[rows];
+            y.copy_from_slice(base);
+            for (o, s) in y.iter_mut().zip(t) {
+                axpy(o, *c, s);
             }
         }
-    }
-    for (o, a) in out[r0 * NC..(r0 + R) * NC].chunks_exact_mut(NC).zip(&acc) {
-        o.copy_from_slice(a);
     }
 }
 
@@ -126,25 +178,23 @@ pub struct Ekf<M: SystemModel + ?Sized> {
     d: usize,
     /// Chunks per padded row.
     nc: usize,
-    /// Dynamic rows of the period's transition matrix, d padded rows (`[A B]`).
+    /// Dynamic rows of the period's transition matrix so far, d padded rows (`[A B]`).
     phi: Vec<Chunk>,
-    /// Dynamic rows of the sub-step's transition matrix with the first d columns zeroed
-    /// (`[0 B_sub]`), and its `A_sub` block (d x d, row-major).
-    phi_sub: Vec<Chunk>,
-    a_sub: Vec<f64>,
-    /// The model's Jacobian, d padded rows.
+    /// The same after the current sub-step, accumulated stage by stage.
+    phi_next: Vec<Chunk>,
+    /// The tangent at the current and the next stage's state, `Phi + c dK` (d padded rows).
+    y: [Vec<Chunk>; 2],
+    /// The model's Jacobian, d padded rows, its dynamic block moved to `fa`.
     jac: Vec<Chunk>,
-    /// `c * F[:, :d]` of the current stage (d x d).
-    cf: Vec<f64>,
-    /// Stage Jacobians (chained products), d padded rows each.
-    kst: [Vec<Chunk>; 4],
-    tmp_rows: Vec<Chunk>,
-    /// RK4 stage rates and states.
+    fa: SparseRows,
+    /// RK4 stage rates.
     k: [Vec<f64>; 4],
     /// Stage state (the coefficients are constant over the window).
     xs: Vec<f64>,
     /// P copied into padded rows (n x nc chunks) for the covariance propagation.
     p_pad: Vec<Chunk>,
+    /// `Phi P`'s dynamic rows.
+    tmp_rows: Vec<Chunk>,
     /// Update scratch.
     h: Vec<f64>,
     hsel: Vec<f64>,
@@ -166,11 +216,10 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
             d,
             nc,
             phi: vec![[0.0; LANES]; d * nc],
-            phi_sub: vec![[0.0; LANES]; d * nc],
-            a_sub: vec![0.0; d * d],
+            phi_next: vec![[0.0; LANES]; d * nc],
+            y: std::array::from_fn(|_| vec![[0.0; LANES]; d * nc]),
             jac: vec![[0.0; LANES]; d * nc],
-            cf: vec![0.0; d * d],
-            kst: std::array::from_fn(|_| vec![[0.0; LANES]; d * nc]),
+            fa: SparseRows::new(d),
             tmp_rows: vec![[0.0; LANES]; d * nc],
             k: std::array::from_fn(|_| vec![0.0; d]),
             xs: vec![0.0; n],
@@ -193,7 +242,9 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
     }
 
     /// One RK4 sub-step of the state (its dynamic rows; `xs` holds the coefficients) and of
-    /// the transition matrix.
+    /// the tangent `Phi`, differentiated through the same stages:
+    /// `dK_s = F_s (Phi + c_s dK_{s-1})` (the coefficient rows of the tangent being `[0 I]`,
+    /// `F_s [Y; 0 I] = F_a Y + [0 F_b]`), `Phi += h/6 (dK_1 + 2 dK_2 + 2 dK_3 + dK_4)`.
     fn rk4_substep(&mut self, window: &InputWindow, j: usize) {
         let d = self.d;
         let nc = self.nc;
@@ -203,72 +254,42 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
         let model = &*self.model;
         let x0 = &self.est.x[..d];
         self.xs[..d].copy_from_slice(x0);
-        let stages: [(f64, &navkf_dynamics::Input); 4] =
-            [(0.0, f0), (0.5 * h, fm), (0.5 * h, fm), (h, f1)];
-        for (s, &(c, u)) in stages.iter().enumerate() {
+        // (input, offset of the stage state, weight in the sum, offset of the next stage).
+        let stages: [(&navkf_dynamics::Input, f64, f64, f64); 4] = [
+            (f0, 0.0, h / 6.0, 0.5 * h),
+            (fm, 0.5 * h, h / 3.0, 0.5 * h),
+            (fm, 0.5 * h, h / 3.0, h),
+            (f1, h, h / 6.0, 0.0),
+        ];
+        for (s, &(u, c, w, c_next)) in stages.iter().enumerate() {
             let (prev, cur) = self.k.split_at_mut(s);
             if s > 0 {
                 for ((xs, x), k) in self.xs.iter_mut().zip(x0).zip(&prev[s - 1]) {
                     *xs = x + c * k;
                 }
             }
-            if s == 0 {
-                // K1 = F.
-                let out = self.kst[0].as_flattened_mut();
-                model.rates_and_jacobian(&self.xs, u, &mut cur[0], out, np);
-            } else {
-                // K_s = F (I + c K_{s-1}) = F + (c F[:, :d]) K_{s-1}.
-                let jac = self.jac.as_flattened_mut();
-                model.rates_and_jacobian(&self.xs, u, &mut cur[0], jac, np);
-                for (cf, row) in self.cf.chunks_exact_mut(d).zip(jac.chunks_exact(np)) {
-                    for (a, f) in cf.iter_mut().zip(&row[..d]) {
-                        *a = c * f;
-                    }
-                }
-                let (prev, cur) = self.kst.split_at_mut(s);
-                rows_product(d, nc, &self.cf, &prev[s - 1], &self.jac, &mut cur[0]);
-            }
+            let jac = self.jac.as_flattened_mut();
+            model.rates_and_jacobian(&self.xs, u, &mut cur[0], jac, np);
+            self.fa.take_dynamic_block(jac, np);
+            let [y0, y1] = &mut self.y;
+            let (y_in, y_out) = if s % 2 == 0 { (y0, y1) } else { (y1, y0) };
+            let stage = Stage {
+                fa: &self.fa,
+                fb: &self.jac,
+                y_in: if s == 0 { &self.phi[..] } else { &y_in[..] },
+                base: &self.phi,
+                w,
+                first: s == 0,
+            };
+            let next = (s < 3).then_some((&mut y_out[..], c_next));
+            stage.run(nc, &mut self.phi_next, next);
         }
         let h6 = h / 6.0;
         let [k1, k2, k3, k4] = &self.k;
         for (i, x) in self.est.x[..d].iter_mut().enumerate() {
             *x += h6 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
         }
-        // Phi_sub rows = [I 0] + h/6 (K1 + 2 K2 + 2 K3 + K4).
-        let [k1, k2, k3, k4] = &self.kst;
-        for ((((o, a), b), c), e) in self
-            .phi_sub
-            .as_flattened_mut()
-            .iter_mut()
-            .zip(k1.as_flattened())
-            .zip(k2.as_flattened())
-            .zip(k3.as_flattened())
-            .zip(k4.as_flattened())
-        {
-            *o = h6 * (a + 2.0 * (b + c) + e);
-        }
-        // Split into A_sub (+ I) and [0 B_sub].
-        let ps = self.phi_sub.as_flattened_mut();
-        for (r, (a_row, p_row)) in self
-            .a_sub
-            .chunks_exact_mut(d)
-            .zip(ps.chunks_exact_mut(np))
-            .enumerate()
-        {
-            a_row.copy_from_slice(&p_row[..d]);
-            a_row[r] += 1.0;
-            p_row[..d].fill(0.0);
-        }
-        // Phi = Phi_sub * Phi: new rows = A_sub * rows(Phi) + [0 B_sub].
-        std::mem::swap(&mut self.phi, &mut self.tmp_rows);
-        rows_product(
-            d,
-            nc,
-            &self.a_sub,
-            &self.tmp_rows,
-            &self.phi_sub,
-            &mut self.phi,
-        );
+        std::mem::swap(&mut self.phi, &mut self.phi_next);
     }
 
     /// `P = Phi P Phi^T` with `Phi = [R; 0 I]`, `R` the dynamic rows.
@@ -456,5 +477,54 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
         }
         self.est.finish("state after update")?;
         Ok(&self.gain.report)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The fixed-width path (row widths up to 8 chunks) and the any-width fallback (wider
+    /// models) compute the same stage, to rounding.
+    #[test]
+    fn fixed_and_any_width_stages_agree() {
+        let (d, nc) = (5, 3);
+        let filled = |seed: f64, len: usize| -> Vec<Chunk> {
+            (0..len)
+                .map(|i| std::array::from_fn(|l| (seed * (i * LANES + l + 1) as f64).sin()))
+                .collect()
+        };
+        let mut jac = filled(0.7, d * nc);
+        let mut fa = SparseRows::new(d);
+        // A few exact zeros in the dynamic block, as the platform model has.
+        for (r, row) in jac.chunks_exact_mut(nc).enumerate() {
+            row[0][(r + 1) % d.min(LANES)] = 0.0;
+        }
+        fa.take_dynamic_block(jac.as_flattened_mut(), nc * LANES);
+        assert!(fa.len.iter().all(|&l| l < d));
+        let (y_in, base) = (filled(1.3, d * nc), filled(2.9, d * nc));
+        for first in [true, false] {
+            let stage = Stage {
+                fa: &fa,
+                fb: &jac,
+                y_in: &y_in,
+                base: &base,
+                w: 0.25,
+                first,
+            };
+            let start = filled(4.1, d * nc);
+            let (mut acc_n, mut acc_any) = (start.clone(), start);
+            let (mut y_n, mut y_any) = (vec![[0.0; LANES]; d * nc], vec![[0.0; LANES]; d * nc]);
+            stage.run_n::<3>(&mut acc_n, Some((&mut y_n, 0.5)));
+            stage.run_any(nc, &mut acc_any, Some((&mut y_any, 0.5)));
+            for (a, b) in acc_n
+                .as_flattened()
+                .iter()
+                .zip(acc_any.as_flattened())
+                .chain(y_n.as_flattened().iter().zip(y_any.as_flattened()))
+            {
+                assert!((a - b).abs() <= 1e-14 * (1.0 + a.abs()), "{a} vs {b}");
+            }
+        }
     }
 }

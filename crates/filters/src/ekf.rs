@@ -61,16 +61,17 @@ impl SparseRows {
     fn take_dynamic_block(&mut self, jac: &mut [f64], np: usize) {
         let d = self.d;
         for (r, row) in jac.chunks_exact_mut(np).take(d).enumerate() {
-            let mut q = r * d;
+            // Branch-free: every entry is written, the count advances on the nonzeros.
+            let cols = &mut self.cols[r * d..(r + 1) * d];
+            let vals = &mut self.vals[r * d..(r + 1) * d];
+            let mut q = 0;
             for (m, v) in row[..d].iter_mut().enumerate() {
-                if *v != 0.0 {
-                    self.cols[q] = m;
-                    self.vals[q] = *v;
-                    q += 1;
-                }
+                cols[q] = m;
+                vals[q] = *v;
+                q += usize::from(*v != 0.0);
                 *v = 0.0;
             }
-            self.len[r] = q - r * d;
+            self.len[r] = q;
         }
     }
 }
@@ -349,21 +350,7 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
     fn name(&self) -> &str {
         "ekf"
     }
-    fn dim(&self) -> usize {
-        self.est.n
-    }
-    fn state(&self) -> &[f64] {
-        &self.est.x
-    }
-    fn covariance(&self) -> &[f64] {
-        &self.est.p
-    }
-    fn step_index(&self) -> usize {
-        self.est.step
-    }
-    fn last_report(&self) -> &UpdateReport {
-        &self.gain.report
-    }
+    crate::filter::estimate_accessors!();
     fn reset(&mut self, x0: &[f64], p0: &[f64]) -> Result<(), FilterError> {
         self.est.reset(x0, p0)
     }
@@ -405,27 +392,14 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
         for (a, &ch) in self.gain.report.channels.iter().enumerate() {
             self.hsel[a * n..(a + 1) * n].copy_from_slice(&self.h[ch * n..(ch + 1) * n]);
         }
-        let p = &self.est.p;
-        // Pxz = P H^T (n x k, column-major): column a = P * h_a.
-        for a in 0..k {
-            let ha = &self.hsel[a * n..(a + 1) * n];
-            let col = &mut self.pxz[a * n..(a + 1) * n];
-            col.fill(0.0);
-            for (m, &hm) in ha.iter().enumerate() {
-                if hm != 0.0 {
-                    for (ci, pi) in col.iter_mut().zip(&p[m * n..(m + 1) * n]) {
-                        *ci += hm * pi;
-                    }
-                }
-            }
-        }
-        for a in 0..k {
-            for b in 0..k {
-                let ha = &self.hsel[a * n..(a + 1) * n];
-                let col = &self.pxz[b * n..(b + 1) * n];
-                self.pzz[a + b * k] = ha.iter().zip(col).map(|(x, y)| x * y).sum();
-            }
-        }
+        crate::update::linear_moments(
+            &self.est.p,
+            n,
+            &self.h,
+            &self.gain.report.channels,
+            &mut self.pxz,
+            &mut self.pzz,
+        );
         self.gain.compute(
             obs,
             &self.z_hat,

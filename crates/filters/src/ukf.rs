@@ -258,26 +258,14 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
         let k = self.gain.report.channels.len();
         self.model.measure(&self.est.x, &mut self.z_hat);
         self.model.measurement_jacobian(&self.est.x, &mut self.h);
-        let p = &self.est.p;
-        for (a, &ch) in self.gain.report.channels.iter().enumerate() {
-            let ha = &self.h[ch * n..(ch + 1) * n];
-            let col = &mut self.pxz[a * n..(a + 1) * n];
-            col.fill(0.0);
-            for (m, &hm) in ha.iter().enumerate() {
-                if hm != 0.0 {
-                    for (ci, pi) in col.iter_mut().zip(&p[m * n..(m + 1) * n]) {
-                        *ci += hm * pi;
-                    }
-                }
-            }
-        }
-        for (a, &ca) in self.gain.report.channels.iter().enumerate() {
-            for b in 0..k {
-                let ha = &self.h[ca * n..(ca + 1) * n];
-                let col = &self.pxz[b * n..(b + 1) * n];
-                self.pzz[a + b * k] = ha.iter().zip(col).map(|(x, y)| x * y).sum();
-            }
-        }
+        crate::update::linear_moments(
+            &self.est.p,
+            n,
+            &self.h,
+            &self.gain.report.channels,
+            &mut self.pxz,
+            &mut self.pzz,
+        );
         self.gain.compute(
             obs,
             &self.z_hat,

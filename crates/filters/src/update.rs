@@ -235,3 +235,36 @@ impl GainWorkspace {
         }
     }
 }
+
+/// The moments of a linear measurement `z = H x`: `Pxz = P H^T` (n x k, column-major) and
+/// `Pzz = H P H^T` (k x k), for the rows `channels` of `h` (row-major `nz x n`), skipping
+/// the zeros of `H` (a measurement reads few states).
+pub(crate) fn linear_moments(
+    p: &[f64],
+    n: usize,
+    h: &[f64],
+    channels: &[usize],
+    pxz: &mut [f64],
+    pzz: &mut [f64],
+) {
+    let k = channels.len();
+    for (a, &ch) in channels.iter().enumerate() {
+        let ha = &h[ch * n..(ch + 1) * n];
+        let col = &mut pxz[a * n..(a + 1) * n];
+        col.fill(0.0);
+        for (m, &hm) in ha.iter().enumerate() {
+            if hm != 0.0 {
+                for (ci, pi) in col.iter_mut().zip(&p[m * n..(m + 1) * n]) {
+                    *ci += hm * pi;
+                }
+            }
+        }
+    }
+    for (a, &ca) in channels.iter().enumerate() {
+        let ha = &h[ca * n..(ca + 1) * n];
+        for b in 0..k {
+            let col = &pxz[b * n..(b + 1) * n];
+            pzz[a + b * k] = ha.iter().zip(col).map(|(x, y)| x * y).sum();
+        }
+    }
+}

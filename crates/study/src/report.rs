@@ -371,6 +371,12 @@ pub fn report_md(
         out,
         "\nRMS and sigma are of the final error over the runs that finished (SI units: rad/s, rad/s/(m/s^2), m/s^2, dimensionless); the bound is the truth-linearised Riccati (posterior Cramer-Rao) bound."
     );
+    let _ = writeln!(
+        out,
+        "\nStep cost is the wall time of one predict + update, timed in every run with {} worker threads on {}; it is a property of that machine, not of the filter alone (sharded studies mix the shards' machines).",
+        rayon::current_num_threads(),
+        machine()
+    );
     let _ = writeln!(out, "\n## Paired differences");
     out.push_str(&paired_table(summary));
     let _ = writeln!(out, "\n## Consistency\n");
@@ -408,4 +414,20 @@ pub fn write_report(
             failed.join("; ")
         )))
     }
+}
+
+/// The CPU this process runs on, for the step-cost note: the model name Linux reports and the
+/// logical cores the process may use (`unknown CPU` where `/proc/cpuinfo` is not readable).
+pub fn machine() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split_once(':'))
+                .map(|(_, v)| v.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".to_string());
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    format!("{cpu} ({cores} logical cores)")
 }

@@ -6,8 +6,7 @@
 //! `dK_1 = F(x) Phi`, `dK_2 = F(x + h/2 k1) (Phi + h/2 dK_1)`, `dK_3 = F(x + h/2 k2) (Phi +
 //! h/2 dK_2)`, `dK_4 = F(x + h k3) (Phi + h dK_3)`, `Phi += h/6 (dK_1 + 2 dK_2 + 2 dK_3 +
 //! dK_4)`. Only the model's dynamic rows differ from the identity (`Phi = [A B; 0 I]`, the
-//! coefficients being constants), and the Jacobian's dynamic block is sparse (27 of 49
-//! entries for the platform model); the stage products use both.
+//! coefficients being constants), so the stage products touch the `d` dynamic rows only.
 //!
 //! Prediction `P = Phi P Phi^T + Q_k` with `Q_k = G Qc G^T T`; update in Joseph form
 //! `P = (I - K H) P (I - K H)^T + K R K^T`, evaluated as two rank-k corrections.
@@ -36,53 +35,22 @@ fn axpy(acc: &mut Chunk, a: f64, src: &Chunk) {
     }
 }
 
-/// The nonzero entries of the model Jacobian's dynamic block `F[:, :d]`, row by row (the
-/// platform model's 7 x 7 block has 27 of 49, and the longitude column is empty), so that
-/// the tangent products skip the zeros. Rebuilt from the values at every stage.
-struct SparseRows {
-    d: usize,
-    len: Vec<usize>,
-    cols: Vec<usize>,
-    vals: Vec<f64>,
-}
-
-impl SparseRows {
-    fn new(d: usize) -> Self {
-        SparseRows {
-            d,
-            len: vec![0; d],
-            cols: vec![0; d * d],
-            vals: vec![0.0; d * d],
-        }
-    }
-
-    /// Takes the first `d` columns of each padded row of `jac` and zeroes them there, leaving
-    /// `[0 F[:, d..]]`.
-    fn take_dynamic_block(&mut self, jac: &mut [f64], np: usize) {
-        let d = self.d;
-        for (r, row) in jac.chunks_exact_mut(np).take(d).enumerate() {
-            // Branch-free: every entry is written, the count advances on the nonzeros.
-            let cols = &mut self.cols[r * d..(r + 1) * d];
-            let vals = &mut self.vals[r * d..(r + 1) * d];
-            let mut q = 0;
-            for (m, v) in row[..d].iter_mut().enumerate() {
-                cols[q] = m;
-                vals[q] = *v;
-                q += usize::from(*v != 0.0);
-                *v = 0.0;
-            }
-            self.len[r] = q;
-        }
-    }
-}
+/// Dynamic dimension of the platform model (its seven navigation states), for which the
+/// stage kernel is compiled with every size known.
+const PLATFORM_D: usize = navkf_dynamics::state::NAV_DIM;
 
 /// One RK4 stage of the tangent, fused: for every dynamic row `r`,
 /// `t = [0 F_b][r] + sum_m F_a[r, m] y_in[m]` (the stage's tangent rate, never stored),
 /// then `acc[r] = (first ? base[r] : acc[r]) + w t` and, for the next stage,
-/// `y_out[r] = base[r] + c t`.
+/// `y_out[r] = base[r] + c t`. `jac` holds the model Jacobian's `d` padded rows `[F_a F_b]`.
+///
+/// The product is dense: with the sizes known at compile time (`d = 7`, up to 8 chunks per
+/// row) `y_in` sits in registers and every `F_a[r, m]` is one broadcast operand, which beats
+/// skipping the block's zeros (27 of 49 are nonzero) through an index list. Adding the
+/// zeros' exact `0 * y` products leaves every sum bit-identical to the sparse one.
 struct Stage<'a> {
-    fa: &'a SparseRows,
-    fb: &'a [Chunk],
+    d: usize,
+    jac: &'a [Chunk],
     y_in: &'a [Chunk],
     base: &'a [Chunk],
     w: f64,
@@ -93,8 +61,8 @@ impl Stage<'_> {
     fn run(&self, nc: usize, acc: &mut [Chunk], y_out: Option<(&mut [Chunk], f64)>) {
         macro_rules! fixed {
             ($($n:literal)*) => {
-                match nc {
-                    $($n => self.run_n::<$n>(acc, y_out),)*
+                match (self.d, nc) {
+                    $((PLATFORM_D, $n) => self.run_n::<PLATFORM_D, $n>(acc, y_out),)*
                     _ => self.run_any(nc, acc, y_out),
                 }
             };
@@ -102,32 +70,64 @@ impl Stage<'_> {
         fixed!(1 2 3 4 5 6 7 8)
     }
 
-    /// With the row width known, the row's rate `t` lives in registers.
+    /// With the sizes known, the row's rate `t` lives in registers.
     #[inline(always)]
-    fn run_n<const NC: usize>(&self, acc: &mut [Chunk], mut y_out: Option<(&mut [Chunk], f64)>) {
-        let d = self.fa.d;
-        for r in 0..d {
-            let mut t: [Chunk; NC] = self.fb[r * NC..(r + 1) * NC].try_into().unwrap();
-            let q0 = r * d;
-            for q in q0..q0 + self.fa.len[r] {
-                let (m, a) = (self.fa.cols[q], self.fa.vals[q]);
-                for (o, s) in t.iter_mut().zip(&self.y_in[m * NC..(m + 1) * NC]) {
+    fn run_n<const D: usize, const NC: usize>(
+        &self,
+        acc: &mut [Chunk],
+        mut y_out: Option<(&mut [Chunk], f64)>,
+    ) {
+        let y_in = &self.y_in[..D * NC];
+        for r in 0..D {
+            let row: &[Chunk; NC] = self.jac[r * NC..(r + 1) * NC].try_into().unwrap();
+            let mut t = *row;
+            // [0 F_b]: the dynamic block's columns start at zero (a constant mask).
+            for (ch, tc) in t.iter_mut().enumerate() {
+                for (l, v) in tc.iter_mut().enumerate() {
+                    if ch * LANES + l < D {
+                        *v = 0.0;
+                    }
+                }
+            }
+            for m in 0..D {
+                let a = row[m / LANES][m % LANES];
+                for (o, s) in t.iter_mut().zip(&y_in[m * NC..(m + 1) * NC]) {
                     axpy(o, a, s);
                 }
             }
-            self.finish_row(r, &t, NC, acc, &mut y_out);
+            let rows = r * NC..(r + 1) * NC;
+            let base = &self.base[rows.clone()];
+            let acc = &mut acc[rows.clone()];
+            if self.first {
+                acc.copy_from_slice(base);
+            }
+            for (o, s) in acc.iter_mut().zip(&t) {
+                axpy(o, self.w, s);
+            }
+            if let Some((y, c)) = y_out.as_mut() {
+                let y = &mut y[rows];
+                y.copy_from_slice(base);
+                for (o, s) in y.iter_mut().zip(&t) {
+                    axpy(o, *c, s);
+                }
+            }
         }
     }
 
-    /// Any row width: the rate is accumulated one chunk at a time.
+    /// Any size: the rate is accumulated one chunk at a time.
     fn run_any(&self, nc: usize, acc: &mut [Chunk], mut y_out: Option<(&mut [Chunk], f64)>) {
-        let d = self.fa.d;
+        let d = self.d;
         for r in 0..d {
-            let q0 = r * d;
+            let row = &self.jac[r * nc..(r + 1) * nc];
             for ch in 0..nc {
-                let mut t = self.fb[r * nc + ch];
-                for q in q0..q0 + self.fa.len[r] {
-                    let (m, a) = (self.fa.cols[q], self.fa.vals[q]);
+                let mut t = row[ch];
+                for (l, v) in t.iter_mut().enumerate() {
+                    if ch * LANES + l < d {
+                        *v = 0.0;
+                    }
+                }
+                for m in 0..d {
+                    let a = row[m / LANES][m % LANES];
                     axpy(&mut t, a, &self.y_in[m * nc + ch]);
                 }
                 let i = r * nc + ch;
@@ -140,33 +140,6 @@ impl Stage<'_> {
                     y[i] = *b;
                     axpy(&mut y[i], *c, &t);
                 }
-            }
-        }
-    }
-
-    #[inline(always)]
-    fn finish_row(
-        &self,
-        r: usize,
-        t: &[Chunk],
-        nc: usize,
-        acc: &mut [Chunk],
-        y_out: &mut Option<(&mut [Chunk], f64)>,
-    ) {
-        let rows = r * nc..(r + 1) * nc;
-        let base = &self.base[rows.clone()];
-        let acc = &mut acc[rows.clone()];
-        if self.first {
-            acc.copy_from_slice(base);
-        }
-        for (o, s) in acc.iter_mut().zip(t) {
-            axpy(o, self.w, s);
-        }
-        if let Some((y, c)) = y_out.as_mut() {
-            let y = &mut y[rows];
-            y.copy_from_slice(base);
-            for (o, s) in y.iter_mut().zip(t) {
-                axpy(o, *c, s);
             }
         }
     }
@@ -185,9 +158,8 @@ pub struct Ekf<M: SystemModel + ?Sized> {
     phi_next: Vec<Chunk>,
     /// The tangent at the current and the next stage's state, `Phi + c dK` (d padded rows).
     y: [Vec<Chunk>; 2],
-    /// The model's Jacobian, d padded rows, its dynamic block moved to `fa`.
+    /// The model's Jacobian at the current stage, d padded rows.
     jac: Vec<Chunk>,
-    fa: SparseRows,
     /// RK4 stage rates.
     k: [Vec<f64>; 4],
     /// Stage state (the coefficients are constant over the window).
@@ -220,7 +192,6 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
             phi_next: vec![[0.0; LANES]; d * nc],
             y: std::array::from_fn(|_| vec![[0.0; LANES]; d * nc]),
             jac: vec![[0.0; LANES]; d * nc],
-            fa: SparseRows::new(d),
             tmp_rows: vec![[0.0; LANES]; d * nc],
             k: std::array::from_fn(|_| vec![0.0; d]),
             xs: vec![0.0; n],
@@ -271,12 +242,11 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
             }
             let jac = self.jac.as_flattened_mut();
             model.rates_and_jacobian(&self.xs, u, &mut cur[0], jac, np);
-            self.fa.take_dynamic_block(jac, np);
             let [y0, y1] = &mut self.y;
             let (y_in, y_out) = if s % 2 == 0 { (y0, y1) } else { (y1, y0) };
             let stage = Stage {
-                fa: &self.fa,
-                fb: &self.jac,
+                d,
+                jac: &self.jac,
                 y_in: if s == 0 { &self.phi[..] } else { &y_in[..] },
                 base: &self.phi,
                 w,
@@ -458,39 +428,33 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
 mod tests {
     use super::*;
 
-    /// The fixed-width path (row widths up to 8 chunks) and the any-width fallback (wider
-    /// models) compute the same stage, to rounding.
+    /// The compiled-size path (the platform model's 7 dynamic states, up to 8 chunks per row)
+    /// and the any-size fallback (other models) compute the same stage, to rounding.
     #[test]
-    fn fixed_and_any_width_stages_agree() {
-        let (d, nc) = (5, 3);
+    fn fixed_and_any_size_stages_agree() {
+        const NC: usize = 3;
+        let d = PLATFORM_D;
         let filled = |seed: f64, len: usize| -> Vec<Chunk> {
             (0..len)
                 .map(|i| std::array::from_fn(|l| (seed * (i * LANES + l + 1) as f64).sin()))
                 .collect()
         };
-        let mut jac = filled(0.7, d * nc);
-        let mut fa = SparseRows::new(d);
-        // A few exact zeros in the dynamic block, as the platform model has.
-        for (r, row) in jac.chunks_exact_mut(nc).enumerate() {
-            row[0][(r + 1) % d.min(LANES)] = 0.0;
-        }
-        fa.take_dynamic_block(jac.as_flattened_mut(), nc * LANES);
-        assert!(fa.len.iter().all(|&l| l < d));
-        let (y_in, base) = (filled(1.3, d * nc), filled(2.9, d * nc));
+        let jac = filled(0.7, d * NC);
+        let (y_in, base) = (filled(1.3, d * NC), filled(2.9, d * NC));
         for first in [true, false] {
             let stage = Stage {
-                fa: &fa,
-                fb: &jac,
+                d,
+                jac: &jac,
                 y_in: &y_in,
                 base: &base,
                 w: 0.25,
                 first,
             };
-            let start = filled(4.1, d * nc);
+            let start = filled(4.1, d * NC);
             let (mut acc_n, mut acc_any) = (start.clone(), start);
-            let (mut y_n, mut y_any) = (vec![[0.0; LANES]; d * nc], vec![[0.0; LANES]; d * nc]);
-            stage.run_n::<3>(&mut acc_n, Some((&mut y_n, 0.5)));
-            stage.run_any(nc, &mut acc_any, Some((&mut y_any, 0.5)));
+            let (mut y_n, mut y_any) = (vec![[0.0; LANES]; d * NC], vec![[0.0; LANES]; d * NC]);
+            stage.run_n::<PLATFORM_D, NC>(&mut acc_n, Some((&mut y_n, 0.5)));
+            stage.run_any(NC, &mut acc_any, Some((&mut y_any, 0.5)));
             for (a, b) in acc_n
                 .as_flattened()
                 .iter()
@@ -498,6 +462,23 @@ mod tests {
                 .chain(y_n.as_flattened().iter().zip(y_any.as_flattened()))
             {
                 assert!((a - b).abs() <= 1e-14 * (1.0 + a.abs()), "{a} vs {b}");
+            }
+            // And both against the product written out: t = [0 F_b] + F_a y_in.
+            let (jf, yf, bf) = (jac.as_flattened(), y_in.as_flattened(), base.as_flattened());
+            let np = NC * LANES;
+            for r in 0..d {
+                for c in 0..np {
+                    let mut t = if c < d { 0.0 } else { jf[r * np + c] };
+                    for m in 0..d {
+                        t += jf[r * np + m] * yf[m * np + c];
+                    }
+                    let want = bf[r * np + c] + 0.5 * t;
+                    let got = y_n.as_flattened()[r * np + c];
+                    assert!(
+                        (got - want).abs() <= 1e-13,
+                        "row {r} col {c}: {got} vs {want}"
+                    );
+                }
             }
         }
     }

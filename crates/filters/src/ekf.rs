@@ -91,8 +91,10 @@ impl Stage<'_> {
             }
             for m in 0..D {
                 let a = row[m / LANES][m % LANES];
-                for (o, s) in t.iter_mut().zip(&y_in[m * NC..(m + 1) * NC]) {
-                    axpy(o, a, s);
+                if a != 0.0 {
+                    for (o, s) in t.iter_mut().zip(&y_in[m * NC..(m + 1) * NC]) {
+                        axpy(o, a, s);
+                    }
                 }
             }
             let rows = r * NC..(r + 1) * NC;

@@ -161,7 +161,9 @@ impl PlatformModel {
     }
 
     /// Derivative of the seven navigation states, given precomputed kinematics.
-    #[inline]
+    // Inlined into its callers, the result stays in registers: returned through memory, its
+    // seven scalar stores were read back as vectors, a store-forwarding stall per call.
+    #[inline(always)]
     pub fn nav_rates(&self, x: &[f64], k: &Kinematics) -> [f64; NAV_DIM] {
         let [fx, fy, fz] = k.f;
         let [px, py, pz] = k.phi;
@@ -193,6 +195,8 @@ impl PlatformModel {
     }
 
     /// The rate Jacobian (`NAV_DIM` rows `stride >= dim` apart) given the kinematics at `x`.
+    // Inlined for the same reason as `nav_rates`: `k` then stays in registers.
+    #[inline(always)]
     fn jacobian_with(&self, x: &[f64], k: &Kinematics, jac: &mut [f64], stride: usize) {
         assert!(stride >= self.dim);
         let n = stride;

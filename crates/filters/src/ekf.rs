@@ -27,6 +27,50 @@ const LANES: usize = 8;
 const LANES: usize = 4;
 type Chunk = [f64; LANES];
 
+/// A buffer of chunks that starts on a cache line (64 bytes), so that no vector load or store
+/// straddles two lines: a `Vec` of doubles is only 16-byte aligned, and with 8-lane chunks
+/// every access then touched two lines. The heap block never moves, so neither does the
+/// alignment.
+struct ChunkBuf {
+    buf: Vec<f64>,
+    start: usize,
+    len: usize,
+}
+
+impl ChunkBuf {
+    /// `len` zeroed chunks.
+    fn new(len: usize) -> Self {
+        const LINE: usize = 64;
+        let per_line = LINE / std::mem::size_of::<f64>();
+        let buf = vec![0.0; len * LANES + per_line - 1];
+        let misaligned = (buf.as_ptr() as usize % LINE) / std::mem::size_of::<f64>();
+        ChunkBuf {
+            start: (per_line - misaligned) % per_line,
+            buf,
+            len,
+        }
+    }
+}
+
+impl std::ops::Deref for ChunkBuf {
+    type Target = [Chunk];
+    #[inline]
+    fn deref(&self) -> &[Chunk] {
+        self.buf[self.start..self.start + self.len * LANES]
+            .as_chunks()
+            .0
+    }
+}
+
+impl std::ops::DerefMut for ChunkBuf {
+    #[inline]
+    fn deref_mut(&mut self) -> &mut [Chunk] {
+        self.buf[self.start..self.start + self.len * LANES]
+            .as_chunks_mut()
+            .0
+    }
+}
+
 /// `acc += a * src`, lane by lane.
 #[inline(always)]
 fn axpy(acc: &mut Chunk, a: f64, src: &Chunk) {
@@ -97,20 +141,18 @@ impl Stage<'_> {
                     }
                 }
             }
-            let rows = r * NC..(r + 1) * NC;
-            let base = &self.base[rows.clone()];
-            let acc = &mut acc[rows.clone()];
-            if self.first {
-                acc.copy_from_slice(base);
-            }
-            for (o, s) in acc.iter_mut().zip(&t) {
-                axpy(o, self.w, s);
-            }
-            if let Some((y, c)) = y_out.as_mut() {
-                let y = &mut y[rows];
-                y.copy_from_slice(base);
-                for (o, s) in y.iter_mut().zip(&t) {
-                    axpy(o, *c, s);
+            // Each output chunk is formed in a register and stored once (copying `base` into
+            // the outputs first and adding in place made the compiler store, reload and store).
+            for (ch, tc) in t.iter().enumerate() {
+                let i = r * NC + ch;
+                let b = self.base[i];
+                let mut a = if self.first { b } else { acc[i] };
+                axpy(&mut a, self.w, tc);
+                acc[i] = a;
+                if let Some((y, c)) = y_out.as_mut() {
+                    let mut v = b;
+                    axpy(&mut v, *c, tc);
+                    y[i] = v;
                 }
             }
         }
@@ -155,21 +197,21 @@ pub struct Ekf<M: SystemModel + ?Sized> {
     /// Chunks per padded row.
     nc: usize,
     /// Dynamic rows of the period's transition matrix so far, d padded rows (`[A B]`).
-    phi: Vec<Chunk>,
+    phi: ChunkBuf,
     /// The same after the current sub-step, accumulated stage by stage.
-    phi_next: Vec<Chunk>,
+    phi_next: ChunkBuf,
     /// The tangent at the current and the next stage's state, `Phi + c dK` (d padded rows).
-    y: [Vec<Chunk>; 2],
+    y: [ChunkBuf; 2],
     /// The model's Jacobian at the current stage, d padded rows.
-    jac: Vec<Chunk>,
+    jac: ChunkBuf,
     /// RK4 stage rates.
     k: [Vec<f64>; 4],
     /// Stage state (the coefficients are constant over the window).
     xs: Vec<f64>,
     /// P copied into padded rows (n x nc chunks) for the covariance propagation.
-    p_pad: Vec<Chunk>,
+    p_pad: ChunkBuf,
     /// `Phi P`'s dynamic rows.
-    tmp_rows: Vec<Chunk>,
+    tmp_rows: ChunkBuf,
     /// Update scratch.
     h: Vec<f64>,
     hsel: Vec<f64>,
@@ -190,14 +232,14 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
             est: Estimate::new(n),
             d,
             nc,
-            phi: vec![[0.0; LANES]; d * nc],
-            phi_next: vec![[0.0; LANES]; d * nc],
-            y: std::array::from_fn(|_| vec![[0.0; LANES]; d * nc]),
-            jac: vec![[0.0; LANES]; d * nc],
-            tmp_rows: vec![[0.0; LANES]; d * nc],
+            phi: ChunkBuf::new(d * nc),
+            phi_next: ChunkBuf::new(d * nc),
+            y: std::array::from_fn(|_| ChunkBuf::new(d * nc)),
+            jac: ChunkBuf::new(d * nc),
+            tmp_rows: ChunkBuf::new(d * nc),
             k: std::array::from_fn(|_| vec![0.0; d]),
             xs: vec![0.0; n],
-            p_pad: vec![[0.0; LANES]; n * nc],
+            p_pad: ChunkBuf::new(n * nc),
             h: vec![0.0; nz * n],
             hsel: vec![0.0; nz * n],
             pzz: vec![0.0; nz * nz],
@@ -482,6 +524,18 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+
+    #[test]
+    fn chunk_buffers_start_on_a_cache_line() {
+        for len in [1, 3, 7, 21, 60] {
+            let mut b = ChunkBuf::new(len);
+            assert_eq!(b.len(), len);
+            assert_eq!(b.as_ptr() as usize % 64, 0);
+            assert!(b.as_flattened().iter().all(|&v| v == 0.0));
+            b[len - 1][LANES - 1] = 1.0;
+            assert_eq!(b.as_flattened()[len * LANES - 1], 1.0);
         }
     }
 }

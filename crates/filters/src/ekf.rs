@@ -141,18 +141,20 @@ impl Stage<'_> {
                     }
                 }
             }
-            // Each output chunk is formed in a register and stored once (copying `base` into
-            // the outputs first and adding in place made the compiler store, reload and store).
-            for (ch, tc) in t.iter().enumerate() {
-                let i = r * NC + ch;
-                let b = self.base[i];
-                let mut a = if self.first { b } else { acc[i] };
-                axpy(&mut a, self.w, tc);
-                acc[i] = a;
-                if let Some((y, c)) = y_out.as_mut() {
-                    let mut v = b;
-                    axpy(&mut v, *c, tc);
-                    y[i] = v;
+            let rows = r * NC..(r + 1) * NC;
+            let base = &self.base[rows.clone()];
+            let acc = &mut acc[rows.clone()];
+            if self.first {
+                acc.copy_from_slice(base);
+            }
+            for (o, s) in acc.iter_mut().zip(&t) {
+                axpy(o, self.w, s);
+            }
+            if let Some((y, c)) = y_out.as_mut() {
+                let y = &mut y[rows];
+                y.copy_from_slice(base);
+                for (o, s) in y.iter_mut().zip(&t) {
+                    axpy(o, *c, s);
                 }
             }
         }
@@ -186,6 +188,51 @@ impl Stage<'_> {
                 }
             }
         }
+    }
+}
+
+/// `out = rows P` for `rows` (padded rows of `nc` chunks, `n` real columns) and `P` given by
+/// its `n` padded rows `p_pad` (symmetric, so row `m` is column `m`).
+fn rows_times_matrix(nc: usize, rows: &[Chunk], n: usize, p_pad: &[Chunk], out: &mut [Chunk]) {
+    macro_rules! fixed {
+        ($($k:literal)*) => {
+            match nc {
+                $($k => rows_times_matrix_n::<$k>(rows, n, p_pad, out),)*
+                _ => {
+                    for (o, row) in out.chunks_exact_mut(nc).zip(rows.chunks_exact(nc)) {
+                        o.fill([0.0; LANES]);
+                        for (m, &a) in row.as_flattened()[..n].iter().enumerate() {
+                            for (oc, pc) in o.iter_mut().zip(&p_pad[m * nc..(m + 1) * nc]) {
+                                axpy(oc, a, pc);
+                            }
+                        }
+                    }
+                }
+            }
+        };
+    }
+    fixed!(1 2 3 4 5 6 7 8)
+}
+
+/// [`rows_times_matrix`] with the row width known: the output row accumulates in registers,
+/// and the rows' exact zeros (the identity's, the padding) are skipped.
+#[inline(always)]
+fn rows_times_matrix_n<const NC: usize>(
+    rows: &[Chunk],
+    n: usize,
+    p_pad: &[Chunk],
+    out: &mut [Chunk],
+) {
+    for (o, row) in out.chunks_exact_mut(NC).zip(rows.chunks_exact(NC)) {
+        let mut t = [[0.0; LANES]; NC];
+        for (m, &a) in row.as_flattened()[..n].iter().enumerate() {
+            if a != 0.0 {
+                for (tc, pc) in t.iter_mut().zip(&p_pad[m * NC..(m + 1) * NC]) {
+                    axpy(tc, a, pc);
+                }
+            }
+        }
+        o.copy_from_slice(&t);
     }
 }
 
@@ -324,19 +371,8 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
             dst[..n].copy_from_slice(src);
         }
         // T = R P (d padded rows in tmp_rows).
+        rows_times_matrix(nc, &self.phi, n, &self.p_pad, &mut self.tmp_rows);
         let phi = self.phi.as_flattened();
-        for (t_row, r_row) in self.tmp_rows.chunks_exact_mut(nc).zip(phi.chunks_exact(np)) {
-            for (ch, t) in t_row.iter_mut().enumerate() {
-                let mut acc = [0.0; LANES];
-                for (&a, src) in r_row[..n]
-                    .iter()
-                    .zip(self.p_pad.iter().skip(ch).step_by(nc))
-                {
-                    axpy(&mut acc, a, src);
-                }
-                *t = acc;
-            }
-        }
         // Top-left block T R^T, top-right T[:, d..], bottom-right unchanged.
         let t = self.tmp_rows.as_flattened();
         for r in 0..d {

@@ -181,10 +181,17 @@ impl PlatformModel {
             k.v_y * k.inv_rm,
             k.v_x * k.inv_rn * k.inv_cos,
         ];
-        for &i in &self.rate_effects {
-            let off = self.offsets[i];
-            let e = &self.effects[i];
-            e.add_rates(k, &x[off..off + e.coefficient_names().len()], &mut r);
+        if !self.rate_effects.is_empty() {
+            // Through copies: were `r` or `k` passed by address, neither could stay in
+            // registers, effects or not.
+            let k = *k;
+            let mut with = r;
+            for &i in &self.rate_effects {
+                let off = self.offsets[i];
+                let e = &self.effects[i];
+                e.add_rates(&k, &x[off..off + e.coefficient_names().len()], &mut with);
+            }
+            r = with;
         }
         r
     }
@@ -256,9 +263,12 @@ impl PlatformModel {
         let sec = k.inv_cos;
         p.add(LON, V_X, k.inv_rn * sec);
         p.add(LON, LAT, vx * sec * (k.d_inv_rn + k.inv_rn * k.tan_l));
-        for &i in &self.rate_effects {
-            let c = self.effect_coeffs(i, x);
-            self.effects[i].add_rate_partials(k, c, self.offsets[i], &mut p);
+        if !self.rate_effects.is_empty() {
+            let k = *k; // a copy, as in `nav_rates`
+            for &i in &self.rate_effects {
+                let c = self.effect_coeffs(i, x);
+                self.effects[i].add_rate_partials(&k, c, self.offsets[i], &mut p);
+            }
         }
     }
 }

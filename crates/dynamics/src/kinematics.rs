@@ -47,7 +47,7 @@ impl Kinematics {
     /// Computes the kinematics of the full state `x` under input `f`.
     #[inline]
     pub fn new(x: &[f64], f: &Input) -> Self {
-        let (sin_l, cos_l) = x[LAT].sin_cos();
+        let (sin_l, cos_l) = crate::trig::sin_cos(x[LAT]);
         Self::with_trig(x, f, sin_l, cos_l)
     }
 

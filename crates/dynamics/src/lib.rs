@@ -22,6 +22,7 @@ pub mod simulate;
 pub mod state;
 pub mod system;
 pub mod trajectory;
+pub mod trig;
 
 pub use effect::{Effect, NoiseChannel, Partials};
 pub use effects::Registry;

@@ -1,0 +1,145 @@
+//! `sin` and `cos` of a latitude, inline.
+//!
+//! Every derivative of the model starts with `sin L` and `cos L`, and in the EKF they sit on
+//! the chain of dependent operations from one RK4 stage to the next: libm's `sincos` is a
+//! call (with its register spills) whose latency the EKF's step pays 40 times. For the
+//! arguments a latitude takes (`|x| <= 2` here, so every latitude with room to spare) this
+//! computes both in registers to within about one unit in the last place, and hands
+//! anything else (larger angles, NaN) to libm.
+//!
+//! Both Taylor series, through `r^17` and `r^18`, are evaluated in Estrin's scheme (a tree of
+//! independent products rather than one long chain); for `|r| <= 1` the first omitted terms
+//! are below 1e-17, a tenth of an ulp. Angles up to 1 rad (57 deg of latitude) go straight
+//! in; larger ones are first reduced by the nearest multiple of pi/2 (only -1 or 1 of them),
+//! in two parts so that the subtraction is exact, to `|r| <= pi/4`.
+//!
+//! ```
+//! let (s, c) = navkf_dynamics::trig::sin_cos(0.7);
+//! assert!((s - 0.7f64.sin()).abs() < 2e-16 && (c - 0.7f64.cos()).abs() < 2e-16);
+//! ```
+
+/// Largest `|x|` computed here; beyond it libm answers.
+pub const INLINE_LIMIT: f64 = 2.0;
+
+/// `(sin x, cos x)`; see the module documentation.
+#[inline(always)]
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    // Latitudes up to 57 deg need no reduction (the series' accuracy holds for |x| <= 1).
+    if x.abs() <= 1.0 {
+        return sin_cos_reduced(x);
+    }
+    // `!(a <= b)` also sends NaN to libm.
+    if !(x.abs() <= INLINE_LIMIT) {
+        return x.sin_cos();
+    }
+    // pi/2 = PIO2_HI + PIO2_LO, PIO2_HI the double nearest to it.
+    const PIO2_HI: f64 = std::f64::consts::FRAC_PI_2;
+    const PIO2_LO: f64 = 6.123_233_995_736_766e-17;
+    // Round to nearest by the 1.5 * 2^52 trick (no call, no fast-math needed).
+    const SHIFT: f64 = 6_755_399_441_055_744.0;
+    let k = (x * std::f64::consts::FRAC_2_PI + SHIFT) - SHIFT;
+    // For k = +-1, x is within a factor of two of pi/2, so x - k PIO2_HI is exact.
+    let r = (x - k * PIO2_HI) - k * PIO2_LO;
+    let (s, c) = sin_cos_reduced(r);
+    // sin(k pi/2 + r) and cos(k pi/2 + r) for k in {-1, 0, 1}.
+    if k == 0.0 {
+        (s, c)
+    } else {
+        (k * c, -k * s)
+    }
+}
+
+/// Taylor series of sin and cos for `|r| <= 1`, in Estrin's scheme.
+#[inline(always)]
+fn sin_cos_reduced(r: f64) -> (f64, f64) {
+    // Reciprocal factorials 1/n!.
+    const F: [f64; 19] = {
+        let mut f = [1.0; 19];
+        let mut n = 1;
+        while n < 19 {
+            f[n] = f[n - 1] / n as f64;
+            n += 1;
+        }
+        f
+    };
+    let r2 = r * r;
+    let r4 = r2 * r2;
+    let r8 = r4 * r4;
+    // sin r = r + r^3 (-1/3! + r^2/5! - r^4/7! + ... + r^14/17!)
+    let s01 = -F[3] + r2 * F[5];
+    let s23 = -F[7] + r2 * F[9];
+    let s45 = -F[11] + r2 * F[13];
+    let s67 = -F[15] + r2 * F[17];
+    let sp = (s01 + r4 * s23) + r8 * (s45 + r4 * s67);
+    let sin = r + (r * r2) * sp;
+    // cos r = (1 - r^2/2) + r^4 (1/4! - r^2/6! + ... + r^14/18!), with the rounding error
+    // of 1 - r^2/2 carried into the tail (as fdlibm does): near r = 1 the sum cancels to
+    // half its leading term, and a plain `1 + r^2 (...)` loses two or three ulp there.
+    let c01 = F[4] - r2 * F[6];
+    let c23 = F[8] - r2 * F[10];
+    let c45 = F[12] - r2 * F[14];
+    let c67 = F[16] - r2 * F[18];
+    let cq = (c01 + r4 * c23) + r8 * (c45 + r4 * c67);
+    let hz = 0.5 * r2;
+    let w = 1.0 - hz;
+    let cos = w + (((1.0 - w) - hz) + r4 * cq);
+    (sin, cos)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Error of `got` against libm's `want`, in units of `EPSILON * |want|` (one of them is an
+    /// ulp or half an ulp); absolute, in units of `EPSILON`, near the zeros of sin and cos.
+    fn error(got: f64, want: f64) -> f64 {
+        (got - want).abs() / (f64::EPSILON * want.abs().max(1e-3))
+    }
+
+    #[test]
+    fn agrees_with_libm_to_one_ulp_over_every_latitude() {
+        let (mut worst_sin, mut worst_cos) = ((0.0, 0.0), (0.0, 0.0));
+        let steps = 400_000;
+        for i in 0..=steps {
+            let x = -INLINE_LIMIT + 2.0 * INLINE_LIMIT * i as f64 / steps as f64;
+            let (s, c) = sin_cos(x);
+            let (s0, c0) = x.sin_cos();
+            let (es, ec) = (error(s, s0), error(c, c0));
+            if es > worst_sin.0 {
+                worst_sin = (es, x);
+            }
+            if ec > worst_cos.0 {
+                worst_cos = (ec, x);
+            }
+        }
+        // Both reach 1 where they differ from libm by one bit just above a power of two.
+        assert!(worst_sin.0 <= 1.0, "sin: {worst_sin:?}");
+        assert!(worst_cos.0 <= 1.0, "cos: {worst_cos:?}");
+    }
+
+    #[test]
+    fn is_exact_where_it_must_be_and_hands_the_rest_to_libm() {
+        assert_eq!(sin_cos(0.0), (0.0, 1.0));
+        let tiny = 1e-200;
+        assert_eq!(sin_cos(tiny), (tiny, 1.0));
+        for x in [2.5, -3.0, 1e6] {
+            assert_eq!(sin_cos(x), x.sin_cos(), "{x}");
+        }
+        for x in [f64::NAN, f64::INFINITY] {
+            let (s, c) = sin_cos(x);
+            assert!(s.is_nan() && c.is_nan(), "{x}");
+        }
+        // Across the switch between reductions (x = pi/4) and at +-pi/2.
+        for x in [
+            std::f64::consts::FRAC_PI_4,
+            std::f64::consts::FRAC_PI_4 + 1e-16,
+            std::f64::consts::FRAC_PI_2,
+            -std::f64::consts::FRAC_PI_2,
+        ] {
+            let (s, c) = sin_cos(x);
+            let (s0, c0) = x.sin_cos();
+            assert!((s - s0).abs() <= 2.0 * f64::EPSILON, "{x}: {s} vs {s0}");
+            assert!((c - c0).abs() <= 2.0 * f64::EPSILON, "{x}: {c} vs {c0}");
+        }
+    }
+}

@@ -393,6 +393,15 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
                 p[c + r * n] = v;
             }
         }
+        // The top-left block was computed both ways round; its average is what
+        // `linalg::symmetrize` would make of it, and the rest of P is symmetric already.
+        for c in 0..d {
+            for r in c + 1..d {
+                let m = 0.5 * (p[r + c * n] + p[c + r * n]);
+                p[r + c * n] = m;
+                p[c + r * n] = m;
+            }
+        }
     }
 }
 
@@ -427,7 +436,9 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
             self.model.noise_channels(),
             window.duration(),
         );
-        self.est.finish("state after prediction")
+        // P went in symmetric (every finish and reset leaves it so), and the propagation
+        // and the diagonal process noise keep it so.
+        self.est.finish_symmetric("state after prediction")
     }
 
     fn update(&mut self, obs: &Observation) -> Result<&UpdateReport, FilterError> {

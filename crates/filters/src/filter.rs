@@ -97,6 +97,12 @@ impl Estimate {
     /// Symmetrises P and checks that nothing went non-finite.
     pub fn finish(&mut self, what: &'static str) -> Result<(), FilterError> {
         crate::linalg::symmetrize(&mut self.p, self.n);
+        self.finish_symmetric(what)
+    }
+
+    /// As [`Estimate::finish`], for a covariance the caller has already made exactly
+    /// symmetric.
+    pub fn finish_symmetric(&mut self, what: &'static str) -> Result<(), FilterError> {
         if !crate::linalg::all_finite(&self.x) {
             return Err(FilterError::NonFinite {
                 step: self.step,

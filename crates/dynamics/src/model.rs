@@ -218,52 +218,61 @@ impl PlatformModel {
         let dw3_dl = WIE * k.cos_l + vx * k.d_tan_over_rn;
         let coriolis = 2.0 * WIE * k.sin_l + vx * k.tan_over_rn;
         let dcor_dl = 2.0 * WIE * k.cos_l + vx * k.d_tan_over_rn;
-        let mut p = Partials::new(&mut jac[..NAV_DIM * n], n);
-        // phi_x' = py w3 - pz w2 + eps_x
-        p.add(PHI_X, PHI_Y, w3);
-        p.add(PHI_X, PHI_Z, -w2);
-        p.add(PHI_X, V_X, py * k.tan_over_rn - pz * k.inv_rn);
-        p.add(PHI_X, LAT, py * dw3_dl - pz * dw2_dl);
-        // phi_y' = pz w1 - px w3 + eps_y
-        p.add(PHI_Y, PHI_X, -w3);
-        p.add(PHI_Y, PHI_Z, w1);
-        p.add(PHI_Y, V_X, -px * k.tan_over_rn);
-        p.add(PHI_Y, V_Y, -pz * k.inv_rm);
-        p.add(PHI_Y, LAT, pz * dw1_dl - px * dw3_dl);
-        // phi_z' = px w2 - py w1 + eps_z
-        p.add(PHI_Z, PHI_X, w2);
-        p.add(PHI_Z, PHI_Y, -w1);
-        p.add(PHI_Z, V_X, px * k.inv_rn);
-        p.add(PHI_Z, V_Y, py * k.inv_rm);
-        p.add(PHI_Z, LAT, px * dw2_dl - py * dw1_dl);
-        for a in 0..3 {
-            p.add(PHI_X + a, KG0X + 3 * a, 1.0);
-            p.add(PHI_X + a, KG11X + 3 * a, fx);
-            p.add(PHI_X + a, KG12X + 3 * a, fy);
+        // Each base partial is written once onto the zeros, through row slices at least
+        // BASE_DIM long (so with no bounds checks left).
+        assert!(n >= BASE_DIM);
+        {
+            let mut rows = jac[..NAV_DIM * n].chunks_exact_mut(n);
+            let row: &mut [&mut [f64]; NAV_DIM] =
+                &mut std::array::from_fn(|_| rows.next().expect("NAV_DIM rows"));
+            // phi_x' = py w3 - pz w2 + eps_x
+            row[PHI_X][PHI_Y] = w3;
+            row[PHI_X][PHI_Z] = -w2;
+            row[PHI_X][V_X] = py * k.tan_over_rn - pz * k.inv_rn;
+            row[PHI_X][LAT] = py * dw3_dl - pz * dw2_dl;
+            // phi_y' = pz w1 - px w3 + eps_y
+            row[PHI_Y][PHI_X] = -w3;
+            row[PHI_Y][PHI_Z] = w1;
+            row[PHI_Y][V_X] = -px * k.tan_over_rn;
+            row[PHI_Y][V_Y] = -pz * k.inv_rm;
+            row[PHI_Y][LAT] = pz * dw1_dl - px * dw3_dl;
+            // phi_z' = px w2 - py w1 + eps_z
+            row[PHI_Z][PHI_X] = w2;
+            row[PHI_Z][PHI_Y] = -w1;
+            row[PHI_Z][V_X] = px * k.inv_rn;
+            row[PHI_Z][V_Y] = py * k.inv_rm;
+            row[PHI_Z][LAT] = px * dw2_dl - py * dw1_dl;
+            for a in 0..3 {
+                row[PHI_X + a][KG0X + 3 * a] = 1.0;
+                row[PHI_X + a][KG11X + 3 * a] = fx;
+                row[PHI_X + a][KG12X + 3 * a] = fy;
+            }
+            // v_x' = coriolis v_y + Ka0x + Ka1x fx + fx + fy pz - fz py
+            row[V_X][V_X] = k.tan_over_rn * vy;
+            row[V_X][V_Y] = coriolis;
+            row[V_X][LAT] = dcor_dl * vy;
+            row[V_X][PHI_Z] = fy;
+            row[V_X][PHI_Y] = -fz;
+            row[V_X][KA0X] = 1.0;
+            row[V_X][KA1X] = fx;
+            // v_y' = -coriolis v_x + Ka0y + Ka1y fy + fy + fz px - fx pz
+            row[V_Y][V_X] = -coriolis - k.tan_over_rn * vx;
+            row[V_Y][LAT] = -dcor_dl * vx;
+            row[V_Y][PHI_X] = fz;
+            row[V_Y][PHI_Z] = -fx;
+            row[V_Y][KA0Y] = 1.0;
+            row[V_Y][KA1Y] = fy;
+            // L' = v_y / RM
+            row[LAT][V_Y] = k.inv_rm;
+            row[LAT][LAT] = vy * k.d_inv_rm;
+            // lambda' = v_x / (RN cosL);
+            // d/dL (1/(RN cosL)) = d_inv_rn / cosL + tanL / (RN cosL)
+            let sec = k.inv_cos;
+            row[LON][V_X] = k.inv_rn * sec;
+            row[LON][LAT] = vx * sec * (k.d_inv_rn + k.inv_rn * k.tan_l);
         }
-        // v_x' = coriolis v_y + Ka0x + Ka1x fx + fx + fy pz - fz py
-        p.add(V_X, V_X, k.tan_over_rn * vy);
-        p.add(V_X, V_Y, coriolis);
-        p.add(V_X, LAT, dcor_dl * vy);
-        p.add(V_X, PHI_Z, fy);
-        p.add(V_X, PHI_Y, -fz);
-        p.add(V_X, KA0X, 1.0);
-        p.add(V_X, KA1X, fx);
-        // v_y' = -coriolis v_x + Ka0y + Ka1y fy + fy + fz px - fx pz
-        p.add(V_Y, V_X, -coriolis - k.tan_over_rn * vx);
-        p.add(V_Y, LAT, -dcor_dl * vx);
-        p.add(V_Y, PHI_X, fz);
-        p.add(V_Y, PHI_Z, -fx);
-        p.add(V_Y, KA0Y, 1.0);
-        p.add(V_Y, KA1Y, fy);
-        // L' = v_y / RM
-        p.add(LAT, V_Y, k.inv_rm);
-        p.add(LAT, LAT, vy * k.d_inv_rm);
-        // lambda' = v_x / (RN cosL); d/dL (1/(RN cosL)) = d_inv_rn / cosL + tanL / (RN cosL)
-        let sec = k.inv_cos;
-        p.add(LON, V_X, k.inv_rn * sec);
-        p.add(LON, LAT, vx * sec * (k.d_inv_rn + k.inv_rn * k.tan_l));
         if !self.rate_effects.is_empty() {
+            let mut p = Partials::new(&mut jac[..NAV_DIM * n], n);
             let k = *k; // a copy, as in `nav_rates`
             for &i in &self.rate_effects {
                 let c = self.effect_coeffs(i, x);

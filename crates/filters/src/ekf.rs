@@ -92,8 +92,9 @@ const PLATFORM_D: usize = navkf_dynamics::state::NAV_DIM;
 /// `t` lives in registers. An exactly zero `F_a[r, m]` is skipped by one branch: the platform
 /// model's block has 27 nonzeros of 49, always in the same places, so the branches are
 /// predicted, and skipping an exact zero leaves every sum as the dense product would make it.
-/// (Measured slower: the dense product; rows interleaved; all rows of one chunk at a time; an
-/// index list of the nonzeros rebuilt at every stage.)
+/// (Measured slower, on an AVX-512 Zen 5: the dense product; two partial sums per row; all
+/// rows of one chunk at a time; `y_in` copied to locals first; outputs formed in registers
+/// rather than copied then added to; an index list of the nonzeros rebuilt at every stage.)
 struct Stage<'a> {
     d: usize,
     jac: &'a [Chunk],

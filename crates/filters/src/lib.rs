@@ -15,6 +15,7 @@ pub mod sigma_points;
 pub mod simplified_ukf;
 pub mod square_root_ukf;
 pub mod standard_ukf;
+mod tangent;
 pub mod triangular;
 pub mod ukf;
 pub mod update;

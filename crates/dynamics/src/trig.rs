@@ -10,8 +10,8 @@
 //! Both Taylor series, through `r^17` and `r^18`, are evaluated in Estrin's scheme (a tree of
 //! independent products rather than one long chain); for `|r| <= 1` the first omitted terms
 //! are below 1e-17, a tenth of an ulp. Angles up to 1 rad (57 deg of latitude) go straight
-//! in; larger ones are first reduced by the nearest multiple of pi/2 (only -1 or 1 of them),
-//! in two parts so that the subtraction is exact, to `|r| <= pi/4`.
+//! in; larger ones are first reduced by pi/2 towards zero, in two parts so that the
+//! subtraction is exact, to `|r| < 0.58`.
 //!
 //! ```
 //! let (s, c) = navkf_dynamics::trig::sin_cos(0.7);
@@ -32,21 +32,16 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     if !(x.abs() <= INLINE_LIMIT) {
         return x.sin_cos();
     }
-    // pi/2 = PIO2_HI + PIO2_LO, PIO2_HI the double nearest to it.
+    // 1 < |x| <= 2: x = k pi/2 + r with k = sign(x), |r| < 0.58. pi/2 = PIO2_HI + PIO2_LO,
+    // PIO2_HI the double nearest to it; x is within a factor of two of PIO2_HI, so
+    // x - k PIO2_HI is exact.
     const PIO2_HI: f64 = std::f64::consts::FRAC_PI_2;
     const PIO2_LO: f64 = 6.123_233_995_736_766e-17;
-    // Round to nearest by the 1.5 * 2^52 trick (no call, no fast-math needed).
-    const SHIFT: f64 = 6_755_399_441_055_744.0;
-    let k = (x * std::f64::consts::FRAC_2_PI + SHIFT) - SHIFT;
-    // For k = +-1, x is within a factor of two of pi/2, so x - k PIO2_HI is exact.
+    let k = x.signum();
     let r = (x - k * PIO2_HI) - k * PIO2_LO;
     let (s, c) = sin_cos_reduced(r);
-    // sin(k pi/2 + r) and cos(k pi/2 + r) for k in {-1, 0, 1}.
-    if k == 0.0 {
-        (s, c)
-    } else {
-        (k * c, -k * s)
-    }
+    // sin(k pi/2 + r) = k cos r, cos(k pi/2 + r) = -k sin r.
+    (k * c, -k * s)
 }
 
 /// Taylor series of sin and cos for `|r| <= 1`, in Estrin's scheme.
@@ -71,7 +66,8 @@ fn sin_cos_reduced(r: f64) -> (f64, f64) {
     let s45 = -F[11] + r2 * F[13];
     let s67 = -F[15] + r2 * F[17];
     let sp = (s01 + r4 * s23) + r8 * (s45 + r4 * s67);
-    let sin = r + (r * r2) * sp;
+    // (At r = -0 the sum would give +0; libm keeps the sign, and so does the select.)
+    let sin = if r == 0.0 { r } else { r + (r * r2) * sp };
     // cos r = (1 - r^2/2) + r^4 (1/4! - r^2/6! + ... + r^14/18!), with the rounding error
     // of 1 - r^2/2 carried into the tail (as fdlibm does): near r = 1 the sum cancels to
     // half its leading term, and a plain `1 + r^2 (...)` loses two or three ulp there.
@@ -122,6 +118,7 @@ mod tests {
         assert_eq!(sin_cos(0.0), (0.0, 1.0));
         let tiny = 1e-200;
         assert_eq!(sin_cos(tiny), (tiny, 1.0));
+        assert_eq!(sin_cos(-0.0).0.to_bits(), (-0.0f64).to_bits());
         for x in [2.5, -3.0, 1e6] {
             assert_eq!(sin_cos(x), x.sin_cos(), "{x}");
         }
@@ -129,10 +126,13 @@ mod tests {
             let (s, c) = sin_cos(x);
             assert!(s.is_nan() && c.is_nan(), "{x}");
         }
-        // Across the switch between reductions (x = pi/4) and at +-pi/2.
+        // Either side of the switch to the reduced path (|x| = 1), and at +-pi/2.
+        let above_one = 1.0f64.next_up();
         for x in [
-            std::f64::consts::FRAC_PI_4,
-            std::f64::consts::FRAC_PI_4 + 1e-16,
+            1.0,
+            above_one,
+            -1.0,
+            -above_one,
             std::f64::consts::FRAC_PI_2,
             -std::f64::consts::FRAC_PI_2,
         ] {

@@ -14,7 +14,7 @@
 use crate::error::FilterError;
 use crate::filter::{add_process_noise, Estimate, Filter};
 use crate::tangent::{rows_times_matrix, ChunkBuf, Stage, LANES};
-use crate::update::{GainWorkspace, Observation, UpdateReport};
+use crate::update::{GainWorkspace, MeasurementMoments, Observation, UpdateReport};
 use navkf_dynamics::{InputWindow, SystemModel};
 use std::sync::Arc;
 
@@ -42,11 +42,8 @@ pub struct Ekf<M: SystemModel + ?Sized> {
     /// `Phi P`'s dynamic rows.
     tmp_rows: ChunkBuf,
     /// Update scratch.
-    h: Vec<f64>,
     hsel: Vec<f64>,
-    pzz: Vec<f64>,
-    pxz: Vec<f64>,
-    z_hat: Vec<f64>,
+    mom: MeasurementMoments,
     gain: GainWorkspace,
 }
 
@@ -69,11 +66,8 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
             k: std::array::from_fn(|_| vec![0.0; d]),
             xs: vec![0.0; n],
             p_pad: ChunkBuf::new(n * nc),
-            h: vec![0.0; nz * n],
             hsel: vec![0.0; nz * n],
-            pzz: vec![0.0; nz * nz],
-            pxz: vec![0.0; n * nz],
-            z_hat: vec![0.0; nz],
+            mom: MeasurementMoments::new(n, nz),
             gain: GainWorkspace::new(n, nz),
             model,
         }
@@ -229,34 +223,19 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
         if k == 0 {
             return Ok(&self.gain.report);
         }
-        self.model.measure(&self.est.x, &mut self.z_hat);
-        self.model.measurement_jacobian(&self.est.x, &mut self.h);
+        self.mom
+            .linear_gain(&*self.model, &mut self.est, &mut self.gain, obs)?;
         // Selected rows of H, row-major k x n.
         for (a, &ch) in self.gain.report.channels.iter().enumerate() {
-            self.hsel[a * n..(a + 1) * n].copy_from_slice(&self.h[ch * n..(ch + 1) * n]);
+            self.hsel[a * n..(a + 1) * n].copy_from_slice(&self.mom.h[ch * n..(ch + 1) * n]);
         }
-        crate::update::linear_moments(
-            &self.est.p,
-            n,
-            &self.h,
-            &self.gain.report.channels,
-            &mut self.pxz,
-            &mut self.pzz,
-        );
-        self.gain.compute(
-            obs,
-            &self.z_hat,
-            &self.pzz[..k * k],
-            &self.pxz[..n * k],
-            &mut self.est.x,
-        )?;
         // Joseph form as two rank-k corrections:
         // T = (I - K H) P = P - K Pxz^T;  P+ = T - (T H^T) K^T + K R K^T.
         let g = &self.gain.gain;
         let p = &mut self.est.p;
         for j in 0..n {
             for a in 0..k {
-                let f = self.pxz[j + a * n];
+                let f = self.mom.pxz[j + a * n];
                 if f != 0.0 {
                     let ka = &g[a * n..(a + 1) * n];
                     let pj = &mut p[j * n..(j + 1) * n];
@@ -269,7 +248,7 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
         // th = T H^T (n x k), reusing pxz.
         for a in 0..k {
             let ha = &self.hsel[a * n..(a + 1) * n];
-            let col = &mut self.pxz[a * n..(a + 1) * n];
+            let col = &mut self.mom.pxz[a * n..(a + 1) * n];
             col.fill(0.0);
             for (m, &hm) in ha.iter().enumerate() {
                 if hm != 0.0 {
@@ -285,7 +264,7 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
             let sig = obs.sigma[self.gain.report.channels[a]];
             let r = sig * sig;
             let ka = &g[a * n..(a + 1) * n];
-            let th = &self.pxz[a * n..(a + 1) * n];
+            let th = &self.mom.pxz[a * n..(a + 1) * n];
             for (pj, &kj) in p.chunks_exact_mut(n).zip(ka) {
                 for ((pi, ki), ti) in pj.iter_mut().zip(ka).zip(th) {
                     *pi += -ti * kj + r * ki * kj;

@@ -18,7 +18,7 @@ use crate::error::FilterError;
 use crate::filter::{add_process_noise, Estimate, Filter};
 use crate::linalg::{cholesky_in_place, row_dots, DOT_BLOCK};
 use crate::sigma_points::{SigmaPoints, SigmaScaling};
-use crate::update::{GainWorkspace, Observation, UpdateReport};
+use crate::update::{GainWorkspace, MeasurementMoments, Observation, UpdateReport};
 use navkf_dynamics::{InputWindow, PropagationScratch, SystemModel};
 use std::sync::Arc;
 
@@ -55,10 +55,7 @@ pub struct Ukf<M: SystemModel + ?Sized> {
     noise_sd: Vec<f64>,
     weights_m: Vec<f64>,
     z_pts: Vec<f64>,
-    z_hat: Vec<f64>,
-    pzz: Vec<f64>,
-    pxz: Vec<f64>,
-    h: Vec<f64>,
+    mom: MeasurementMoments,
     /// Deviations of the points from the mean, state-major: row `s` holds state `s` of every
     /// point (`dev_len` long, zero-padded), rows padded to a multiple of [`DOT_BLOCK`].
     dev: Vec<f64>,
@@ -122,10 +119,7 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
             noise_sd: vec![0.0; nw],
             weights_m,
             z_pts: vec![0.0; nz * npts],
-            z_hat: vec![0.0; nz],
-            pzz: vec![0.0; nz * nz],
-            pxz: vec![0.0; n * nz],
-            h: vec![0.0; nz * n],
+            mom: MeasurementMoments::new(n, nz),
             dev: vec![0.0; pad(n) * dev_len],
             dz: vec![0.0; pad(nz) * dev_len],
             dev_len,
@@ -254,25 +248,8 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
     }
 
     fn update_linear(&mut self, obs: &Observation) -> Result<(), FilterError> {
-        let n = self.est.n;
-        let k = self.gain.report.channels.len();
-        self.model.measure(&self.est.x, &mut self.z_hat);
-        self.model.measurement_jacobian(&self.est.x, &mut self.h);
-        crate::update::linear_moments(
-            &self.est.p,
-            n,
-            &self.h,
-            &self.gain.report.channels,
-            &mut self.pxz,
-            &mut self.pzz,
-        );
-        self.gain.compute(
-            obs,
-            &self.z_hat,
-            &self.pzz[..k * k],
-            &self.pxz[..n * k],
-            &mut self.est.x,
-        )?;
+        self.mom
+            .linear_gain(&*self.model, &mut self.est, &mut self.gain, obs)?;
         self.gain.subtract_gain_cov(&mut self.est.p);
         Ok(())
     }
@@ -309,10 +286,15 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
                 self.z_pts[(2 + 2 * (first + j)) * nz + j] -= s;
             }
         }
-        self.z_hat.fill(0.0);
+        self.mom.z_hat.fill(0.0);
         for i in 0..count {
             let w = sp.wm(i);
-            for (zh, zi) in self.z_hat.iter_mut().zip(&self.z_pts[i * nz..(i + 1) * nz]) {
+            for (zh, zi) in self
+                .mom
+                .z_hat
+                .iter_mut()
+                .zip(&self.z_pts[i * nz..(i + 1) * nz])
+            {
                 *zh += w * zi;
             }
         }
@@ -320,7 +302,7 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
         let len = self.dev_len;
         let chans = &self.gain.report.channels;
         for (row, &ca) in self.dz.chunks_exact_mut(len).zip(chans) {
-            let zh = self.z_hat[ca];
+            let zh = self.mom.z_hat[ca];
             for (d, z) in row[..count]
                 .iter_mut()
                 .zip(self.z_pts.iter().skip(ca).step_by(nz))
@@ -345,7 +327,7 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
                 for (i, gi) in g.iter().enumerate().take(k.saturating_sub(a0)) {
                     for (j, gij) in gi.iter().enumerate().take(k.saturating_sub(b0)) {
                         let (a, b) = (a0 + i, b0 + j);
-                        self.pzz[a + b * k] = wi * gij + dc * dz[a * len] * dz[b * len];
+                        self.mom.pzz[a + b * k] = wi * gij + dc * dz[a * len] * dz[b * len];
                     }
                 }
             }
@@ -354,7 +336,7 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
                 for (i, gi) in g.iter().enumerate().take(n.saturating_sub(s0)) {
                     for (j, gij) in gi.iter().enumerate().take(k.saturating_sub(b0)) {
                         let (s, b) = (s0 + i, b0 + j);
-                        self.pxz[s + b * n] = wi * gij + dc * dev[s * len] * dz[b * len];
+                        self.mom.pxz[s + b * n] = wi * gij + dc * dev[s * len] * dz[b * len];
                     }
                 }
             }
@@ -362,16 +344,10 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
         if v_aug {
             // R is already inside Pzz through the V points; compute() adds it, so take it out.
             for (a, &ca) in chans.iter().enumerate() {
-                self.pzz[a + a * k] -= obs.sigma[ca] * obs.sigma[ca];
+                self.mom.pzz[a + a * k] -= obs.sigma[ca] * obs.sigma[ca];
             }
         }
-        self.gain.compute(
-            obs,
-            &self.z_hat,
-            &self.pzz[..k * k],
-            &self.pxz[..n * k],
-            &mut self.est.x,
-        )?;
+        self.mom.gain(&mut self.gain, obs, &mut self.est.x)?;
         self.gain.subtract_gain_cov(&mut self.est.p);
         Ok(())
     }

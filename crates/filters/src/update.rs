@@ -7,7 +7,9 @@
 //! `log p(z) = -(NIS + log det S + k log 2 pi) / 2`, `K = Pxz S^-1`, `x += K nu`.
 
 use crate::error::FilterError;
+use crate::filter::Estimate;
 use crate::linalg::{cholesky_in_place, forward_substitute};
+use navkf_dynamics::SystemModel;
 
 /// One measurement: values, one-sigma of each channel (diagonal `R`), and which channels are
 /// present (an empty cell in `measurements.csv` is an absent channel). All three are
@@ -233,6 +235,63 @@ impl GainWorkspace {
                 p[j + i * n] = p[i + j * n];
             }
         }
+    }
+}
+
+/// The predicted measurement and its moments, what a filter hands to
+/// [`GainWorkspace::compute`]: `z_hat` (all `nz` channels), `Pzz` (k x k) and `Pxz` (n x k,
+/// column-major) over the selected channels, and the measurement Jacobian `h` (row-major
+/// `nz x n`) when the measurement is linearised. Sized once.
+#[derive(Debug, Clone)]
+pub(crate) struct MeasurementMoments {
+    pub z_hat: Vec<f64>,
+    pub h: Vec<f64>,
+    pub pzz: Vec<f64>,
+    pub pxz: Vec<f64>,
+}
+
+impl MeasurementMoments {
+    pub fn new(n: usize, nz: usize) -> Self {
+        MeasurementMoments {
+            z_hat: vec![0.0; nz],
+            h: vec![0.0; nz * n],
+            pzz: vec![0.0; nz * nz],
+            pxz: vec![0.0; n * nz],
+        }
+    }
+
+    /// The update's first half for a measurement linearised at the estimate (exact when it
+    /// is linear): `z_hat = h(x)`, `H`, the moments by [`linear_moments`], then the gain,
+    /// which corrects `est.x`. The covariance is the caller's to correct.
+    pub fn linear_gain<M: SystemModel + ?Sized>(
+        &mut self,
+        model: &M,
+        est: &mut Estimate,
+        gain: &mut GainWorkspace,
+        obs: &Observation,
+    ) -> Result<(), FilterError> {
+        model.measure(&est.x, &mut self.z_hat);
+        model.measurement_jacobian(&est.x, &mut self.h);
+        linear_moments(
+            &est.p,
+            est.n,
+            &self.h,
+            &gain.report.channels,
+            &mut self.pxz,
+            &mut self.pzz,
+        );
+        self.gain(gain, obs, &mut est.x)
+    }
+
+    /// [`GainWorkspace::compute`] with these moments: the gain, the report, `x` corrected.
+    pub fn gain(
+        &self,
+        gain: &mut GainWorkspace,
+        obs: &Observation,
+        x: &mut [f64],
+    ) -> Result<(), FilterError> {
+        let (n, k) = (gain.n, gain.report.channels.len());
+        gain.compute(obs, &self.z_hat, &self.pzz[..k * k], &self.pxz[..n * k], x)
     }
 }
 

@@ -169,15 +169,8 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
                 p[c + r * n] = v;
             }
         }
-        // The top-left block was computed both ways round; its average is what
-        // `linalg::symmetrize` would make of it, and the rest of P is symmetric already.
-        for c in 0..d {
-            for r in c + 1..d {
-                let m = 0.5 * (p[r + c * n] + p[c + r * n]);
-                p[r + c * n] = m;
-                p[c + r * n] = m;
-            }
-        }
+        // Only the top-left block was computed both ways round; the rest is symmetric already.
+        crate::linalg::symmetrize_leading(p, n, d);
     }
 }
 

@@ -78,8 +78,14 @@ pub fn backward_substitute(l: &[f64], n: usize, b: &mut [f64]) {
 
 /// Makes a column-major square matrix exactly symmetric: `A = (A + A^T) / 2`.
 pub fn symmetrize(a: &mut [f64], n: usize) {
-    for j in 0..n {
-        for i in j + 1..n {
+    symmetrize_leading(a, n, n);
+}
+
+/// [`symmetrize`] on the leading `d x d` block of an `n x n` column-major matrix only, for a
+/// caller whose arithmetic leaves the rest symmetric already.
+pub fn symmetrize_leading(a: &mut [f64], n: usize, d: usize) {
+    for j in 0..d {
+        for i in j + 1..d {
             let m = 0.5 * (a[i + j * n] + a[j + i * n]);
             a[i + j * n] = m;
             a[j + i * n] = m;

@@ -21,8 +21,8 @@ pub(crate) type Chunk = [f64; LANES];
 
 /// A buffer of chunks that starts on a cache line (64 bytes), so that no vector load or store
 /// straddles two lines: a `Vec` of doubles is only guaranteed 8-byte alignment (the allocator
-/// gave 16 here), and with 8-lane chunks every access then touched two lines. The heap block never moves, so neither does the
-/// alignment.
+/// gave 16 here), and with 8-lane chunks every access then touched two lines. The heap block
+/// never moves, so neither does the alignment.
 pub(crate) struct ChunkBuf {
     buf: Vec<f64>,
     start: usize,

@@ -298,7 +298,7 @@ impl MeasurementMoments {
 /// The moments of a linear measurement `z = H x`: `Pxz = P H^T` (n x k, column-major) and
 /// `Pzz = H P H^T` (k x k), for the rows `channels` of `h` (row-major `nz x n`), skipping
 /// the zeros of `H` (a measurement reads few states).
-pub(crate) fn linear_moments(
+fn linear_moments(
     p: &[f64],
     n: usize,
     h: &[f64],

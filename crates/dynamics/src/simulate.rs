@@ -65,14 +65,34 @@ pub fn base_coefficient_sigma(index: usize) -> f64 {
     }
 }
 
+/// How the platform was aligned before the test, which sets how its initial tilt is drawn.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Alignment {
+    /// Tilt drawn independently of everything else, `N(0, sigma^2)` per axis.
+    #[default]
+    Independent,
+    /// Levelled and gyrocompassed at rest at the start: the tilt is the one that nulls the
+    /// horizontal specific force and the East gyro's apparent drift for this run's own
+    /// coefficients (`v_x' = v_y' = phi_x' = 0`: phi_x = -nab_y / g, phi_y = nab_x / g,
+    /// phi_z = (eps_x + wie sinL phi_y) / (wie cosL), with every effect's terms), plus a
+    /// residual `N(0, sigma^2)` per axis. This is how a real platform starts: its tilt and its
+    /// biases are tied together, not independent.
+    Gyrocompass,
+}
+
 /// The true initial navigation state: the path's start, with the platform tilted.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct InitialTilt {
-    /// One-sigma levelling error about East and North, rad (10 arcsec).
+    /// One-sigma levelling error about East and North, rad (10 arcsec); with
+    /// [`Alignment::Gyrocompass`], the residual after levelling.
     pub level_rad: f64,
-    /// One-sigma azimuth error about Up, rad (1 arcmin).
+    /// One-sigma azimuth error about Up, rad (1 arcmin); with [`Alignment::Gyrocompass`],
+    /// the residual after gyrocompassing.
     pub azimuth_rad: f64,
+    /// How the tilt is drawn.
+    pub alignment: Alignment,
 }
 
 impl Default for InitialTilt {
@@ -80,8 +100,26 @@ impl Default for InitialTilt {
         InitialTilt {
             level_rad: 4.85e-5,
             azimuth_rad: 2.91e-4,
+            alignment: Alignment::Independent,
         }
     }
+}
+
+/// Solves the 3 x 3 system `a x = b` by Cramer's rule (the caller guarantees it is regular).
+fn solve3(a: [[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
+    let det3 = |m: [[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let d = det3(a);
+    std::array::from_fn(|k| {
+        let mut m = a;
+        for i in 0..3 {
+            m[i][k] = b[i];
+        }
+        det3(m) / d
+    })
 }
 
 /// Settings of the truth simulation.
@@ -138,6 +176,9 @@ pub struct Simulator {
     steps_per_measurement: usize,
     inputs: Arc<Vec<InputSample>>,
 }
+
+/// Gyrocompassing needs `cos L` at least this (|latitude| < 85 deg).
+const MIN_GYROCOMPASS_COS_LAT: f64 = 0.087;
 
 fn cfg_err(key: &str, message: String) -> DynamicsError {
     DynamicsError::Config {
@@ -201,6 +242,36 @@ impl Simulator {
                 ),
             )
         })?;
+        if config.initial_tilt.alignment == Alignment::Gyrocompass {
+            let lat = trajectory.state(0.0).pos[0];
+            if lat.cos() < MIN_GYROCOMPASS_COS_LAT {
+                return Err(cfg_err(
+                    "truth.initial_tilt.alignment",
+                    format!(
+                        "gyrocompass at latitude {:.2} deg: expected |latitude| < 85 deg \
+                         (near the poles the Earth's rate gives no North)",
+                        lat.to_degrees()
+                    ),
+                ));
+            }
+        }
+        for (key, v) in [
+            (
+                "truth.initial_tilt.level_rad",
+                config.initial_tilt.level_rad,
+            ),
+            (
+                "truth.initial_tilt.azimuth_rad",
+                config.initial_tilt.azimuth_rad,
+            ),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(cfg_err(
+                    key,
+                    format!("{v}: expected a finite sigma >= 0 rad"),
+                ));
+            }
+        }
         let names = model.state_names();
         for (name, p) in &config.coefficients {
             let Some(i) = model.index_of(name) else {
@@ -265,6 +336,21 @@ impl Simulator {
         })
     }
 
+    /// Adds `error(t)` to the specific force the truth integrates, but not to the recorded
+    /// input: an accelerometer error that varies with time and that no coefficient carries
+    /// (warm-up, temperature; [`crate::outside::AccelWarmUp`]). Every run of this simulator
+    /// then carries it.
+    pub fn with_specific_force_error(mut self, error: impl Fn(f64) -> Input) -> Self {
+        let h = 1.0 / self.config.rate_hz;
+        for (k, f) in self.half_step_inputs.iter_mut().enumerate() {
+            let e = error(k as f64 * 0.5 * h);
+            for a in 0..3 {
+                f[a] += e[a];
+            }
+        }
+        self
+    }
+
     /// The truth model.
     pub fn model(&self) -> &Arc<PlatformModel> {
         &self.model
@@ -301,16 +387,47 @@ impl Simulator {
         x[LON] = start.pos[1];
         let mut rng = stream(seed, run, Purpose::InitialState);
         let tilt = self.config.initial_tilt;
-        x[PHI_X] = tilt.level_rad * rng.sample::<f64, _>(StandardNormal);
-        x[PHI_Y] = tilt.level_rad * rng.sample::<f64, _>(StandardNormal);
-        x[PHI_Z] = tilt.azimuth_rad * rng.sample::<f64, _>(StandardNormal);
+        let residual = [
+            tilt.level_rad * rng.sample::<f64, _>(StandardNormal),
+            tilt.level_rad * rng.sample::<f64, _>(StandardNormal),
+            tilt.azimuth_rad * rng.sample::<f64, _>(StandardNormal),
+        ];
         let mut rng = stream(seed, run, Purpose::Coefficients);
         for (i, p) in self.priors.iter().enumerate().skip(NAV_DIM) {
             // Always draw, so that fixing one coefficient leaves the others' draws unchanged.
             let z: f64 = rng.sample(StandardNormal);
             x[i] = p.mean + p.sigma * z;
         }
+        let tilt = match tilt.alignment {
+            Alignment::Independent => residual,
+            Alignment::Gyrocompass => {
+                let aligned = self.aligned_tilt(&x);
+                std::array::from_fn(|a| aligned[a] + residual[a])
+            }
+        };
+        x[PHI_X..=PHI_Z].copy_from_slice(&tilt);
         x
+    }
+
+    /// The tilt that levelling and gyrocompassing at the start leave for state `x` (its
+    /// coefficients and position; its tilt is ignored): the solution of
+    /// `phi_x' = v_x' = v_y' = 0` for `phi`. The rates are linear in `phi`, so one Newton
+    /// step from zero tilt is exact.
+    fn aligned_tilt(&self, x: &[f64]) -> [f64; 3] {
+        let model = &*self.model;
+        let n = model.dim();
+        let f = self.trajectory.specific_force(0.0);
+        let mut level = x.to_vec();
+        level[PHI_X..=PHI_Z].fill(0.0);
+        let mut r = vec![0.0; NAV_DIM];
+        let mut jac = vec![0.0; NAV_DIM * n];
+        model.rates(&level, &f, &mut r);
+        model.rate_jacobian(&level, &f, &mut jac);
+        let rows = [PHI_X, V_X, V_Y];
+        let a: [[f64; 3]; 3] =
+            std::array::from_fn(|i| std::array::from_fn(|j| jac[rows[i] * n + j]));
+        let b: [f64; 3] = std::array::from_fn(|i| -r[rows[i]]);
+        solve3(a, b)
     }
 
     /// Simulates run `run` of study seed `seed`.
@@ -386,6 +503,7 @@ impl Simulator {
             inputs: self.inputs.to_vec(),
             measurements: run.measurements.clone(),
             noise: self.noise,
+            prior: Default::default(),
             provenance: Some(Provenance {
                 seed: Some(seed),
                 run: Some(run.run),

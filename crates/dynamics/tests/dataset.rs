@@ -3,7 +3,7 @@
 
 use navkf_dynamics::dataset::{Dataset, InputSample, Measurement, Provenance, Truth};
 use navkf_dynamics::earth::meridian_radius;
-use navkf_dynamics::NoiseConfig;
+use navkf_dynamics::{NoiseConfig, PlatformPrior, Registry};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -144,6 +144,11 @@ fn sample(name: &str) -> Dataset {
             odometer_rel: 0.002,
             odometer_floor: 0.01,
             gps_m: 2.0,
+        },
+        prior: PlatformPrior {
+            level_rad: Some(1.0 / 3.0 * 1e-4),
+            azimuth_rad: None,
+            coefficients: [("Kg0x".to_string(), 4.8e-7), ("kod".to_string(), 0.01)].into(),
         },
         provenance: Some(Provenance {
             seed: Some(42),
@@ -815,7 +820,7 @@ fn unknown_table_is_refused_with_its_name() {
             "dataset.toml",
             "line 4",
             "sensors",
-            "expected `noise` or `simulation`",
+            "expected one of `noise`, `prior`, `simulation`",
         ],
     );
 }
@@ -881,6 +886,145 @@ fn absent_noise_keys_take_defaults_and_simulation_is_read() {
             effects: vec!["ka2".into()],
             ..Provenance::default()
         })
+    );
+}
+
+// ---- dataset.toml [prior] ------------------------------------------------------------------
+
+#[test]
+fn prior_table_is_read_with_base_and_effect_coefficients() {
+    let inputs = inputs_text(50);
+    let dir = folder(
+        "prior-ok",
+        &[
+            ("inputs.csv", &inputs),
+            ("measurements.csv", MEAS_OK),
+            (
+                "dataset.toml",
+                "[prior]\nazimuth_rad = 2e-3\n\n[prior.coefficients]\nKg0x = 4.8e-7\nKa12x = 1e-3\n",
+            ),
+        ],
+    );
+    let d = Dataset::read(&dir).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(d.prior.level_rad, None);
+    assert_eq!(d.prior.azimuth_rad, Some(2e-3));
+    assert_eq!(d.prior.coefficients["Kg0x"], 4.8e-7);
+    assert_eq!(d.prior.coefficients["Ka12x"], 1e-3);
+}
+
+#[test]
+fn unknown_prior_key_is_refused_with_its_line() {
+    let e = read_error(
+        "prior-key",
+        &[(
+            "dataset.toml",
+            "[prior]\nlevel_rad = 5e-5\nazimuth_deg = 0.1\n",
+        )],
+    );
+    assert_mentions(
+        &e,
+        &["dataset.toml", "line 3", "azimuth_deg", "unknown field"],
+    );
+}
+
+#[test]
+fn unknown_prior_coefficient_is_refused_with_its_line_and_the_known_names() {
+    let e = read_error(
+        "prior-coef",
+        &[(
+            "dataset.toml",
+            "[noise]\ngps_m = 3.0\n\n[prior.coefficients]\nKg0x = 1e-7\nKg0w = 1e-7\n",
+        )],
+    );
+    assert_mentions(
+        &e,
+        &[
+            "dataset.toml:6:",
+            "column `prior.coefficients.Kg0w`",
+            "unknown coefficient `Kg0w`",
+            "Ka12x",
+        ],
+    );
+    // A navigation state is not a coefficient, and the message says where its prior is.
+    let e = read_error(
+        "prior-nav",
+        &[("dataset.toml", "[prior.coefficients]\nphi_z = 1e-3\n")],
+    );
+    assert_mentions(&e, &["dataset.toml:2:", "phi_z", "azimuth_rad"]);
+}
+
+#[test]
+fn non_positive_or_malformed_prior_values_are_refused_with_their_line() {
+    let e = read_error(
+        "prior-neg",
+        &[(
+            "dataset.toml",
+            "[prior]\nlevel_rad = 5e-5\nazimuth_rad = -1e-3\n",
+        )],
+    );
+    assert_mentions(
+        &e,
+        &[
+            "dataset.toml:3:",
+            "column `prior.azimuth_rad`",
+            "finite and > 0",
+        ],
+    );
+    let e = read_error(
+        "prior-zero",
+        &[("dataset.toml", "[prior.coefficients]\nkod = 0.0\n")],
+    );
+    assert_mentions(&e, &["dataset.toml:2:", "prior.coefficients.kod", "> 0"]);
+    let e = read_error(
+        "prior-type",
+        &[("dataset.toml", "[prior]\nlevel_rad = \"small\"\n")],
+    );
+    assert_mentions(&e, &["dataset.toml", "line 2", "level_rad"]);
+}
+
+#[test]
+fn a_users_own_effect_coefficient_is_accepted_with_its_registry() {
+    #[derive(Debug)]
+    struct Drag;
+    impl navkf_dynamics::Effect for Drag {
+        fn name(&self) -> &str {
+            "drag"
+        }
+        fn description(&self) -> &str {
+            "v' -= kd v"
+        }
+        fn coefficient_names(&self) -> &[&str] {
+            &["kd"]
+        }
+        fn coefficient_units(&self) -> &[&str] {
+            &["1/s"]
+        }
+        fn coefficient_sigma(&self) -> &[f64] {
+            &[1e-5]
+        }
+    }
+    let inputs = inputs_text(50);
+    let files = [
+        ("inputs.csv", inputs.as_str()),
+        ("measurements.csv", MEAS_OK),
+        ("dataset.toml", "[prior.coefficients]\nkd = 1e-4\n"),
+    ];
+    let dir = folder("prior-user", &files);
+    assert!(
+        Dataset::read(&dir).is_err(),
+        "kd is unknown to the catalogue"
+    );
+    let mut registry = Registry::catalogue();
+    registry.register("drag", || Box::new(Drag));
+    let d = Dataset::read_with(&dir, &registry).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(
+        d.prior,
+        PlatformPrior {
+            coefficients: [("kd".to_string(), 1e-4)].into(),
+            ..Default::default()
+        }
     );
 }
 
@@ -1003,6 +1147,7 @@ fn drive() -> Dataset {
         inputs,
         measurements,
         noise: NoiseConfig::default(),
+        prior: PlatformPrior::default(),
         provenance: None,
         truth: None,
     }
@@ -1094,6 +1239,7 @@ fn summary_names_truth_columns_and_survives_an_empty_dataset() {
         inputs: vec![],
         measurements: vec![],
         noise: NoiseConfig::default(),
+        prior: PlatformPrior::default(),
         provenance: None,
         truth: None,
     };

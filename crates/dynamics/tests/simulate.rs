@@ -130,3 +130,60 @@ fn measurement_noise_has_the_spec_size() {
     let rv = (sv / count_v).sqrt();
     assert!((rv - 1.0).abs() < 0.1, "normalised odometer rms {rv}");
 }
+
+#[test]
+fn a_gyrocompassed_platform_starts_with_the_tilt_that_nulls_its_own_biases() {
+    use navkf_dynamics::earth::WIE;
+    use navkf_dynamics::simulate::{Alignment, InitialTilt};
+    use navkf_dynamics::SystemModel;
+    // Exact alignment (no residual), with effects that add rates at rest (gyro-fz: eps +=
+    // Kg13 fz) drawn 30 times their typical size so that they matter.
+    let mut cfg = TruthConfig {
+        initial_tilt: InitialTilt {
+            level_rad: 0.0,
+            azimuth_rad: 0.0,
+            alignment: Alignment::Gyrocompass,
+        },
+        ..Default::default()
+    };
+    for c in ["Kg13x", "Kg13y", "Kg13z"] {
+        cfg.coefficients.insert(c.into(), Prior::zero_mean(3e-7));
+    }
+    let s = sim(&["gyro-fz", "accel-cross-axis"], cfg);
+    let f = s.trajectory().specific_force(0.0);
+    let mut independent_azimuths = Vec::new();
+    for run in 0..5 {
+        let x = s.initial_state(7, run);
+        let mut r = vec![0.0; NAV_DIM];
+        s.model().rates(&x, &f, &mut r);
+        // Levelled and gyrocompassed: no horizontal acceleration, no drift about East.
+        assert!(r[V_X].abs() < 1e-12 && r[V_Y].abs() < 1e-12, "{r:?}");
+        assert!(r[PHI_X].abs() < 1e-18, "{r:?}");
+        // The azimuth is the East drift over the Earth's horizontal rate (model.md).
+        let lat = x[LAT];
+        let eps_x = x[KG0X] + x[KG11X] * f[0] + x[KG12X] * f[1] + x[20] * f[2];
+        let expected = (eps_x + WIE * lat.sin() * x[PHI_Y]) / (WIE * lat.cos());
+        assert!((x[PHI_Z] - expected).abs() < 1e-12 * expected.abs().max(1e-6));
+        assert!((x[PHI_Y] - (x[KA0X] + x[KA1X] * f[0] + x[21] * f[1]) / f[2]).abs() < 1e-12);
+        independent_azimuths.push(x[PHI_Z]);
+    }
+    // The draws differ from run to run (they follow the coefficients).
+    assert!(independent_azimuths.windows(2).all(|w| w[0] != w[1]));
+}
+
+#[test]
+fn the_independent_tilt_draw_is_unchanged_by_the_alignment_option() {
+    // The default draws exactly as before the option existed: sigma times the first three
+    // normals of the run's initial-state stream.
+    let s = sim(&[], TruthConfig::default());
+    let x = s.initial_state(3, 1);
+    let t = TruthConfig::default().initial_tilt;
+    use rand::Rng;
+    let mut rng = navkf_dynamics::rng::stream(3, 1, navkf_dynamics::rng::Purpose::InitialState);
+    let z: Vec<f64> = (0..3)
+        .map(|_| rng.sample::<f64, _>(rand_distr::StandardNormal))
+        .collect();
+    assert_eq!(x[PHI_X], t.level_rad * z[0]);
+    assert_eq!(x[PHI_Y], t.level_rad * z[1]);
+    assert_eq!(x[PHI_Z], t.azimuth_rad * z[2]);
+}

@@ -1,5 +1,6 @@
 //! Datasets: the folder layout of `shared/spec/data-format.md` (inputs.csv, measurements.csv,
-//! optional dataset.toml and truth.csv), read with validation and written atomically.
+//! optional dataset.toml with its `[noise]`, `[prior]` and `[simulation]` tables, and
+//! truth.csv), read with validation and written atomically.
 //!
 //! Positions are kept in degrees, exactly as in the file, so that a dataset written and read
 //! back is bit-identical; [`Measurement::gps_rad`] converts for the filters.
@@ -15,6 +16,7 @@ pub use summary::{
 
 use crate::kinematics::Input;
 use crate::noise::NoiseConfig;
+use crate::prior::PlatformPrior;
 use serde::{Deserialize, Serialize};
 
 /// The file of input samples (required).
@@ -98,6 +100,9 @@ pub struct Dataset {
     pub measurements: Vec<Measurement>,
     /// Noise (defaults where `dataset.toml` is absent or silent).
     pub noise: NoiseConfig,
+    /// `[prior]` table of dataset.toml: what the user states of the platform before the
+    /// record (empty when absent; [`crate::prior`] gives the defaults).
+    pub prior: PlatformPrior,
     /// `[simulation]` table of dataset.toml, when present.
     pub provenance: Option<Provenance>,
     /// `truth.csv`, when present.

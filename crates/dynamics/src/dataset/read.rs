@@ -12,8 +12,11 @@ use super::{
     MEASUREMENTS_FILE, MEASUREMENT_COLUMNS, TRUTH_FILE,
 };
 use crate::earth::{meridian_radius, prime_vertical_radius};
+use crate::effects::Registry;
 use crate::error::DynamicsError;
 use crate::noise::NoiseConfig;
+use crate::prior::PlatformPrior;
+use crate::state::{BASE_NAMES, NAV_DIM};
 use serde::Deserialize;
 use std::io::ErrorKind;
 use std::path::{Path, PathBuf};
@@ -21,8 +24,15 @@ use std::path::{Path, PathBuf};
 impl Dataset {
     /// Reads and validates the dataset folder `dir` (data-format.md): `inputs.csv` and
     /// `measurements.csv` (required), `dataset.toml` and `truth.csv` (optional). The name is
-    /// the folder's final path component.
+    /// the folder's final path component. Coefficient names in `[prior.coefficients]` must be
+    /// base coefficients or coefficients of the catalogue's effects.
     pub fn read(dir: &Path) -> Result<Dataset, DynamicsError> {
+        Self::read_with(dir, &Registry::catalogue())
+    }
+
+    /// [`Dataset::read`], knowing the coefficients of `registry`'s effects (a user's own
+    /// effects among them) for `[prior.coefficients]`.
+    pub fn read_with(dir: &Path, registry: &Registry) -> Result<Dataset, DynamicsError> {
         if !dir.is_dir() {
             return Err(DynamicsError::File {
                 path: dir.to_path_buf(),
@@ -35,10 +45,10 @@ impl Dataset {
         let inputs = read_inputs(&dir.join(INPUTS_FILE))?;
         let measurements = read_measurements(&dir.join(MEASUREMENTS_FILE), &inputs)?;
         let config_path = dir.join(CONFIG_FILE);
-        let (noise, provenance) = if exists(&config_path)? {
-            read_config(&config_path)?
+        let config = if exists(&config_path)? {
+            read_config(&config_path, &known_coefficients(registry))?
         } else {
-            (NoiseConfig::default(), None)
+            ConfigFile::default()
         };
         let truth_path = dir.join(TRUTH_FILE);
         let truth = if exists(&truth_path)? {
@@ -50,8 +60,9 @@ impl Dataset {
             name: folder_name(dir),
             inputs,
             measurements,
-            noise,
-            provenance,
+            noise: config.noise,
+            prior: config.prior,
+            provenance: config.simulation,
             truth,
         })
     }
@@ -573,17 +584,34 @@ pub(super) fn chord_m(a: [f64; 2], b: [f64; 2]) -> f64 {
     north.hypot(east)
 }
 
-/// `dataset.toml`: the `[noise]` and `[simulation]` tables, nothing else.
-#[derive(Deserialize)]
+/// `dataset.toml`: the `[noise]`, `[prior]` and `[simulation]` tables, nothing else.
+#[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct ConfigFile {
     #[serde(default)]
     noise: NoiseConfig,
     #[serde(default)]
+    prior: PlatformPrior,
+    #[serde(default)]
     simulation: Option<Provenance>,
 }
 
-fn read_config(path: &Path) -> Result<(NoiseConfig, Option<Provenance>), DynamicsError> {
+/// Every coefficient name a `[prior.coefficients]` key may take: the base model's and those
+/// of `registry`'s effects.
+fn known_coefficients(registry: &Registry) -> Vec<String> {
+    let mut names: Vec<String> = BASE_NAMES[NAV_DIM..]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    for effect in registry.names() {
+        if let Ok(e) = registry.build(&effect) {
+            names.extend(e.coefficient_names().iter().map(|s| s.to_string()));
+        }
+    }
+    names
+}
+
+fn read_config(path: &Path, known: &[String]) -> Result<ConfigFile, DynamicsError> {
     let text = std::fs::read_to_string(path).map_err(|source| DynamicsError::Io {
         path: path.to_path_buf(),
         source,
@@ -606,7 +634,18 @@ fn read_config(path: &Path) -> Result<(NoiseConfig, Option<Provenance>), Dynamic
             },
         });
     }
-    Ok((config.noise, config.simulation))
+    if let Err((key, message)) = config.prior.validate(known) {
+        // `prior.level_rad` sits in [prior]; `prior.coefficients.X` in [prior.coefficients].
+        let (table, name) = key.rsplit_once('.').unwrap_or(("prior", &key));
+        return Err(match key_line(&text, table, name) {
+            Some(line) => data_error(path, line, &key, message),
+            None => DynamicsError::File {
+                path: path.to_path_buf(),
+                message: format!("{key}: {message}"),
+            },
+        });
+    }
+    Ok(config)
 }
 
 /// The 1-based line of `key = ...` inside `[table]`, for the simple layout this project

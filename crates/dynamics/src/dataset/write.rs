@@ -23,7 +23,8 @@ use std::path::{Path, PathBuf};
 
 impl Dataset {
     /// Writes the dataset into `dir` (created if needed): `inputs.csv`, `measurements.csv`,
-    /// `dataset.toml` (`[noise]` with every key, `[simulation]` when there is provenance) and
+    /// `dataset.toml` (`[noise]` with every key, `[prior]` with what it states, `[simulation]`
+    /// when there is provenance) and
     /// `truth.csv` when there is truth (a `truth.csv` left from an earlier write is removed
     /// otherwise). Existing files are replaced atomically.
     pub fn write(&self, dir: &Path) -> Result<(), DynamicsError> {
@@ -129,6 +130,21 @@ impl Dataset {
         ] {
             let entry = format!("{key} = {}", toml_f64(value));
             text.push_str(&format!("{entry:<40} # {comment}\n"));
+        }
+        if !self.prior.is_empty() {
+            let p = &self.prior;
+            text.push_str("\n[prior]\n");
+            for (key, value) in [("level_rad", p.level_rad), ("azimuth_rad", p.azimuth_rad)] {
+                if let Some(v) = value {
+                    text.push_str(&format!("{key} = {}\n", toml_f64(v)));
+                }
+            }
+            if !p.coefficients.is_empty() {
+                text.push_str("\n[prior.coefficients]\n");
+                for (name, v) in &p.coefficients {
+                    text.push_str(&format!("{name} = {}\n", toml_f64(*v)));
+                }
+            }
         }
         if let Some(provenance) = &self.provenance {
             let body = toml::to_string(provenance).map_err(|e| DynamicsError::File {

@@ -1,0 +1,149 @@
+//! What is known of the platform before a record starts: the `[prior]` table of
+//! `dataset.toml` (data-format.md), and the project's defaults with their reasons.
+//!
+//! A filter started on a dataset needs a one-sigma for the initial tilt and for every
+//! coefficient. The user states what they know; what they leave out takes a default that
+//! describes the platform class of the project's study files, a navigation-grade platform
+//! (gyro drift 0.02 deg/h, accelerometer bias 50 micro-g; see
+//! [`crate::simulate::base_coefficient_sigma`]) aligned at rest before the test:
+//!
+//! - **Level**: levelling nulls the horizontal specific force, so it leaves the platform
+//!   tilted by the accelerometer bias over gravity (`v_x' = Ka0x - g phi_y = 0`):
+//!   `sigma_level = sigma_Ka0 / g` = 5.0e-5 rad (10.3 arcsec).
+//! - **Azimuth**: gyrocompassing nulls the East gyro's apparent drift
+//!   (`phi_x' = wie sinL phi_y - wie cosL phi_z + eps_x = 0`), so it leaves the azimuth off by
+//!   `phi_z = eps_x / (wie cosL) + tanL Ka0x / g`:
+//!   `sigma_az = hypot(sigma_Kg0 / (wie cosL), tanL sigma_Ka0 / g)`, which is 1.9e-3 rad
+//!   (6.6 arcmin) at the paper's latitude 45.78 deg. It grows towards the poles, where
+//!   gyrocompassing fails; it is capped at [`MAX_DEFAULT_AZIMUTH_RAD`].
+//! - **Coefficients**: the typical size of each one (the base table, or the effect's
+//!   [`crate::Effect::coefficient_sigma`]).
+//!
+//! A default is where a diagnosis *starts*: it widens any coefficient prior the data pull
+//! beyond (`navkf_study::diagnose`), so a wrong default costs time, not a wrong answer.
+
+use crate::earth::WIE;
+use crate::simulate::base_coefficient_sigma;
+use crate::state::{BASE_NAMES, KA0X, KG0X, NAV_DIM};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// Largest default azimuth sigma, rad (0.1 rad, 5.7 deg): beyond it the small-angle model
+/// itself no longer holds, and near the poles a platform is not gyrocompassed.
+pub const MAX_DEFAULT_AZIMUTH_RAD: f64 = 0.1;
+
+/// The `[prior]` table of `dataset.toml`: one-sigma values the user states; `None` or an
+/// absent coefficient takes the default.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlatformPrior {
+    /// Initial level error (about East and North), rad.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub level_rad: Option<f64>,
+    /// Initial azimuth error, rad.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub azimuth_rad: Option<f64>,
+    /// One-sigma of coefficients by model.md name (base or effect), in the coefficient's unit.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub coefficients: BTreeMap<String, f64>,
+}
+
+/// Where a prior value came from, for reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PriorSource {
+    /// The project's default (this module's documentation gives the reason).
+    Default,
+    /// `dataset.toml`'s `[prior]` table.
+    Dataset,
+    /// A command-line flag.
+    Flag,
+}
+
+impl PlatformPrior {
+    /// Whether nothing is stated.
+    pub fn is_empty(&self) -> bool {
+        self.level_rad.is_none() && self.azimuth_rad.is_none() && self.coefficients.is_empty()
+    }
+
+    /// Checks every value (finite, > 0) and every coefficient name against `known`; the error
+    /// names the key as `prior.<key>` or `prior.coefficients.<name>`.
+    pub fn validate(&self, known: &[String]) -> Result<(), (String, String)> {
+        for (key, v) in [
+            ("level_rad", self.level_rad),
+            ("azimuth_rad", self.azimuth_rad),
+        ] {
+            if let Some(v) = v {
+                if !(v.is_finite() && v > 0.0) {
+                    return Err((
+                        format!("prior.{key}"),
+                        format!("{v}: expected a one-sigma in rad, finite and > 0"),
+                    ));
+                }
+            }
+        }
+        for (name, v) in &self.coefficients {
+            let key = format!("prior.coefficients.{name}");
+            if !known.iter().any(|k| k == name) {
+                let hint = if BASE_NAMES[..NAV_DIM].contains(&name.as_str()) {
+                    " (a navigation state: its prior is level_rad / azimuth_rad or comes from \
+                     the first measurement)"
+                        .to_string()
+                } else {
+                    String::new()
+                };
+                return Err((
+                    key,
+                    format!(
+                        "unknown coefficient `{name}`{hint}; expected one of {}",
+                        known.join(", ")
+                    ),
+                ));
+            }
+            if !(v.is_finite() && *v > 0.0) {
+                return Err((key, format!("{v}: expected a one-sigma, finite and > 0")));
+            }
+        }
+        Ok(())
+    }
+
+    /// `self` with every value `over` states replacing this one's (flags over the file).
+    pub fn overridden_by(&self, over: &PlatformPrior) -> PlatformPrior {
+        let mut out = self.clone();
+        out.level_rad = over.level_rad.or(self.level_rad);
+        out.azimuth_rad = over.azimuth_rad.or(self.azimuth_rad);
+        for (k, v) in &over.coefficients {
+            out.coefficients.insert(k.clone(), *v);
+        }
+        out
+    }
+}
+
+/// Default level sigma, rad: the accelerometer bias over gravity (module documentation).
+///
+/// ```
+/// let s = navkf_dynamics::prior::default_level_rad();
+/// assert!((s - 5.0e-5).abs() < 1e-7);
+/// ```
+pub fn default_level_rad() -> f64 {
+    // Standard gravity: the bias's typical size is stated in micro-g of it.
+    base_coefficient_sigma(KA0X) / 9.80665
+}
+
+/// Default azimuth sigma at latitude `lat` (rad): what gyrocompassing leaves
+/// (module documentation), capped at [`MAX_DEFAULT_AZIMUTH_RAD`].
+///
+/// ```
+/// let s = navkf_dynamics::prior::default_azimuth_rad(45.78f64.to_radians());
+/// assert!((s - 1.906e-3).abs() < 2e-6, "{s}"); // 6.6 arcmin
+/// ```
+pub fn default_azimuth_rad(lat: f64) -> f64 {
+    let gyro = base_coefficient_sigma(KG0X) / (WIE * lat.cos().abs());
+    let accel = lat.tan().abs() * default_level_rad();
+    let s = gyro.hypot(accel);
+    if s.is_finite() {
+        s.min(MAX_DEFAULT_AZIMUTH_RAD)
+    } else {
+        MAX_DEFAULT_AZIMUTH_RAD
+    }
+}

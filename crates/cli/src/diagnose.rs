@@ -1,8 +1,9 @@
-//! `navkf diagnose`: compare a model with a dataset and rank the missing effects.
+//! `navkf diagnose`: compare a model with a dataset: does the noise fit, where does the model
+//! fail, and which catalogued effects are missing.
 
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::Registry;
-use navkf_study::diagnose::{diagnose, report, Options};
+use navkf_dynamics::{PlatformPrior, Registry};
+use navkf_study::diagnose::{diagnose, report, FilterChoice, Options, RoundKind};
 use navkf_study::output::write_atomic;
 use std::path::PathBuf;
 
@@ -10,7 +11,8 @@ use std::path::PathBuf;
 pub struct Args {
     /// The dataset folder.
     dataset: PathBuf,
-    /// Effects to switch on in the model under test, comma-separated (`odometer-scale,gps-latency`).
+    /// Effects to switch on in the model under test, comma-separated
+    /// (`odometer-scale,gps-latency`): a manual first round.
     #[arg(long, default_value = "")]
     with: String,
     /// Output folder (default results/diagnose/<dataset name>).
@@ -19,10 +21,60 @@ pub struct Args {
     /// Width of the sliding NIS windows, s.
     #[arg(long, default_value_t = 300.0)]
     window: f64,
+    /// Initial level error, one sigma, rad (over dataset.toml's [prior] level_rad; default:
+    /// the accelerometer bias over gravity, 5e-5).
+    #[arg(long, value_name = "RAD")]
+    level_sigma: Option<f64>,
+    /// Initial azimuth error, one sigma, rad (over [prior] azimuth_rad; default: what
+    /// gyrocompassing leaves, drift / (wie cos L), 1.9e-3 at 45.8 deg).
+    #[arg(long, value_name = "RAD")]
+    azimuth_sigma: Option<f64>,
+    /// Coefficient priors, one sigma each, comma-separated `NAME=SIGMA` (`Kg0x=1e-6,kod=0.01`),
+    /// over [prior.coefficients].
+    #[arg(long, value_name = "LIST", default_value = "")]
+    prior: String,
+    /// `fit`: check the stated noise and fit the levels that are off; `stated`: take the
+    /// stated noise as it is.
+    #[arg(long, value_enum, default_value_t = NoiseMode::Fit)]
+    noise: NoiseMode,
+    /// The filter of every fit (`ekf`, `simplified_ukf`, ...).
+    #[arg(long, default_value = "ekf")]
+    filter: String,
+    /// Most automatic rounds of the forward selection.
+    #[arg(long, default_value_t = 4)]
+    max_rounds: usize,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum NoiseMode {
+    Fit,
+    Stated,
+}
+
+/// Parses `--prior`: `NAME=SIGMA` items.
+fn parse_priors(list: &str) -> Result<PlatformPrior, String> {
+    let mut p = PlatformPrior::default();
+    for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let Some((name, value)) = item.split_once('=') else {
+            return Err(format!(
+                "--prior `{item}`: expected NAME=SIGMA, e.g. Kg0x=1e-6"
+            ));
+        };
+        let v: f64 = value.trim().parse().map_err(|_| {
+            format!(
+                "--prior `{item}`: `{}` is not a number; expected a one-sigma > 0",
+                value.trim()
+            )
+        })?;
+        let name = name.trim().to_string();
+        if p.coefficients.insert(name.clone(), v).is_some() {
+            return Err(format!("--prior: `{name}` is given twice"));
+        }
+    }
+    Ok(p)
 }
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
-    let ds = Dataset::read(&a.dataset)?;
     let registry = Registry::catalogue();
     let with: Vec<String> = a
         .with
@@ -31,15 +83,60 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         .filter(|s| !s.is_empty())
         .map(String::from)
         .collect();
-    for w in &with {
+    for (i, w) in with.iter().enumerate() {
         registry.build(w)?;
+        if with[..i].contains(w) {
+            return Err(format!("--with: `{w}` is given twice").into());
+        }
     }
     if !(a.window.is_finite() && a.window > 0.0) {
         return Err(format!("--window {}: expected a duration > 0 s", a.window).into());
     }
+    let mut flags = parse_priors(&a.prior)?;
+    flags.level_rad = a.level_sigma;
+    flags.azimuth_rad = a.azimuth_sigma;
+    let known: Vec<String> = navkf_dynamics::state::BASE_NAMES[navkf_dynamics::state::NAV_DIM..]
+        .iter()
+        .map(|s| s.to_string())
+        .chain(registry.names().iter().flat_map(|e| {
+            registry
+                .build(e)
+                .map(|e| {
+                    e.coefficient_names()
+                        .iter()
+                        .map(|s| s.to_string())
+                        .collect::<Vec<_>>()
+                })
+                .unwrap_or_default()
+        }))
+        .collect();
+    flags.validate(&known).map_err(|(key, message)| {
+        let flag = match key.as_str() {
+            "prior.level_rad" => "--level-sigma".to_string(),
+            "prior.azimuth_rad" => "--azimuth-sigma".to_string(),
+            k => format!("--prior {}", k.trim_start_matches("prior.coefficients.")),
+        };
+        format!("{flag}: {message}")
+    })?;
+    if !navkf_study::filters::KNOWN.contains(&a.filter.as_str()) {
+        return Err(format!(
+            "--filter `{}`: expected one of {}",
+            a.filter,
+            navkf_study::filters::KNOWN.join(", ")
+        )
+        .into());
+    }
+    let ds = Dataset::read_with(&a.dataset, &registry)?;
     let opts = Options {
         with,
         window_s: a.window,
+        prior: flags,
+        fit_noise: matches!(a.noise, NoiseMode::Fit),
+        filter: FilterChoice {
+            name: a.filter.clone(),
+            ..Default::default()
+        },
+        max_rounds: a.max_rounds,
         ..Default::default()
     };
     let out = a
@@ -63,36 +160,52 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         report::markdown(&d, &command, &figures).as_bytes(),
     )?;
     eprintln!(
-        "diagnosed {} in {:.1} s ({} candidates), wrote {}",
+        "diagnosed {} in {:.1} s ({} rounds), wrote {}",
         ds.name,
         started.elapsed().as_secs_f64(),
-        d.candidates.len(),
+        d.rounds.len(),
         out.display()
     );
     println!(
         "verdict: {}{}",
         d.verdict,
-        d.best
-            .as_ref()
-            .map(|b| format!(" (missing: {b})"))
-            .unwrap_or_default()
+        if d.effects.is_empty() {
+            String::new()
+        } else {
+            format!(" (missing: {})", d.effects.join(", "))
+        }
     );
     for f in &d.findings {
         println!("- {f}");
     }
-    println!(
-        "\n{:<18} {:>12} {:>10} {:>9} {:>6}",
-        "candidate", "dLL", "BIC gain", "removed", "named"
-    );
-    for c in &d.candidates {
+    for (k, r) in d.rounds.iter().enumerate() {
         println!(
-            "{:<18} {:>12.1} {:>10.1} {:>8.0}% {:>6}",
-            c.effect,
-            c.delta_loglik,
-            c.bic_gain,
-            100.0 * c.excess_removed,
-            if c.supported { "yes" } else { "" }
+            "\nround {} ({}): model {}",
+            k + 1,
+            match r.kind {
+                RoundKind::Manual => "manual",
+                RoundKind::Automatic => "automatic",
+            },
+            if r.model.is_empty() {
+                "base".to_string()
+            } else {
+                format!("base + {}", r.model.join(", "))
+            }
         );
+        println!(
+            "{:<18} {:>12} {:>10} {:>9}  outcome",
+            "candidate", "dLL", "BIC gain", "removed"
+        );
+        for c in &r.candidates {
+            println!(
+                "{:<18} {:>12.1} {:>10.1} {:>8.0}%  {:?}",
+                c.effect,
+                c.delta_loglik,
+                c.bic_gain,
+                100.0 * c.excess_removed,
+                c.outcome
+            );
+        }
     }
     Ok(())
 }

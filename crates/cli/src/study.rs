@@ -62,7 +62,25 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
     Ok((i, n))
 }
 
+/// Whether the study file is a diagnosis study (`[study] kind = "diagnosis"`).
+fn is_diagnosis_study(path: &std::path::Path) -> Result<bool, Box<dyn std::error::Error>> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let value: toml::Value = match toml::from_str(&text) {
+        Ok(v) => v,
+        // Let the full parser report the syntax error with its line.
+        Err(_) => return Ok(false),
+    };
+    Ok(value
+        .get("study")
+        .and_then(|s| s.get("kind"))
+        .and_then(|k| k.as_str())
+        == Some("diagnosis"))
+}
+
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
+    if is_diagnosis_study(&a.file)? {
+        return run_diagnosis_study(a);
+    }
     let mut config = StudyConfig::load(&a.file)?;
     if let Some(r) = a.runs {
         if r == 0 {
@@ -205,5 +223,74 @@ pub fn merge(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
         out.display()
     );
     print!("{}", navkf_study::report::table(&summary));
+    Ok(())
+}
+
+/// `navkf study` on a diagnosis study: every dataset simulated and diagnosed, the error rates
+/// written to `results/<name>/`.
+fn run_diagnosis_study(a: Args) -> Result<(), Box<dyn std::error::Error>> {
+    use navkf_study::diagnosis_study::{dataset_count, report, run, DiagnosisStudyConfig};
+    let config = DiagnosisStudyConfig::load(&a.file)?;
+    for (flag, given) in [
+        ("--shard", a.shard.is_some()),
+        ("--baseline", a.baseline.is_some()),
+    ] {
+        if given {
+            return Err(
+                format!("{flag} applies to Monte Carlo studies, not to a diagnosis study").into(),
+            );
+        }
+    }
+    let total = dataset_count(&config);
+    let count = match a.runs {
+        Some(0) => return Err("--runs 0: expected at least one dataset".into()),
+        Some(r) => r.min(total),
+        None => total,
+    };
+    if let Some(t) = a.threads {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build_global()?;
+    }
+    let out = a
+        .out
+        .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
+    std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let bar = if a.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(count as u64)
+    };
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{prefix} [{bar:40}] {pos}/{len} datasets, {elapsed} elapsed, ETA {eta}",
+        )?
+        .progress_chars("=> "),
+    );
+    bar.set_prefix(config.study.name.clone());
+    let started = std::time::Instant::now();
+    let records = run(&config, Some(0..count), &|d| bar.set_position(d as u64))?;
+    bar.finish_and_clear();
+    let timing = report::Timing {
+        wall_s: started.elapsed().as_secs_f64(),
+        threads: rayon::current_num_threads(),
+    };
+    let command = std::env::args().collect::<Vec<_>>().join(" ");
+    let summary = report::write(&config, records, &out, &command, Some(timing))?;
+    eprintln!(
+        "diagnosed {} datasets in {:.0} s, wrote {}",
+        summary.records.len(),
+        timing.wall_s,
+        out.display()
+    );
+    for t in &summary.rates.targets {
+        println!(
+            "{} {}: {} (target {})",
+            if t.met { "met    " } else { "MISSED " },
+            t.what,
+            t.measured,
+            t.target
+        );
+    }
     Ok(())
 }

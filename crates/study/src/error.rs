@@ -19,6 +19,9 @@ pub enum StudyError {
     /// A filter refused its settings.
     #[error(transparent)]
     Filter(#[from] navkf_filters::FilterError),
+    /// A diagnosis could not run.
+    #[error(transparent)]
+    Diagnose(#[from] crate::diagnose::DiagnoseError),
     /// An I/O failure on a file.
     #[error("{}: {source}", path.display())]
     Io {

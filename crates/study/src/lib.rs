@@ -1,8 +1,10 @@
 //! Monte Carlo studies of the filters on the platform model: seeded runs in parallel,
-//! streaming tallies, summaries, plots and reports; and the diagnosis of model misfit.
+//! streaming tallies, summaries, plots and reports; the diagnosis of model misfit, and the
+//! study that measures the diagnosis' error rates.
 
 pub mod config;
 pub mod diagnose;
+pub mod diagnosis_study;
 pub mod error;
 pub mod filters;
 pub mod guard;

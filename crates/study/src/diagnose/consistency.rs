@@ -55,8 +55,36 @@ pub struct NisStat {
     pub dof: f64,
     /// 95 % bounds of the mean for a consistent model.
     pub bounds: [f64; 2],
-    /// `inside`, `above` (model too confident or missing something) or `below`.
-    pub verdict: String,
+    /// Where the mean lies against its bounds.
+    pub verdict: NisVerdict,
+}
+
+/// Where a mean NIS lies against its 95 % bounds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum NisVerdict {
+    /// Inside: consistent.
+    #[serde(rename = "inside")]
+    Inside,
+    /// Above: the innovations are larger than the model predicts.
+    #[serde(rename = "above")]
+    Above,
+    /// Below: smaller than predicted (noise set too high?).
+    #[serde(rename = "below")]
+    Below,
+    /// No updates.
+    #[serde(rename = "no data")]
+    NoData,
+}
+
+impl std::fmt::Display for NisVerdict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            NisVerdict::Inside => "inside",
+            NisVerdict::Above => "above",
+            NisVerdict::Below => "below",
+            NisVerdict::NoData => "no data",
+        })
+    }
 }
 
 impl NisStat {
@@ -70,24 +98,24 @@ impl NisStat {
                 mean: f64::NAN,
                 dof: f64::NAN,
                 bounds: [f64::NAN; 2],
-                verdict: "no data".into(),
+                verdict: NisVerdict::NoData,
             };
         }
         let mean = nis.iter().sum::<f64>() / count as f64;
         let bounds = mean_chi2_bounds(total_dof as f64, count as f64);
         let verdict = if mean > bounds[1] {
-            "above"
+            NisVerdict::Above
         } else if mean < bounds[0] {
-            "below"
+            NisVerdict::Below
         } else {
-            "inside"
+            NisVerdict::Inside
         };
         NisStat {
             count,
             mean,
             dof: total_dof as f64 / count as f64,
             bounds,
-            verdict: verdict.into(),
+            verdict,
         }
     }
 }
@@ -111,33 +139,38 @@ pub struct Whiteness {
     pub mean: f64,
     /// Variance of the normalised innovation (1 when consistent).
     pub variance: f64,
-    /// Whether the channel passes all three tests.
+    /// Updates per block of the slow-drift test.
+    pub block: usize,
+    /// Variance of the block sums of the normalised innovations over the block length (1
+    /// when white; a slow drift the short lags cannot see makes it larger).
+    pub block_variance: f64,
+    /// Its critical value at the test's level.
+    pub block_critical: f64,
+    /// Whether the channel passes every test.
     pub white: bool,
     /// Why it fails, in words (empty when white).
     pub problems: Vec<String>,
 }
 
-/// The sentence form of the three tests' failures.
-fn problems(w: &Whiteness, mean_ok: bool, var_ok: bool) -> Vec<String> {
-    let mut why = Vec::new();
-    if w.ljung_box > w.critical {
-        why.push(format!(
-            "correlated in time (Ljung-Box {:.0} > {:.0})",
-            w.ljung_box, w.critical
-        ));
-    }
-    if !mean_ok {
-        why.push(format!("biased (mean {:+.2} sigma)", w.mean));
-    }
-    if !var_ok {
-        why.push(format!("variance {:.2} of the predicted", w.variance));
-    }
-    why
-}
+/// Updates per block of the slow-drift test (a minute at 1 Hz: a misfit that changes over the
+/// legs of a test, minutes long, shows; the Ljung-Box lags cover seconds).
+pub const BLOCK: usize = 60;
+/// Tests per channel, for the Bonferroni division of the family-wise level: Ljung-Box, mean,
+/// variance, slow drift.
+pub const TESTS_PER_CHANNEL: usize = 4;
 
-/// Whiteness of a sequence of normalised innovations `nu / sqrt(S_ii)`. Each of its three
-/// tests (autocorrelation, mean, variance) is made at level `alpha`; the caller divides its
-/// family-wise level among channels and tests (Bonferroni).
+/// Whiteness of a sequence of normalised innovations `nu / sqrt(S_ii)`. Each of its four
+/// tests is made at level `alpha`; the caller divides its family-wise level among channels
+/// and tests (Bonferroni):
+///
+/// - **autocorrelation**: Ljung-Box over `lags` lags;
+/// - **bias**: the mean against `N(0, 1/N)`;
+/// - **variance**: the mean square against `chi2(N) / N`;
+/// - **slow drift**: the block sums `sum / sqrt(B)` over blocks of [`BLOCK`] updates are
+///   `N(0, 1)` for white innovations; their mean square is tested against `chi2(M) / M`
+///   (upper tail). A misfit that a filter tracks with inflated noise (a drag, a warming-up
+///   bias) leaves innovations white over seconds but correlated over minutes: this is the
+///   test that sees it.
 pub fn whiteness(channel: &str, e: &[f64], lags: usize, alpha: f64) -> Whiteness {
     let n = e.len();
     let nf = n as f64;
@@ -165,7 +198,7 @@ pub fn whiteness(channel: &str, e: &[f64], lags: usize, alpha: f64) -> Whiteness
     }
     q *= nf * (nf + 2.0);
     let critical = if lags > 0 {
-        chi2_quantile(0.99, lags as f64)
+        chi2_quantile(1.0 - alpha, lags as f64)
     } else {
         f64::NAN
     };
@@ -181,6 +214,22 @@ pub fn whiteness(channel: &str, e: &[f64], lags: usize, alpha: f64) -> Whiteness
         m2 >= lo && m2 <= hi
     };
     let mean_ok = mean.abs() <= normal_quantile(1.0 - 0.5 * alpha) / nf.sqrt();
+    let blocks = n / BLOCK;
+    let (block_variance, block_critical) = if blocks >= 2 {
+        let b = BLOCK as f64;
+        let sum_sq: f64 = e
+            .chunks_exact(BLOCK)
+            .map(|c| {
+                let s = c.iter().sum::<f64>();
+                s * s / b
+            })
+            .sum();
+        let m = blocks as f64;
+        (sum_sq / m, chi2_quantile(1.0 - alpha, m) / m)
+    } else {
+        (f64::NAN, f64::NAN)
+    };
+    let drift_ok = !(block_variance > block_critical);
     let mut w = Whiteness {
         channel: channel.into(),
         count: n,
@@ -190,11 +239,38 @@ pub fn whiteness(channel: &str, e: &[f64], lags: usize, alpha: f64) -> Whiteness
         critical,
         mean,
         variance: m2,
-        white: lags > 0 && q <= critical && mean_ok && var_ok,
+        block: BLOCK,
+        block_variance,
+        block_critical,
+        white: lags > 0 && q <= critical && mean_ok && var_ok && drift_ok,
         problems: Vec::new(),
     };
     w.problems = problems(&w, mean_ok, var_ok);
     w
+}
+
+/// The sentence form of the tests' failures.
+fn problems(w: &Whiteness, mean_ok: bool, var_ok: bool) -> Vec<String> {
+    let mut why = Vec::new();
+    if w.ljung_box > w.critical {
+        why.push(format!(
+            "correlated in time (Ljung-Box {:.0} > {:.0})",
+            w.ljung_box, w.critical
+        ));
+    }
+    if !mean_ok {
+        why.push(format!("biased (mean {:+.2} sigma)", w.mean));
+    }
+    if !var_ok {
+        why.push(format!("variance {:.2} of the predicted", w.variance));
+    }
+    if w.block_variance > w.block_critical {
+        why.push(format!(
+            "drifting slowly (sums over {} updates vary {:.1} times as much as white noise's)",
+            w.block, w.block_variance
+        ));
+    }
+    why
 }
 
 /// NIS in sliding windows of `width` updates, stepping by `width / 2`.

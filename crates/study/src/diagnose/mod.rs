@@ -1,57 +1,77 @@
 //! Diagnosis: compare a model with a dataset, see where it fails, and learn which catalogued
-//! effect is missing.
+//! effects are missing, on data whose noise and effect sizes nobody chose to suit it.
 //!
-//! 1. **Fit** the model (base plus `--with` effects) with the simplified UKF (it takes the
-//!    sigma-point measurement path when an effect makes the measurement non-linear), keeping
-//!    every innovation, its covariance, the NIS and the log-likelihood.
-//! 2. **Where it fails**: NIS overall, in sliding windows and per motion phase; whiteness of
-//!    each channel ([`consistency`]).
-//! 3. **Which effect**: refit with each catalogued effect not yet in the model (in parallel).
-//!    Each candidate's evidence is its BIC gain `2 dLL - k ln N` (k its coefficients, N the
-//!    number of scalar measurements). A candidate is named only when the evidence is
-//!    decisive (BIC gain > 10, "very strong" on Kass & Raftery's scale) *and* it makes the
-//!    innovations consistent or removes at least 90 % of the model's excess NIS (a term that
-//!    only adds process noise must make them consistent: it can soak up any slow misfit); otherwise the
-//!    misfit is reported as unexplained by the catalogue. A candidate whose coefficients end
-//!    up strongly correlated with the model's own (|rho| > 0.9) cannot be told apart from
-//!    them on this trajectory, and is reported as such.
+//! 1. **Priors** ([`priors`]): flags over `dataset.toml`'s `[prior]` over the defaults; any
+//!    coefficient the data pull beyond its prior gets a wider one and the model is refitted,
+//!    so a prior never caps what can be found.
+//! 2. **Fit** ([`fit`]) the model under test (base plus `--with` effects) with a filter
+//!    (the EKF by default), keeping every innovation, its covariance, the NIS, the
+//!    log-likelihood and each coefficient's path.
+//! 3. **Noise** ([`noise`]): does the stated noise fit? A scale per source (gyro,
+//!    accelerometer, odometer, GPS) fitted by maximum likelihood; sources off by more than the
+//!    data's resolution take their fitted level from here on, and the report says so.
+//! 4. **Where it fails** ([`consistency`]): NIS overall, in sliding windows and per motion
+//!    phase; whiteness of each channel.
+//! 5. **Which effects** ([`candidates`]): forward selection in rounds. Each round refits the
+//!    model with every catalogued effect not yet in it (in parallel), weighs them by BIC gain
+//!    on the maximised innovation likelihood, names the decisive one that explains most, and
+//!    re-ranks the rest with it in the model. It stops when no candidate is decisive: not
+//!    when the model first looks consistent, because a likelihood-ratio test sees effects
+//!    that NIS and whiteness tests cannot. With a mis-stated noise found in step 3, the noise
+//!    is checked again after each named effect (a structured misfit inflates the fitted
+//!    noise, and must not be explained away as noise).
+//! 6. **Constancy**: a named structured effect whose coefficients do not behave as
+//!    constants in the final model is withdrawn: it stood in for something the catalogue
+//!    lacks ([`candidates::constancy`]).
+//!
+//! The verdict is `consistent` (nothing named, and the model under test is consistent),
+//! `explained` (the named effects make it consistent), `partly explained` (they help
+//! decisively, but a misfit remains that nothing in the catalogue explains) or `unexplained`.
 
+pub mod candidates;
 pub mod consistency;
+pub mod fit;
+pub mod noise;
 pub mod plots;
+pub mod priors;
 pub mod report;
+pub mod rivals;
 
-use crate::monte_carlo::typical_sigma;
-use consistency::{classify, nis_windows, whiteness, NisStat, NisWindow, Whiteness};
+use candidates::{
+    constancy, evaluate_all, select, Candidate, CandidateKind, Constancy, Model, Outcome,
+};
+use consistency::{nis_windows, whiteness, NisStat, NisWindow, Whiteness};
+pub use fit::{FilterChoice, Fit, FitSetup};
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::state::*;
 use navkf_dynamics::trajectory::Phase;
-use navkf_dynamics::{PlatformModel, Registry, SystemModel};
-use navkf_filters::{simplified_ukf, Filter, Runner, SigmaScaling};
-use rayon::prelude::*;
+use navkf_dynamics::{NoiseConfig, PlatformPrior, Registry};
+use noise::NoiseFit;
+use priors::{fit_adaptive, PriorEntry, Widening};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use std::sync::Arc;
 
-/// BIC gain beyond which evidence is decisive.
-pub const DECISIVE_BIC: f64 = 10.0;
-/// Share of the excess NIS a candidate must remove to be named.
-pub const EXPLAINED_SHARE: f64 = 0.9;
 /// Family-wise level of the whiteness tests over all channels (Bonferroni-divided).
 pub const WHITENESS_ALPHA: f64 = 0.01;
-/// Correlation beyond which two coefficients cannot be told apart.
-pub const INDISTINGUISHABLE: f64 = 0.9;
 
 /// Settings of a diagnosis.
 #[derive(Debug, Clone)]
 pub struct Options {
-    /// Effects switched on in the model under test.
+    /// Effects switched on in the model under test (a manual round).
     pub with: Vec<String>,
     /// Width of the sliding NIS windows, s.
     pub window_s: f64,
     /// Lags of the whiteness test.
     pub lags: usize,
-    /// Initial tilt sigmas (level, azimuth), rad.
-    pub tilt_sigma: [f64; 2],
+    /// Priors stated on the command line (over `dataset.toml`'s `[prior]`).
+    pub prior: PlatformPrior,
+    /// Whether to check the stated noise and fit it where it is off (otherwise the stated
+    /// noise is taken as it is).
+    pub fit_noise: bool,
+    /// The filter the fits run.
+    pub filter: FilterChoice,
+    /// Most automatic rounds.
+    pub max_rounds: usize,
 }
 
 impl Default for Options {
@@ -60,42 +80,12 @@ impl Default for Options {
             with: Vec::new(),
             window_s: 300.0,
             lags: 20,
-            tilt_sigma: [4.85e-5, 2.91e-4],
+            prior: PlatformPrior::default(),
+            fit_noise: true,
+            filter: FilterChoice::default(),
+            max_rounds: 6,
         }
     }
-}
-
-/// One filter pass over the dataset.
-#[derive(Debug, Clone)]
-pub struct Fit {
-    /// Effects in the model.
-    pub effects: Vec<String>,
-    /// State names.
-    pub names: Vec<String>,
-    /// Update times.
-    pub t: Vec<f64>,
-    /// Measured values `[v_e, v_n, L, lambda]` (NaN where absent).
-    pub z: Vec<[f64; MEAS_DIM]>,
-    /// Predicted measurement (NaN where absent).
-    pub z_hat: Vec<[f64; MEAS_DIM]>,
-    /// Predicted one-sigma of each innovation (NaN where absent).
-    pub s_sigma: Vec<[f64; MEAS_DIM]>,
-    /// NIS and measurement dimension per update.
-    pub nis: Vec<f64>,
-    /// Dimension of each update.
-    pub dims: Vec<usize>,
-    /// Motion phase per update.
-    pub phases: Vec<Phase>,
-    /// Sum of the updates' log-likelihoods.
-    pub loglik: f64,
-    /// Final estimate and covariance (column-major).
-    pub x: Vec<f64>,
-    /// Final covariance.
-    pub p: Vec<f64>,
-    /// Initial sigma of every state.
-    pub prior_sigma: Vec<f64>,
-    /// Set when the filter failed (the fit then covers the updates before it).
-    pub failure: Option<String>,
 }
 
 /// Errors of a diagnosis (bad data is caught when reading the dataset).
@@ -110,125 +100,6 @@ pub enum DiagnoseError {
     /// The dataset cannot start a filter.
     #[error("{0}")]
     Data(String),
-}
-
-/// Fits `effects` to `ds`.
-pub fn fit(
-    ds: &Dataset,
-    effects: &[String],
-    registry: &Registry,
-    opts: &Options,
-) -> Result<Fit, DiagnoseError> {
-    let fx = registry.build_all(effects)?;
-    let model = Arc::new(PlatformModel::new(fx, &ds.noise)?);
-    let n = model.dim();
-    let start = ds
-        .measurements
-        .iter()
-        .position(|m| m.velocity.is_some() && m.position_deg.is_some())
-        .ok_or_else(|| DiagnoseError::Data(format!(
-            "dataset `{}`: no measurement row has both odometer and GPS, so the filter cannot start",
-            ds.name
-        )))?;
-    let m0 = &ds.measurements[start];
-    let v0 = m0.velocity.expect("checked");
-    let p0 = m0.gps_rad().expect("checked");
-    let mut x0 = vec![0.0; n];
-    x0[V_X] = v0[0];
-    x0[V_Y] = v0[1];
-    x0[LAT] = p0[0];
-    x0[LON] = p0[1];
-    let sig0 = ds.noise.measurement_sigmas(v0[0].hypot(v0[1]), p0[0]);
-    let prior_sigma: Vec<f64> = (0..n)
-        .map(|i| match i {
-            PHI_X | PHI_Y => opts.tilt_sigma[0],
-            PHI_Z => opts.tilt_sigma[1],
-            V_X | V_Y | LAT | LON => sig0[i - V_X],
-            _ => typical_sigma(&model, i),
-        })
-        .collect();
-    let mut pm = vec![0.0; n * n];
-    for i in 0..n {
-        pm[i + i * n] = prior_sigma[i] * prior_sigma[i];
-    }
-    let mut filter = simplified_ukf::new(model.clone(), SigmaScaling::default())?;
-    filter.reset(&x0, &pm)?;
-    let cap = ds.measurements.len();
-    let mut fit = Fit {
-        effects: effects.to_vec(),
-        names: model.state_names(),
-        t: Vec::with_capacity(cap),
-        z: Vec::with_capacity(cap),
-        z_hat: Vec::with_capacity(cap),
-        s_sigma: Vec::with_capacity(cap),
-        nis: Vec::with_capacity(cap),
-        dims: Vec::with_capacity(cap),
-        phases: Vec::with_capacity(cap),
-        loglik: 0.0,
-        x: x0.clone(),
-        p: pm.clone(),
-        prior_sigma,
-        failure: None,
-    };
-    let inputs = &ds.inputs;
-    let mut cursor = 0usize;
-    let mut t_prev = m0.t;
-    let result = Runner::new(64).run(
-        &mut filter,
-        m0.t,
-        inputs,
-        &ds.measurements,
-        &ds.noise,
-        |v| {
-            let r = v.report;
-            let m = &ds.measurements[v.index];
-            let mut z = [f64::NAN; MEAS_DIM];
-            let mut zh = [f64::NAN; MEAS_DIM];
-            let mut ss = [f64::NAN; MEAS_DIM];
-            let k = r.dim();
-            for (a, &c) in r.channels.iter().enumerate() {
-                let zc = match c {
-                    0 | 1 => m.velocity.map_or(f64::NAN, |w| w[c]),
-                    _ => m.gps_rad().map_or(f64::NAN, |w| w[c - 2]),
-                };
-                z[c] = zc;
-                zh[c] = zc - r.innovation[a];
-                ss[c] = r.innovation_cov[a + a * k].sqrt();
-            }
-            // Mean horizontal specific force over the step, for the phase.
-            while cursor < inputs.len() && inputs[cursor].t < t_prev {
-                cursor += 1;
-            }
-            let (mut fe, mut fnn, mut cnt) = (0.0, 0.0, 0.0);
-            let mut c = cursor;
-            while c < inputs.len() && inputs[c].t <= v.t {
-                fe += inputs[c].f[0];
-                fnn += inputs[c].f[1];
-                cnt += 1.0;
-                c += 1;
-            }
-            let f_mean = if cnt > 0.0 {
-                [fe / cnt, fnn / cnt]
-            } else {
-                [0.0, 0.0]
-            };
-            t_prev = v.t;
-            fit.t.push(v.t);
-            fit.z.push(z);
-            fit.z_hat.push(zh);
-            fit.s_sigma.push(ss);
-            fit.nis.push(r.nis);
-            fit.dims.push(k);
-            fit.phases.push(classify(f_mean, m.velocity));
-            fit.loglik += r.log_likelihood;
-        },
-    );
-    if let Err(e) = result {
-        fit.failure = Some(e.to_string());
-    }
-    fit.x = filter.state().to_vec();
-    fit.p = filter.covariance().to_vec();
-    Ok(fit)
 }
 
 /// Consistency of one fit.
@@ -254,6 +125,8 @@ pub struct FitSummary {
     pub coefficients: Vec<Coefficient>,
     /// Filter failure, if any.
     pub failure: Option<String>,
+    /// The noise the filter assumed.
+    pub noise: NoiseConfig,
 }
 
 /// A coefficient estimate.
@@ -265,7 +138,7 @@ pub struct Coefficient {
     pub estimate: f64,
     /// Final one-sigma.
     pub sigma: f64,
-    /// Initial one-sigma.
+    /// The prior one-sigma it was tested with (after any widening).
     pub prior_sigma: f64,
     /// True value, when the dataset has `truth.csv`.
     pub truth: Option<f64>,
@@ -307,7 +180,7 @@ pub fn summarize_fit(ds: &Dataset, fit: &Fit, opts: &Options) -> FitSummary {
                 name,
                 &e,
                 opts.lags,
-                WHITENESS_ALPHA / (3.0 * MEAS_DIM as f64),
+                WHITENESS_ALPHA / (consistency::TESTS_PER_CHANNEL * MEAS_DIM) as f64,
             )
         })
         .collect();
@@ -342,7 +215,7 @@ pub fn summarize_fit(ds: &Dataset, fit: &Fit, opts: &Options) -> FitSummary {
         .map(|i| Coefficient {
             name: fit.names[i].clone(),
             estimate: fit.x[i],
-            sigma: fit.p[i + i * n].max(0.0).sqrt(),
+            sigma: fit.sigma(i),
             prior_sigma: fit.prior_sigma[i],
             truth: truth_last.and_then(|(t, s)| {
                 t.names
@@ -363,6 +236,7 @@ pub fn summarize_fit(ds: &Dataset, fit: &Fit, opts: &Options) -> FitSummary {
         excess_nis: excess,
         coefficients,
         failure: fit.failure.clone(),
+        noise: fit.setup.noise,
     }
 }
 
@@ -377,27 +251,71 @@ pub fn phase_name(p: Phase) -> &'static str {
     }
 }
 
-/// One candidate effect's evidence.
+/// The verdict of a diagnosis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Verdict {
+    /// Nothing named, and the model under test is consistent with the data.
+    #[serde(rename = "consistent")]
+    Consistent,
+    /// The named effects make the model consistent.
+    #[serde(rename = "explained")]
+    Explained,
+    /// The named effects help decisively, but a misfit remains that nothing in the catalogue
+    /// explains.
+    #[serde(rename = "partly explained")]
+    PartlyExplained,
+    /// The model is inconsistent and nothing in the catalogue explains it.
+    #[serde(rename = "unexplained")]
+    Unexplained,
+}
+
+impl std::fmt::Display for Verdict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Verdict::Consistent => "consistent",
+            Verdict::Explained => "explained",
+            Verdict::PartlyExplained => "partly explained",
+            Verdict::Unexplained => "unexplained",
+        })
+    }
+}
+
+/// Whether a round was asked for (`--with`) or chosen by the evidence.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RoundKind {
+    /// `--with`: the effects were added as given.
+    Manual,
+    /// Forward selection.
+    Automatic,
+}
+
+/// One round of the forward selection.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Candidate {
-    /// Effect name.
-    pub effect: String,
-    /// Log-likelihood gain over the model under test.
-    pub delta_loglik: f64,
-    /// `2 dLL - k ln N`.
-    pub bic_gain: f64,
-    /// Share of the model's excess NIS it removes.
-    pub excess_removed: f64,
-    /// Its coefficients' estimates and sigmas.
-    pub coefficients: Vec<Coefficient>,
-    /// Whether the innovations are consistent with it added.
+pub struct Round {
+    /// Manual or automatic.
+    pub kind: RoundKind,
+    /// Effects of the model the candidates were added to.
+    pub model: Vec<String>,
+    /// That model's NIS.
+    pub nis: NisStat,
+    /// Whether that model is consistent.
     pub consistent: bool,
-    /// Model coefficients it cannot be told apart from: `(name, correlation)`.
-    pub confused_with: Vec<(String, f64)>,
-    /// Whether the diagnosis names it.
-    pub supported: bool,
-    /// Filter failure with it added, if any.
-    pub failure: Option<String>,
+    /// The candidates, best first (for a manual round, the `--with` effects together).
+    pub candidates: Vec<Candidate>,
+    /// Effects named in this round.
+    pub named: Vec<String>,
+    /// Remarks (competing explanations).
+    pub notes: Vec<String>,
+}
+
+/// A named effect withdrawn because its coefficients are not constant.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Withdrawn {
+    /// The effect.
+    pub effect: String,
+    /// Its constancy test in the final model.
+    pub constancy: Constancy,
 }
 
 /// The whole diagnosis (`diagnosis.json`).
@@ -405,16 +323,30 @@ pub struct Candidate {
 pub struct Diagnosis {
     /// Dataset name.
     pub dataset: String,
-    /// `consistent`, `explained` or `unexplained`.
-    pub verdict: String,
-    /// The effect the evidence supports, best first; null when none.
+    /// The verdict.
+    pub verdict: Verdict,
+    /// The first named effect; null when none.
     pub best: Option<String>,
-    /// The model under test.
+    /// The named effects, in the order named (the `--with` ones are not repeated here).
+    pub effects: Vec<String>,
+    /// The final model: the model under test plus the named effects.
     pub model: FitSummary,
-    /// The base model, when `--with` added effects (before/after).
+    /// The base model, when the final model has effects (before/after).
     pub before: Option<FitSummary>,
-    /// Candidates, best first.
-    pub candidates: Vec<Candidate>,
+    /// The rounds, with their full rankings.
+    pub rounds: Vec<Round>,
+    /// The last noise check (stated and fitted levels); null with `--noise stated`.
+    pub noise: Option<NoiseFit>,
+    /// Every noise check made, in order.
+    pub noise_checks: Vec<NoiseFit>,
+    /// The priors the diagnosis started from, with their source.
+    pub priors: Vec<PriorEntry>,
+    /// Priors widened in the final model's fit.
+    pub widened: Vec<Widening>,
+    /// Named effects withdrawn by the constancy test.
+    pub withdrawn: Vec<Withdrawn>,
+    /// Constancy of each named structured effect in the final model.
+    pub constancy: Vec<(String, Option<Constancy>)>,
     /// Plain-language findings.
     pub findings: Vec<String>,
 }
@@ -422,139 +354,376 @@ pub struct Diagnosis {
 /// The filter passes behind a diagnosis, kept for its figures.
 #[derive(Debug, Clone)]
 pub struct Fits {
-    /// The model under test (base plus `--with`).
+    /// The final model.
     pub model: Fit,
-    /// The base model, when `--with` added effects.
+    /// The base model, when the final model has effects.
     pub before: Option<Fit>,
 }
 
-/// Runs the whole diagnosis. Returns the diagnosis and the fits of the model under test and,
-/// with `--with`, of the base model (for the figures).
+/// Runs the whole diagnosis (module documentation). Returns the diagnosis and the fits of
+/// the final model and, when it has effects, of the base model (for the figures).
 pub fn diagnose(
     ds: &Dataset,
     registry: &Registry,
     opts: &Options,
 ) -> Result<(Diagnosis, Fits), DiagnoseError> {
-    let with = opts.with.clone();
-    let mut todo: Vec<Vec<String>> = vec![with.clone()];
-    if !with.is_empty() {
-        todo.push(Vec::new());
+    let (_, _, start) = fit::first_full_measurement(ds)?;
+    let (start_priors, prior_entries) = priors::resolve(ds, &opts.prior, start[0]);
+    let stated = ds.noise;
+    let base = FitSetup {
+        effects: Vec::new(),
+        parameters: BTreeMap::new(),
+        noise: stated,
+        priors: start_priors.clone(),
+    };
+    let mut under_test = FitSetup {
+        effects: opts.with.clone(),
+        ..base.clone()
+    };
+    for e in &opts.with {
+        let effect = registry.build(e)?;
+        under_test
+            .priors
+            .open
+            .extend(effect.coefficient_names().iter().map(|c| c.to_string()));
     }
-    let candidates: Vec<String> = registry
-        .names()
-        .into_iter()
-        .filter(|e| !with.contains(e))
-        .collect();
-    for c in &candidates {
-        let mut e = with.clone();
-        e.push(c.clone());
-        todo.push(e);
+    let (mut current, _) = fit_adaptive(ds, &under_test, registry, &opts.filter)?;
+    let mut rounds = Vec::new();
+    if !opts.with.is_empty() {
+        let (b, _) = fit_adaptive(ds, &base, registry, &opts.filter)?;
+        rounds.push(manual_round(ds, &b, &current, opts));
     }
-    let fits: Vec<Result<Fit, DiagnoseError>> = todo
-        .par_iter()
-        .map(|e| fit(ds, e, registry, opts))
-        .collect();
-    let mut fits = fits.into_iter().collect::<Result<Vec<Fit>, _>>()?;
-    let main = fits.remove(0);
-    let before_fit = if with.is_empty() {
+    // Forward selection; each round also checks the noise of the model as it stands.
+    let mut named: Vec<String> = Vec::new();
+    let mut noise_theta = [0.0; 4];
+    let mut noise_checks: Vec<NoiseFit> = Vec::new();
+    for _ in 0..opts.max_rounds {
+        let summary = summarize_fit(ds, &current, opts);
+        let model = Model {
+            fit: &current,
+            summary: &summary,
+        };
+        let mut evaluated = evaluate_all(ds, &model, registry, opts)?;
+        if opts.fit_noise {
+            let check = noise::check(
+                ds,
+                &current.setup,
+                current.loglik,
+                &stated,
+                noise_theta,
+                registry,
+                &opts.filter,
+            )?;
+            if check.refitted && check.used != current.setup.noise {
+                evaluated.push(noise_candidate(
+                    ds,
+                    &model,
+                    &check,
+                    &start_priors,
+                    registry,
+                    opts,
+                )?);
+            }
+            noise_checks.push(check);
+        }
+        let mut cands: Vec<Candidate> = evaluated.iter().map(|e| e.candidate.clone()).collect();
+        let mut not_specific = Vec::new();
+        let mut rival_notes = Vec::new();
+        let (choice, mut notes) = loop {
+            let (choice, notes) = select(&mut cands, &not_specific);
+            if let Some(i) = choice.filter(|&i| cands[i].kind == CandidateKind::NoiseOnly) {
+                if let Some(note) = rival_note(ds, &current, &evaluated[i], registry, opts)? {
+                    not_specific.push(i);
+                    rival_notes.push(note);
+                    continue;
+                }
+            }
+            break (choice, notes);
+        };
+        notes.extend(rival_notes);
+        cands_sort(&mut cands);
+        rounds.push(Round {
+            kind: RoundKind::Automatic,
+            model: current.effects.clone(),
+            nis: summary.nis.clone(),
+            consistent: summary.consistent,
+            candidates: cands.clone(),
+            named: choice
+                .map(|i| vec![evaluated[i].candidate.effect.clone()])
+                .unwrap_or_default(),
+            notes,
+        });
+        let Some(i) = choice else { break };
+        let chosen = evaluated.swap_remove(i);
+        if chosen.candidate.kind == CandidateKind::NoiseLevels {
+            if let Some(n) = &chosen.candidate.noise {
+                noise_theta = n.used_theta;
+            }
+        } else {
+            named.push(chosen.candidate.effect.clone());
+        }
+        current = chosen.fit;
+        // Back to the starting priors: a prior the data pulled wide only because the effect
+        // was missing (or the noise mis-stated) must not stay wide in the model that now has
+        // it.
+        if current.setup.priors != current.setup.priors.restarted() {
+            let mut setup = current.setup.clone();
+            setup.priors = setup.priors.restarted();
+            current = fit_adaptive(ds, &setup, registry, &opts.filter)?.0;
+        }
+    }
+    // Constancy of the named structured effects in the final model; withdraw those that fail.
+    let mut withdrawn = Vec::new();
+    let mut constancies = Vec::new();
+    for e in &named {
+        let coefs: Vec<String> = registry
+            .build(e)?
+            .coefficient_names()
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        let c = if coefs.is_empty() {
+            candidates::density_constancy(ds, &current.setup, e, registry, &opts.filter)?
+        } else {
+            constancy(ds, &current.setup, &coefs, registry, &opts.filter)?
+        };
+        if let Some(c) = c.as_ref().filter(|c| !c.constant) {
+            withdrawn.push(Withdrawn {
+                effect: e.clone(),
+                constancy: c.clone(),
+            });
+        }
+        constancies.push((e.clone(), c));
+    }
+    if !withdrawn.is_empty() {
+        named.retain(|e| !withdrawn.iter().any(|w| &w.effect == e));
+        let mut setup = current.setup.clone();
+        setup
+            .effects
+            .retain(|e| !withdrawn.iter().any(|w| &w.effect == e));
+        current = fit_adaptive(ds, &setup, registry, &opts.filter)?.0;
+    }
+    let widened = widened_priors(&start_priors, &current);
+    let model = summarize_fit(ds, &current, opts);
+    let before_fit = if current.effects.is_empty() {
         None
     } else {
-        Some(fits.remove(0))
+        let setup = FitSetup {
+            noise: current.setup.noise,
+            ..base.clone()
+        };
+        Some(fit_adaptive(ds, &setup, registry, &opts.filter)?.0)
     };
     let before = before_fit.as_ref().map(|f| summarize_fit(ds, f, opts));
-    let model = summarize_fit(ds, &main, opts);
-    let n_meas: usize = main.dims.iter().sum();
-    let ln_n = (n_meas.max(1) as f64).ln();
-    let mut cands: Vec<Candidate> = candidates
-        .iter()
-        .zip(&fits)
-        .map(|(name, f)| {
-            let s = summarize_fit(ds, f, opts);
-            let k_coef = registry
-                .build(name)
-                .map(|e| e.coefficient_names().len())
-                .unwrap_or(0);
-            // A noise-only term still has one free parameter (its density).
-            let k = k_coef.max(1);
-            let dll = f.loglik - main.loglik;
-            let bic = 2.0 * dll - k as f64 * ln_n;
-            let removed = if model.excess_nis > 0.0 {
-                1.0 - s.excess_nis.max(0.0) / model.excess_nis
-            } else {
-                0.0
-            };
-            let confused = confusion(f, main.names.len());
-            let own: Vec<Coefficient> = s
-                .coefficients
-                .iter()
-                .filter(|c| !main.names.contains(&c.name))
-                .cloned()
-                .collect();
-            let valid = f.failure.is_none() && bic.is_finite();
-            // Named only on decisive evidence, with coefficients of its own, and only if it
-            // actually repairs the misfit (or there was none to repair).
-            // A term without coefficients (extra process noise, such as `gyro-bias-walk`) can
-            // soak up any slow misfit, so it is named only when it makes the model consistent.
-            let noise_only = k_coef == 0;
-            let repairs =
-                s.consistent || (!noise_only && (model.consistent || removed >= EXPLAINED_SHARE));
-            let supported = valid && bic > DECISIVE_BIC && confused.is_empty() && repairs;
-            Candidate {
-                effect: name.clone(),
-                delta_loglik: dll,
-                bic_gain: bic,
-                excess_removed: removed,
-                coefficients: own,
-                consistent: s.consistent,
-                confused_with: confused,
-                supported,
-                failure: f.failure.clone(),
-            }
-        })
-        .collect();
-    cands.sort_by(|a, b| {
-        b.bic_gain
-            .partial_cmp(&a.bic_gain)
-            .unwrap_or(std::cmp::Ordering::Equal)
-    });
-    let best = cands.iter().find(|c| c.supported).map(|c| c.effect.clone());
-    let verdict = if best.is_some() {
-        "explained"
-    } else if model.consistent {
-        "consistent"
-    } else {
-        "unexplained"
+    let verdict = match (named.is_empty(), model.consistent) {
+        (true, true) => Verdict::Consistent,
+        (true, false) => Verdict::Unexplained,
+        (false, true) => Verdict::Explained,
+        (false, false) => Verdict::PartlyExplained,
     };
-    let findings = report::findings(&model, &cands, best.as_deref());
+    let mut d = Diagnosis {
+        dataset: ds.name.clone(),
+        verdict,
+        best: named.first().cloned(),
+        effects: named,
+        model,
+        before,
+        rounds,
+        noise: noise_checks.last().cloned(),
+        noise_checks,
+        priors: prior_entries,
+        widened,
+        withdrawn,
+        constancy: constancies,
+        findings: Vec::new(),
+    };
+    d.findings = report::findings(&d);
     Ok((
-        Diagnosis {
-            dataset: ds.name.clone(),
-            verdict: verdict.into(),
-            best,
-            model,
-            before,
-            candidates: cands,
-            findings,
-        },
+        d,
         Fits {
-            model: main,
+            model: current,
             before: before_fit,
         },
     ))
 }
 
-/// Coefficients of the candidate (those after the model's own `n_model` states) strongly
-/// correlated with a model coefficient at the end of the fit.
-fn confusion(f: &Fit, n_model: usize) -> Vec<(String, f64)> {
-    let n = f.names.len();
-    let mut out = Vec::new();
-    for i in n_model..n {
-        for j in NAV_DIM..n_model {
-            let c = f.p[i + j * n] / (f.p[i + i * n] * f.p[j + j * n]).sqrt();
-            if c.abs() > INDISTINGUISHABLE {
-                out.push((format!("{} ~ {}", f.names[i], f.names[j]), c));
-            }
-        }
+/// Candidates best first (by BIC gain), for the report.
+fn cands_sort(cands: &mut [Candidate]) {
+    cands.sort_by(|a, b| b.bic_gain.total_cmp(&a.bic_gain));
+}
+
+/// Whether a random walk of the accelerometer biases ([`rivals::AccelBiasWalk`], outside the
+/// catalogue) fits the model as well as the noise-only candidate `chosen`; if so, the note
+/// that says why `chosen` is not named.
+fn rival_note(
+    ds: &Dataset,
+    model: &Fit,
+    chosen: &candidates::Evaluated,
+    registry: &Registry,
+    opts: &Options,
+) -> Result<Option<String>, DiagnoseError> {
+    let mut with_rival = registry.clone();
+    with_rival.register(rivals::AccelBiasWalk::NAME, || {
+        Box::new(rivals::AccelBiasWalk::default())
+    });
+    let candidates::DensityFit {
+        fit: rival,
+        density: q,
+        ..
+    } = candidates::fit_density(
+        ds,
+        model,
+        rivals::AccelBiasWalk::NAME,
+        rivals::AccelBiasWalk::DEFAULT_PSD,
+        &with_rival,
+        &opts.filter,
+    )?;
+    // Same priors, one density each: the marginal likelihoods compare directly.
+    let gain = 2.0 * (chosen.fit.loglik - rival.loglik);
+    if rival.failure.is_none() && gain < candidates::DECISIVE_BIC {
+        Ok(Some(format!(
+            "`{}` would make the model consistent, but a random walk of the accelerometer \
+             biases (density {q:.1e} (m/s^2)^2/s, not in the catalogue) fits as well (twice \
+             the log-likelihood difference {gain:.1}, below {}): a slow drift is there, but the \
+             data cannot say that the gyros carry it. It is not named. A drag, a warming-up \
+             sensor or a walk of either sensor would all look like this; a gyro walk shows in \
+             the heading too, so a longer test with turns tells them apart.",
+            chosen.candidate.effect,
+            candidates::DECISIVE_BIC
+        )))
+    } else {
+        Ok(None)
     }
-    out
+}
+
+/// The candidate "noise levels": the model refitted with the levels `check` found, weighed
+/// like an effect with one parameter per source it changed.
+fn noise_candidate(
+    ds: &Dataset,
+    model: &Model<'_>,
+    check: &NoiseFit,
+    start_priors: &priors::Priors,
+    registry: &Registry,
+    opts: &Options,
+) -> Result<candidates::Evaluated, DiagnoseError> {
+    let mut setup = model.fit.setup.clone();
+    setup.noise = check.used;
+    setup.priors = start_priors.clone();
+    let (fit, widened) = fit_adaptive(ds, &setup, registry, &opts.filter)?;
+    let s = summarize_fit(ds, &fit, opts);
+    let keep: Vec<String> = fit
+        .names
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| fit.noisy[*i])
+        .map(|(_, n)| n.clone())
+        .collect();
+    let dll = fit.profile_loglik(&keep) - model.fit.profile_loglik(&keep);
+    let old = noise::SOURCES.map(|src| src.values(&model.fit.setup.noise));
+    let changed = noise::SOURCES
+        .iter()
+        .enumerate()
+        .filter(|(j, src)| src.values(&check.used) != old[*j])
+        .count()
+        .max(1);
+    let ln_n = (model.fit.measurement_count().max(1) as f64).ln();
+    let excess = model.summary.excess_nis;
+    let candidate = Candidate {
+        effect: "noise levels".into(),
+        kind: CandidateKind::NoiseLevels,
+        delta_loglik: dll,
+        parameters: changed,
+        bic_gain: 2.0 * dll - changed as f64 * ln_n,
+        excess_removed: if excess > 0.0 {
+            1.0 - s.excess_nis.max(0.0) / excess
+        } else {
+            0.0
+        },
+        nis: s.nis.clone(),
+        consistent: s.consistent,
+        coefficients: Vec::new(),
+        density: None,
+        noise: Some(check.clone()),
+        widened,
+        confused_with: Vec::new(),
+        separable_bic: None,
+        outcome: Outcome::NotDecisive,
+        failure: fit.failure.clone(),
+    };
+    Ok(candidates::Evaluated { candidate, fit })
+}
+
+/// The coefficient priors of `fit` wider than the ones the diagnosis started from; the
+/// `implied_estimate` is the final estimate.
+fn widened_priors(start: &priors::Priors, fit: &Fit) -> Vec<Widening> {
+    (NAV_DIM..fit.names.len())
+        .filter_map(|i| {
+            let name = &fit.names[i];
+            let from = start
+                .coefficients
+                .get(name)
+                .copied()
+                .unwrap_or(fit.typical_sigma[i]);
+            let cap = from * priors::widest_factor(&fit.setup.priors, name);
+            (fit.prior_sigma[i] > from).then(|| Widening {
+                name: name.clone(),
+                from,
+                to: fit.prior_sigma[i],
+                implied_estimate: fit.x[i],
+                at_cap: fit.prior_sigma[i] >= cap * (1.0 - 1e-12),
+            })
+        })
+        .collect()
+}
+
+/// The `--with` round: the effects added together to the base model `before`, giving `after`.
+fn manual_round(ds: &Dataset, before: &Fit, after: &Fit, opts: &Options) -> Round {
+    let b = summarize_fit(ds, before, opts);
+    let a = summarize_fit(ds, after, opts);
+    let keep: Vec<String> = after
+        .names
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| after.noisy[*i])
+        .map(|(_, n)| n.clone())
+        .collect();
+    let dll = after.profile_loglik(&keep) - before.profile_loglik(&keep);
+    let k = (after.names.len() - before.names.len()).max(opts.with.len());
+    let ln_n = (before.measurement_count().max(1) as f64).ln();
+    let removed = if b.excess_nis > 0.0 {
+        1.0 - a.excess_nis.max(0.0) / b.excess_nis
+    } else {
+        0.0
+    };
+    Round {
+        kind: RoundKind::Manual,
+        model: Vec::new(),
+        nis: b.nis.clone(),
+        consistent: b.consistent,
+        candidates: vec![Candidate {
+            effect: opts.with.join(","),
+            kind: candidates::CandidateKind::Structured,
+            delta_loglik: dll,
+            parameters: k,
+            bic_gain: 2.0 * dll - k as f64 * ln_n,
+            excess_removed: removed,
+            nis: a.nis.clone(),
+            consistent: a.consistent,
+            coefficients: a
+                .coefficients
+                .iter()
+                .filter(|c| !before.names.contains(&c.name))
+                .cloned()
+                .collect(),
+            density: None,
+            noise: None,
+            widened: Vec::new(),
+            confused_with: Vec::new(),
+            separable_bic: None,
+            outcome: Outcome::Manual,
+            failure: after.failure.clone(),
+        }],
+        named: opts.with.clone(),
+        notes: Vec::new(),
+    }
 }

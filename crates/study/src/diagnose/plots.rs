@@ -21,7 +21,6 @@ use crate::plots::FigureOutcome;
 use navkf_dynamics::earth::{meridian_radius, prime_vertical_radius};
 use navkf_dynamics::state::MEAS_DIM;
 use navkf_dynamics::trajectory::Phase;
-use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -161,55 +160,6 @@ impl Geo {
 /// Every `stride`-th index of a series of `n`, so that at most [`MAX_POINTS`] are drawn.
 fn stride(n: usize) -> usize {
     n.div_ceil(MAX_POINTS).max(1)
-}
-
-/// A figure of panels in a grid under a title, with a legend strip on the right.
-struct Grid {
-    title: String,
-    panels: Vec<Panel>,
-    cols: usize,
-    cell: (u32, u32),
-    legend: Vec<Entry>,
-}
-
-const TITLE_H: u32 = 50;
-const LEGEND_W: u32 = 290;
-
-impl Figure for Grid {
-    fn size(&self) -> (u32, u32) {
-        let rows = self.panels.len().div_ceil(self.cols).max(1) as u32;
-        let legend = if self.legend.is_empty() { 0 } else { LEGEND_W };
-        (
-            self.cols as u32 * self.cell.0 + legend,
-            rows * self.cell.1 + TITLE_H,
-        )
-    }
-
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
-        let area = root.titled(&self.title, (FONT, 24)).m()?;
-        let rows = self.panels.len().div_ceil(self.cols).max(1);
-        let plot_w = self.cols as u32 * self.cell.0;
-        let (plot, side) = area.split_horizontally(plot_w);
-        for (cell, p) in plot
-            .split_evenly((rows, self.cols))
-            .iter()
-            .zip(&self.panels)
-        {
-            draw_panel(cell, p)?;
-        }
-        if !self.legend.is_empty() {
-            draw_legend(&side, &self.legend, 15, 40)?;
-        }
-        Ok(())
-    }
-}
-
-fn entry(label: impl Into<String>, style: ShapeStyle, mark: Mark) -> Entry {
-    Entry {
-        label: label.into(),
-        style,
-        mark,
-    }
 }
 
 fn measured_vs_predicted(fit: &Fit, geo: &Geo, label: &str) -> Grid {

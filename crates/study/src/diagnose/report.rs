@@ -1,6 +1,9 @@
 //! The diagnosis in words and as `report.md`.
 
-use super::{Candidate, Diagnosis, FitSummary, DECISIVE_BIC};
+use super::candidates::{Candidate, CandidateKind, Outcome, DECISIVE_BIC};
+use super::consistency::NisVerdict;
+use super::noise::{NoiseFit, NoiseVerdict};
+use super::{Diagnosis, FitSummary, RoundKind, Verdict};
 use crate::plots::FigureOutcome;
 use std::fmt::Write as _;
 
@@ -12,45 +15,100 @@ fn fmt(v: f64) -> String {
     }
 }
 
-/// Plain-language findings: which channels and phases are inconsistent, which effect the
-/// evidence supports, and which effects cannot be told apart.
-pub fn findings(model: &FitSummary, cands: &[Candidate], best: Option<&str>) -> Vec<String> {
-    let mut out = Vec::new();
-    if let Some(f) = &model.failure {
+/// A sigma ratio in words: "12x", "1.3x", "0.2x".
+fn times(r: f64) -> String {
+    if r >= 10.0 {
+        format!("{r:.0}x")
+    } else if r >= 0.1 {
+        format!("{r:.2}x")
+    } else {
+        format!("{r:.1e}x")
+    }
+}
+
+/// The noise findings of a check: mis-stated sources in words with their fitted levels, and
+/// sources the data cannot resolve.
+fn noise_findings(check: &NoiseFit, out: &mut Vec<String>) {
+    for s in &check.sources {
+        let keys = |m: &std::collections::BTreeMap<String, f64>| {
+            m.iter()
+                .map(|(k, v)| format!("{k} = {v:.3e}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let [lo, hi] = s.sigma_ratio_interval;
+        match s.verdict {
+            NoiseVerdict::UnderStated | NoiseVerdict::OverStated => {
+                let (word, r) = if s.verdict == NoiseVerdict::UnderStated {
+                    ("under-stated", s.sigma_ratio)
+                } else {
+                    ("over-stated", 1.0 / s.sigma_ratio)
+                };
+                out.push(format!(
+                    "{} {word} about {} (in sigma; the data put it at {}-{} of the stated level): \
+                     fitted {} (stated {}). The diagnosis uses the fitted level.",
+                    capitalise(s.source.label()),
+                    times(r),
+                    times(lo),
+                    times(hi),
+                    keys(&s.fitted),
+                    keys(&s.stated)
+                ));
+            }
+            NoiseVerdict::Unresolved => out.push(format!(
+                "The data cannot fix the {} level: anything from {} to {} of the stated one \
+                 fits (95 %). The stated level is kept.",
+                s.source.label(),
+                times(lo),
+                times(hi)
+            )),
+            NoiseVerdict::Fits => {}
+        }
+    }
+}
+
+fn capitalise(s: &str) -> String {
+    let mut c = s.chars();
+    c.next()
+        .map(|f| f.to_uppercase().collect::<String>() + c.as_str())
+        .unwrap_or_default()
+}
+
+/// What a model's summary says of its consistency: NIS, failing channels and phases.
+fn consistency_findings(m: &FitSummary, out: &mut Vec<String>) {
+    if let Some(f) = &m.failure {
         out.push(format!("The filter failed on this model: {f}."));
     }
-    let n = &model.nis;
+    let n = &m.nis;
     out.push(format!(
         "NIS averages {:.3} against an expected {:.2} (95 % bounds {:.3}-{:.3}): {}.",
         n.mean,
         n.dof,
         n.bounds[0],
         n.bounds[1],
-        match n.verdict.as_str() {
-            "inside" => "consistent",
-            "above" => "the innovations are larger than the model predicts",
-            "below" => "the innovations are smaller than the model predicts (noise set too high?)",
-            _ => "no data",
+        match n.verdict {
+            NisVerdict::Inside => "consistent",
+            NisVerdict::Above => "the innovations are larger than the model predicts",
+            NisVerdict::Below =>
+                "the innovations are smaller than the model predicts (noise set too high?)",
+            NisVerdict::NoData => "no data",
         }
     ));
-    let bad_channels: Vec<String> = model
+    out.push(failing_channels_and_phases(m));
+}
+
+/// One sentence: which channels and phases fail, or that none does.
+fn failing_channels_and_phases(m: &FitSummary) -> String {
+    let channels: Vec<String> = m
         .whiteness
         .iter()
         .filter(|w| w.count > 0 && !w.white)
         .map(|w| format!("{} ({})", w.channel, w.problems.join(", ")))
         .collect();
-    if bad_channels.is_empty() {
-        out.push("Every channel's innovations are white.".into());
-    } else {
-        out.push(format!(
-            "Inconsistent channels: {}.",
-            bad_channels.join("; ")
-        ));
-    }
-    let bad_phases: Vec<String> = model
+    let phases: Vec<String> = m
         .nis_by_phase
         .iter()
-        .filter(|(_, s)| s.verdict != "inside" && s.count > 0)
+        .filter(|(_, s)| s.verdict != NisVerdict::Inside && s.count > 0)
         .map(|(p, s)| {
             format!(
                 "{p} (NIS {:.2}, {} updates, {})",
@@ -58,75 +116,284 @@ pub fn findings(model: &FitSummary, cands: &[Candidate], best: Option<&str>) -> 
             )
         })
         .collect();
-    if !bad_phases.is_empty() {
-        out.push(format!(
-            "Phases where NIS leaves its bounds: {}.",
-            bad_phases.join("; ")
+    let mut s = if channels.is_empty() {
+        "Every channel's innovations are white".to_string()
+    } else {
+        format!("Inconsistent channels: {}", channels.join("; "))
+    };
+    if !phases.is_empty() {
+        s.push_str(&format!(
+            "; phases where NIS leaves its bounds: {}",
+            phases.join("; ")
         ));
     }
-    match best {
-        Some(b) => {
-            let c = cands
+    s.push('.');
+    s
+}
+
+fn coefficient_words(c: &Candidate) -> String {
+    if let Some(q) = c.density {
+        return format!("fitted density {q:.2e}");
+    }
+    c.coefficients
+        .iter()
+        .map(|k| {
+            format!(
+                "{} = {:.3e} +- {:.1e} (prior {:.1e})",
+                k.name, k.estimate, k.sigma, k.prior_sigma
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Plain-language findings, in the order a user should read them: the noise, where the model
+/// under test fails, what each round named and why, what remains, and what cannot be told.
+pub fn findings(d: &Diagnosis) -> Vec<String> {
+    let mut out = Vec::new();
+    // Noise first: a wrong noise level is not a missing effect.
+    if let (Some(first), Some(last)) = (d.noise_checks.first(), d.noise_checks.last()) {
+        let noise_named = d.rounds.iter().any(|r| {
+            r.candidates
                 .iter()
-                .find(|c| c.effect == b)
-                .expect("best is a candidate");
+                .any(|c| c.kind == CandidateKind::NoiseLevels && c.outcome == Outcome::Named)
+        });
+        if first.refitted && !noise_named && !last.mis_stated() && !d.effects.is_empty() {
+            let looked: Vec<String> = first
+                .sources
+                .iter()
+                .filter(|s| {
+                    matches!(
+                        s.verdict,
+                        NoiseVerdict::UnderStated | NoiseVerdict::OverStated
+                    )
+                })
+                .map(|s| format!("{} {}", s.source.label(), times(s.sigma_ratio)))
+                .collect();
             out.push(format!(
-                "The evidence supports adding `{b}`: log-likelihood +{:.1}, BIC gain {:.1}, it removes {:.0} % of the excess NIS{}.",
+                "Before {} was added, the noise looked off ({}); with it the stated noise \
+                 fits: the misfit was structural, not noise.",
+                d.effects
+                    .iter()
+                    .map(|e| format!("`{e}`"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                looked.join(", ")
+            ));
+        }
+        noise_findings(last, &mut out);
+    }
+    // The model under test.
+    let first_round = d.rounds.first();
+    if let Some(r) = first_round {
+        let label = if r.model.is_empty() {
+            "The base model".to_string()
+        } else {
+            format!("The model with {}", r.model.join(", "))
+        };
+        out.push(format!(
+            "{label}: NIS {:.3} against {:.2} (95 % bounds {:.3}-{:.3}), {}.",
+            r.nis.mean,
+            r.nis.dof,
+            r.nis.bounds[0],
+            r.nis.bounds[1],
+            if r.consistent {
+                "consistent"
+            } else {
+                "inconsistent"
+            }
+        ));
+    }
+    // What each round named.
+    for (k, r) in d.rounds.iter().enumerate() {
+        for c in r
+            .candidates
+            .iter()
+            .filter(|c| matches!(c.outcome, Outcome::Named | Outcome::Manual))
+        {
+            if c.kind == CandidateKind::NoiseLevels {
+                let changed: Vec<String> = c
+                    .noise
+                    .iter()
+                    .flat_map(|n| &n.sources)
+                    .filter(|s| {
+                        matches!(
+                            s.verdict,
+                            NoiseVerdict::UnderStated | NoiseVerdict::OverStated
+                        )
+                    })
+                    .map(|s| format!("{} x{:.2} in sigma", s.source.label(), s.sigma_ratio))
+                    .collect();
+                out.push(format!(
+                    "Round {}: the noise levels explain the misfit better than any effect: {} \
+                     (log-likelihood {:+.1}, BIC gain {:.1}); the next rounds use them.",
+                    k + 1,
+                    changed.join(", "),
+                    c.delta_loglik,
+                    c.bic_gain
+                ));
+                continue;
+            }
+            let how = if r.kind == RoundKind::Manual {
+                "Added by --with"
+            } else {
+                "The evidence supports adding"
+            };
+            out.push(format!(
+                "Round {}: {how} `{}`: log-likelihood {:+.1}, BIC gain {:.1}, it removes {:.0} % \
+                 of the excess NIS ({}).",
+                k + 1,
+                c.effect,
                 c.delta_loglik,
                 c.bic_gain,
                 100.0 * c.excess_removed,
-                if c.consistent { " and makes the innovations consistent" } else { "; misfit remains, so diagnose again with it added" }
+                coefficient_words(c)
             ));
         }
-        None => {
-            if !model.consistent {
-                // A candidate with decisive evidence that the trajectory cannot separate from
-                // the model's coefficients may be the cause: the data cannot say. One without
-                // decisive evidence is ruled out whatever the split (adding it did not help).
-                let strong: Vec<String> = cands
-                    .iter()
-                    .filter(|c| c.bic_gain > DECISIVE_BIC && !c.confused_with.is_empty())
-                    .map(|c| format!("`{}`", c.effect))
-                    .collect();
-                if strong.is_empty() {
-                    out.push(format!(
-                        "No catalogued effect explains the misfit: none has decisive evidence (BIC gain > {DECISIVE_BIC}) and repairs it (consistent innovations, or 90 % of the excess NIS removed). The cause is outside the catalogue, or too small to attribute on this dataset."
-                    ));
-                } else {
-                    out.push(format!(
-                        "No catalogued effect can be named: {} has decisive evidence but cannot be told apart from coefficients already in the model on this trajectory (see below), so the data cannot say whether it or those coefficients carry the misfit. A trajectory that separates them (for `gyro-fz`, one with varying vertical specific force) would.",
-                        strong.join(", ")
-                    ));
-                }
-            }
-        }
-    }
-    for c in cands {
-        if !c.supported && c.bic_gain > DECISIVE_BIC && c.confused_with.is_empty() {
-            out.push(format!(
-                "`{}` improves the likelihood (BIC gain {:.0}) but removes only {:.0} % of the excess NIS{}: it is not the cause, or not the only one.",
-                c.effect,
-                c.bic_gain,
-                100.0 * c.excess_removed,
-                if c.coefficients.is_empty() { " (it only adds process noise, which can soak up any slow misfit)" } else { "" }
-            ));
-        }
-        // Said whatever the evidence: an effect the trajectory cannot separate is absorbed
-        // into the model's own coefficients, so its absence from the ranking proves nothing.
-        if !c.confused_with.is_empty() {
+        for c in r
+            .candidates
+            .iter()
+            .filter(|c| c.outcome == Outcome::Named && !c.confused_with.is_empty())
+        {
             let pairs: Vec<String> = c
                 .confused_with
                 .iter()
-                .map(|(p, r)| format!("{p} (correlation {r:+.2})"))
+                .map(|p| format!("{} ~ {} ({:+.2})", p.coefficient, p.with, p.correlation))
                 .collect();
             out.push(format!(
-                "`{}` cannot be told apart from coefficients already in the model on this trajectory: {}. If present, it is absorbed into them (their estimates then carry it).",
+                "Part of `{}` cannot be told apart from the model's own coefficients on this \
+                 trajectory: {}. Its other coefficients carry the evidence; these estimates \
+                 mean little on their own.",
                 c.effect,
                 pairs.join(", ")
             ));
         }
+        out.extend(r.notes.iter().cloned());
+    }
+    for w in &d.withdrawn {
+        out.push(format!(
+            "`{}` was named but its coefficients do not behave as constants over the test \
+             (constancy p = {:.1e}): it stood in for something the catalogue lacks, and is \
+             withdrawn.",
+            w.effect, w.constancy.p_value
+        ));
+    }
+    // Where the final model stands.
+    match d.verdict {
+        Verdict::Consistent => consistency_findings(&d.model, &mut out),
+        Verdict::Explained => out.push(format!(
+            "With {} the model is consistent (NIS {:.3}, bounds {:.3}-{:.3}).",
+            named_list(d),
+            d.model.nis.mean,
+            d.model.nis.bounds[0],
+            d.model.nis.bounds[1]
+        )),
+        Verdict::PartlyExplained => out.push(format!(
+            "With {} the model fits decisively better, but a misfit remains that nothing in \
+             the catalogue explains (NIS {:.3}, bounds {:.3}-{:.3}). {}",
+            named_list(d),
+            d.model.nis.mean,
+            d.model.nis.bounds[0],
+            d.model.nis.bounds[1],
+            failing_channels_and_phases(&d.model)
+        )),
+        Verdict::Unexplained => {
+            consistency_findings(&d.model, &mut out);
+            let last = d.rounds.last().map(|r| &r.candidates[..]).unwrap_or(&[]);
+            let confounded: Vec<String> = last
+                .iter()
+                .filter(|c| c.outcome == Outcome::Confounded)
+                .map(|c| format!("`{}`", c.effect))
+                .collect();
+            if confounded.is_empty() {
+                out.push(format!(
+                    "No catalogued effect explains the misfit: none has decisive evidence \
+                     (BIC gain > {DECISIVE_BIC}) that it can carry on its own. The cause is \
+                     outside the catalogue, or too small to attribute on this dataset."
+                ));
+            } else {
+                out.push(format!(
+                    "No catalogued effect can be named: {} has decisive evidence but cannot be \
+                     told apart from coefficients already in the model on this trajectory \
+                     (see below), so the data cannot say whether it or those coefficients carry \
+                     the misfit. A trajectory that separates them (for `gyro-fz`, one with \
+                     varying vertical specific force) would.",
+                    confounded.join(", ")
+                ));
+            }
+        }
+    }
+    // Last round: what was decisive but not named, and what cannot be told apart.
+    if let Some(r) = d
+        .rounds
+        .iter()
+        .rev()
+        .find(|r| r.kind == RoundKind::Automatic)
+    {
+        for c in &r.candidates {
+            match c.outcome {
+                Outcome::NoiseLeavesMisfit => out.push(format!(
+                    "`{}` improves the likelihood (BIC gain {:.0}) but only adds process \
+                     noise, which can soak up any slow misfit, and leaves the model \
+                     inconsistent: it is not named.",
+                    c.effect, c.bic_gain
+                )),
+                Outcome::Confounded => {
+                    let pairs: Vec<String> = c
+                        .confused_with
+                        .iter()
+                        .map(|p| {
+                            format!(
+                                "{} ~ {} (correlation {:+.2})",
+                                p.coefficient, p.with, p.correlation
+                            )
+                        })
+                        .collect();
+                    out.push(format!(
+                        "`{}` cannot be told apart from coefficients already in the model on \
+                         this trajectory: {}. If present, it is absorbed into them (their \
+                         estimates then carry it).",
+                        c.effect,
+                        pairs.join(", ")
+                    ));
+                }
+                _ => {}
+            }
+        }
+    }
+    for w in &d.widened {
+        out.push(if w.at_cap {
+            format!(
+                "The prior of {} was widened from {:.2e} to {:.2e}, the widest the diagnosis \
+                 allows it ({} times where it started), and the data may pull it further \
+                 (estimate {:.3e}). If it is a base coefficient, the platform may be of a \
+                 coarser class than the priors describe: state its priors \
+                 ([prior.coefficients] in dataset.toml, or --prior) and diagnose again.",
+                w.name,
+                w.from,
+                w.to,
+                (w.to / w.from).round(),
+                w.implied_estimate
+            )
+        } else {
+            format!(
+                "The prior of {} was widened from {:.2e} to {:.2e}: the data put it at \
+                 {:.3e}, {:.0} starting prior sigmas away, where the narrower prior would have \
+                 capped it.",
+                w.name,
+                w.from,
+                w.to,
+                w.implied_estimate,
+                (w.implied_estimate / w.from).abs()
+            )
+        });
     }
     out
+}
+
+fn named_list(d: &Diagnosis) -> String {
+    let all: Vec<String> = d.model.effects.iter().map(|e| format!("`{e}`")).collect();
+    all.join(", ")
 }
 
 fn fit_table(out: &mut String, title: &str, f: &FitSummary) {
@@ -170,7 +437,10 @@ fn fit_table(out: &mut String, title: &str, f: &FitSummary) {
         );
     }
     let has_truth = f.coefficients.iter().any(|c| c.truth.is_some());
-    let _ = write!(out, "\n| coefficient | estimate | sigma | initial sigma |");
+    let _ = write!(
+        out,
+        "\n| coefficient | estimate | sigma | prior tested with |"
+    );
     if has_truth {
         let _ = write!(out, " true | error / sigma |");
     }
@@ -208,7 +478,7 @@ fn fit_table(out: &mut String, title: &str, f: &FitSummary) {
 type ErrorRow = (String, Option<f64>, Option<f64>);
 
 /// The before/after table: log-likelihood, NIS, each channel's whiteness and, with a truth,
-/// each coefficient's error in units of its final sigma, side by side.
+/// each coefficient's error in units of its prior sigma, side by side.
 fn before_after(out: &mut String, b: &FitSummary, a: &FitSummary) {
     let _ = writeln!(
         out,
@@ -269,7 +539,7 @@ fn before_after(out: &mut String, b: &FitSummary, a: &FitSummary) {
             |v: Option<f64>| v.map_or("not in the model".to_string(), |e| format!("{e:+.3}"));
         let _ = writeln!(
             out,
-            "\nCoefficient errors against truth.csv, (estimate - truth) / initial sigma:\n\n| coefficient | before | after |\n|---|---|---|"
+            "\nCoefficient errors against truth.csv, (estimate - truth) / prior sigma:\n\n| coefficient | before | after |\n|---|---|---|"
         );
         for (name, eb, ea) in &rows {
             let _ = writeln!(out, "| {name} | {} | {} |", cell(*eb), cell(*ea));
@@ -287,6 +557,63 @@ fn before_after(out: &mut String, b: &FitSummary, a: &FitSummary) {
     }
 }
 
+fn noise_table(out: &mut String, check: &NoiseFit, title: &str) {
+    let _ = writeln!(
+        out,
+        "{title} (on the model {}; {} filter passes; log-likelihood gain of the fitted levels {:.1}):\n",
+        if check.model.is_empty() {
+            "without effects".to_string()
+        } else {
+            format!("with {}", check.model.join(", "))
+        },
+        check.passes,
+        check.loglik_gain
+    );
+    let _ = writeln!(
+        out,
+        "| source | stated | fitted (maximum likelihood) | fitted / stated (sigma) | 95 % | verdict |\n|---|---|---|---|---|---|"
+    );
+    let kv = |m: &std::collections::BTreeMap<String, f64>| {
+        m.iter()
+            .map(|(k, v)| format!("{k} = {v:.3e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    for s in &check.sources {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {:.3} | {:.3}-{:.3} | {} |",
+            s.source.label(),
+            kv(&s.stated),
+            kv(&s.fitted),
+            s.sigma_ratio,
+            s.sigma_ratio_interval[0],
+            s.sigma_ratio_interval[1],
+            match s.verdict {
+                NoiseVerdict::Fits => "fits",
+                NoiseVerdict::UnderStated => "under-stated",
+                NoiseVerdict::OverStated => "over-stated",
+                NoiseVerdict::Unresolved => "unresolved",
+            }
+        );
+    }
+    let _ = writeln!(out);
+}
+
+fn outcome_words(o: Outcome) -> &'static str {
+    match o {
+        Outcome::Named => "**named**",
+        Outcome::Manual => "added (--with)",
+        Outcome::Outranked => "decisive, outranked",
+        Outcome::NotDecisive => "not decisive",
+        Outcome::Confounded => "cannot be told apart",
+        Outcome::NoiseLeavesMisfit => "noise term, leaves misfit",
+        Outcome::NoiseAsGoodAsStructure => "noise term, no better than structure",
+        Outcome::NoiseNotSpecific => "noise term, no better than another sensor's walk",
+        Outcome::Failed => "filter failed",
+    }
+}
+
 /// `report.md` of a diagnosis, linking the figures drawn next to it (and saying which could
 /// not be drawn, and why).
 pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> String {
@@ -297,55 +624,175 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
         out,
         "**Verdict: {}**{}\n",
         d.verdict,
-        d.best
-            .as_ref()
-            .map(|b| format!(" - missing effect: `{b}`"))
-            .unwrap_or_default()
+        if d.effects.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " - missing effects, in the order named: {}",
+                d.effects
+                    .iter()
+                    .map(|e| format!("`{e}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        }
     );
     for f in &d.findings {
         let _ = writeln!(out, "- {f}");
     }
-    let _ = writeln!(out, "\n## Candidates (best first)\n");
+    if !d.noise_checks.is_empty() {
+        let _ = writeln!(out, "\n## Noise levels\n");
+        let n = d.noise_checks.len();
+        for (i, c) in d.noise_checks.iter().enumerate() {
+            let title = if n == 1 {
+                "The noise check".to_string()
+            } else {
+                format!("Noise check {} of {n}", i + 1)
+            };
+            noise_table(&mut out, c, &title);
+        }
+    }
     let _ = writeln!(
         out,
-        "| effect | delta loglik | BIC gain | excess NIS removed | consistent with it | named | cannot be told apart from |\n|---|---|---|---|---|---|---|"
+        "## Priors\n\nWhere the diagnosis starts (flags over dataset.toml's [prior] over the defaults; see `navkf_dynamics::prior` for their reasons):\n\n| prior | one-sigma | default | source |\n|---|---|---|---|"
     );
-    for c in &d.candidates {
+    for p in &d.priors {
         let _ = writeln!(
             out,
-            "| {} | {:.1} | {:.1} | {:.0} % | {} | {} | {} |",
-            c.effect,
-            c.delta_loglik,
-            c.bic_gain,
-            100.0 * c.excess_removed,
-            if c.consistent { "yes" } else { "no" },
-            if c.supported { "yes" } else { "no" },
-            c.confused_with
-                .iter()
-                .map(|(p, r)| format!("{p} ({r:+.2})"))
-                .collect::<Vec<_>>()
-                .join(", ")
+            "| {} | {} | {} | {:?} |",
+            p.name,
+            fmt(p.sigma),
+            fmt(p.default),
+            p.source
         );
     }
-    let _ = writeln!(out, "\nCandidate coefficients:\n\n| effect | coefficient | estimate | sigma | initial sigma | true |\n|---|---|---|---|---|---|");
-    for c in &d.candidates {
-        for k in &c.coefficients {
+    if !d.widened.is_empty() {
+        let _ = writeln!(
+            out,
+            "\nWidened in the final model, because the data pulled the coefficient beyond its prior:\n\n| coefficient | from | to | estimate |\n|---|---|---|---|"
+        );
+        for w in &d.widened {
             let _ = writeln!(
                 out,
-                "| {} | {} | {} | {} | {} | {} |",
-                c.effect,
-                k.name,
-                fmt(k.estimate),
-                fmt(k.sigma),
-                fmt(k.prior_sigma),
-                k.truth.map(fmt).unwrap_or("-".into())
+                "| {} | {} | {} | {} |",
+                w.name,
+                fmt(w.from),
+                fmt(w.to),
+                fmt(w.implied_estimate)
             );
+        }
+    }
+    for (k, r) in d.rounds.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "\n## Round {} ({})\n\nModel: {}. NIS {:.3} ({}), {}.\n",
+            k + 1,
+            match r.kind {
+                RoundKind::Manual => "manual, --with",
+                RoundKind::Automatic => "automatic",
+            },
+            if r.model.is_empty() {
+                "base".to_string()
+            } else {
+                format!("base + {}", r.model.join(", "))
+            },
+            r.nis.mean,
+            r.nis.verdict,
+            if r.consistent {
+                "consistent"
+            } else {
+                "inconsistent"
+            }
+        );
+        let _ = writeln!(
+            out,
+            "| effect | kind | dLL (maximised) | parameters | BIC gain | excess NIS removed | NIS with it | consistent with it | outcome | cannot be told apart from |\n|---|---|---|---|---|---|---|---|---|---|"
+        );
+        for c in &r.candidates {
+            let _ = writeln!(
+                out,
+                "| {} | {} | {:.1} | {} | {:.1} | {:.0} % | {:.3} | {} | {} | {} |",
+                c.effect,
+                match c.kind {
+                    CandidateKind::Structured => "structured",
+                    CandidateKind::NoiseOnly => "noise only",
+                    CandidateKind::NoiseLevels => "noise levels",
+                },
+                c.delta_loglik,
+                c.parameters,
+                c.bic_gain,
+                100.0 * c.excess_removed,
+                c.nis.mean,
+                if c.consistent { "yes" } else { "no" },
+                outcome_words(c.outcome),
+                c.confused_with
+                    .iter()
+                    .map(|p| format!("{} ~ {} ({:+.2})", p.coefficient, p.with, p.correlation))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
+        let _ = writeln!(
+            out,
+            "\n| effect | coefficient | estimate | sigma | prior tested with | true |\n|---|---|---|---|---|---|"
+        );
+        for c in &r.candidates {
+            for k in &c.coefficients {
+                let _ = writeln!(
+                    out,
+                    "| {} | {} | {} | {} | {} | {} |",
+                    c.effect,
+                    k.name,
+                    fmt(k.estimate),
+                    fmt(k.sigma),
+                    fmt(k.prior_sigma),
+                    k.truth.map(fmt).unwrap_or("-".into())
+                );
+            }
+            if let Some(q) = c.density {
+                let _ = writeln!(
+                    out,
+                    "| {} | density (fitted) | {} | - | - | - |",
+                    c.effect,
+                    fmt(q)
+                );
+            }
+        }
+        for n in &r.notes {
+            let _ = writeln!(out, "\n{n}");
+        }
+    }
+    if !d.constancy.is_empty() {
+        let _ = writeln!(
+            out,
+            "\n## Are the named coefficients constants?\n\nThe final model refitted on each half of the record; each coefficient's two estimates compared (chi-square, one degree of freedom; the effect fails below p = {:.0e}, Bonferroni over its coefficients):\n\n| effect | coefficient | statistic | dof | p | effect p | constant |\n|---|---|---|---|---|---|---|",
+            super::candidates::CONSTANCY_ALPHA
+        );
+        for (e, c) in &d.constancy {
+            match c {
+                None => {
+                    let _ = writeln!(
+                        out,
+                        "| {e} | - | - | - | - | - | not testable (too little information) |"
+                    );
+                }
+                Some(c) => {
+                    for (name, stat, dof, p) in &c.coefficients {
+                        let _ = writeln!(
+                            out,
+                            "| {e} | {name} | {stat:.1} | {dof} | {p:.2e} | {:.2e} | {} |",
+                            c.p_value,
+                            if c.constant { "yes" } else { "**no**" }
+                        );
+                    }
+                }
+            }
         }
     }
     if let Some(b) = &d.before {
         before_after(&mut out, b, &d.model);
     }
-    let _ = writeln!(out, "\n## The model under test\n");
+    let _ = writeln!(out, "\n## The final model\n");
     fit_table(&mut out, "After", &d.model);
     if let Some(b) = &d.before {
         fit_table(&mut out, "Before (base model)", b);

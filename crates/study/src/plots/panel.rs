@@ -512,6 +512,55 @@ fn draw_content<DB: DrawingBackend, CT: CoordTranslate<From = (f64, f64)>>(
     Ok(())
 }
 
+/// A figure of panels in a grid under a title, with a legend strip on the right.
+pub(crate) struct Grid {
+    pub(crate) title: String,
+    pub(crate) panels: Vec<Panel>,
+    pub(crate) cols: usize,
+    pub(crate) cell: (u32, u32),
+    pub(crate) legend: Vec<Entry>,
+}
+
+const TITLE_H: u32 = 50;
+const LEGEND_W: u32 = 290;
+
+impl Figure for Grid {
+    fn size(&self) -> (u32, u32) {
+        let rows = self.panels.len().div_ceil(self.cols).max(1) as u32;
+        let legend = if self.legend.is_empty() { 0 } else { LEGEND_W };
+        (
+            self.cols as u32 * self.cell.0 + legend,
+            rows * self.cell.1 + TITLE_H,
+        )
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        let area = root.titled(&self.title, (FONT, 24)).m()?;
+        let rows = self.panels.len().div_ceil(self.cols).max(1);
+        let plot_w = self.cols as u32 * self.cell.0;
+        let (plot, side) = area.split_horizontally(plot_w);
+        for (cell, p) in plot
+            .split_evenly((rows, self.cols))
+            .iter()
+            .zip(&self.panels)
+        {
+            draw_panel(cell, p)?;
+        }
+        if !self.legend.is_empty() {
+            draw_legend(&side, &self.legend, 15, 40)?;
+        }
+        Ok(())
+    }
+}
+
+pub(crate) fn entry(label: impl Into<String>, style: ShapeStyle, mark: Mark) -> Entry {
+    Entry {
+        label: label.into(),
+        style,
+        mark,
+    }
+}
+
 /// A figure: its size in pixels and how to draw it on any backend.
 pub(crate) trait Figure {
     fn size(&self) -> (u32, u32);

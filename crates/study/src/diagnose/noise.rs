@@ -1,0 +1,606 @@
+//! Does the stated noise fit? A scale factor per noise source, fitted by maximum likelihood.
+//!
+//! A model can fail for two unrelated reasons: something physical is missing, or the noise
+//! levels it was given are wrong. The second is the common one on recorded data (a MEMS
+//! recording diagnosed with navigation-grade densities shows NIS hundreds of times the
+//! expected value), and no physical effect explains it. So before ranking effects the
+//! diagnosis asks whether the stated noise fits.
+//!
+//! Each of the four sources gets a variance scale `exp(theta)`: the gyro density `q_g`, the
+//! accelerometer density `q_a`, the odometer's sigma (its relative term and its floor
+//! together) and the GPS sigma. The innovation log-likelihood `LL(theta)` is then maximised
+//! over the four log-scales:
+//!
+//! 1. **Score test at the stated levels.** Central differences along each axis give the
+//!    gradient `g` and curvature `H_jj` of `LL` at `theta = 0`; `g_j / sqrt(-H_jj)` is the
+//!    score statistic, standard normal when the stated level is right. If every one is below
+//!    [`Z_FLAG`] the stated noise fits, and nothing more is computed (eight filter passes).
+//! 2. **Newton's method otherwise**, with the full finite-difference Hessian (made negative
+//!    definite), steps clamped to [`MAX_STEP`] per source and halved until the likelihood
+//!    rises, until the step is below 0.03.
+//! 3. **Resolution.** At the optimum, `sqrt(diag((-H)^-1))` is the standard error of each
+//!    log-scale: the data's resolution. A source is *under-stated* or *over-stated* when its
+//!    fitted log-scale is more than [`Z_FLAG`] standard errors from zero, *unresolved* when
+//!    the data cannot fix its level within a factor [`RESOLVED_SIGMA_FACTOR`] (a
+//!    navigation-grade gyro's white noise on a 40-minute drive, typically), and fits otherwise.
+//!
+//! Only the sources found mis-stated take their fitted level; the others keep the stated one.
+//! A structured misfit (a missing effect) also inflates the fitted noise, so the diagnosis
+//! checks the noise again after naming an effect, and reports the last check.
+
+use super::fit::{fit, FilterChoice, FitSetup};
+use super::DiagnoseError;
+use navkf_dynamics::dataset::Dataset;
+use navkf_dynamics::{NoiseConfig, Registry};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// A source is mis-stated when its fitted log-scale is this many standard errors from zero
+/// (two-sided level 5e-4 per source).
+pub const Z_FLAG: f64 = 3.5;
+/// A source whose level the data fix only within this factor (in sigma, 95 %) is unresolved.
+pub const RESOLVED_SIGMA_FACTOR: f64 = 2.0;
+/// Largest Newton step per source, in log-variance (a factor 3.5 in sigma).
+pub const MAX_STEP: f64 = 2.5;
+/// Upward probes of the process-noise densities, in log-variance (x10 and x100 in sigma).
+const PROBES: [f64; 2] = [4.605_170_185_988_092, 9.210_340_371_976_184];
+/// Log-likelihood gain of a probe that counts as significant (`Z_FLAG^2 / 2`).
+const PROBE_GAIN: f64 = 0.5 * Z_FLAG * Z_FLAG;
+/// Sources whose score at the stated levels is at least this join the Newton iterations.
+pub const Z_ACTIVE: f64 = Z_FLAG;
+/// Finite-difference step in log-variance.
+const H: f64 = 0.3;
+/// Newton stops when no log-scale moves by more than this (a 1.5 % change of a sigma).
+const CONVERGED: f64 = 0.03;
+/// Most Newton iterations.
+const MAX_ITERATIONS: usize = 10;
+/// Curvature floor: a log-scale the data do not inform gets a standard error of at most 5.
+const MIN_CURVATURE: f64 = 1.0 / 25.0;
+
+/// A noise source of the model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum NoiseSource {
+    /// Gyro white noise, `q_g` (`gyro_psd`).
+    Gyro,
+    /// Accelerometer white noise, `q_a` (`accel_psd`).
+    Accelerometer,
+    /// Odometer velocity noise (`odometer_rel` and `odometer_floor` together).
+    Odometer,
+    /// GPS position noise (`gps_m`).
+    Gps,
+}
+
+/// The four sources, in the order of the log-scale vector.
+pub const SOURCES: [NoiseSource; 4] = [
+    NoiseSource::Gyro,
+    NoiseSource::Accelerometer,
+    NoiseSource::Odometer,
+    NoiseSource::Gps,
+];
+
+impl NoiseSource {
+    /// How reports name it.
+    pub fn label(self) -> &'static str {
+        match self {
+            NoiseSource::Gyro => "gyro noise",
+            NoiseSource::Accelerometer => "accelerometer noise",
+            NoiseSource::Odometer => "odometer noise",
+            NoiseSource::Gps => "GPS noise",
+        }
+    }
+
+    /// Its `dataset.toml` keys and values in `n`.
+    pub fn values(self, n: &NoiseConfig) -> BTreeMap<String, f64> {
+        let pairs: Vec<(&str, f64)> = match self {
+            NoiseSource::Gyro => vec![("gyro_psd", n.gyro_psd)],
+            NoiseSource::Accelerometer => vec![("accel_psd", n.accel_psd)],
+            NoiseSource::Odometer => vec![
+                ("odometer_rel", n.odometer_rel),
+                ("odometer_floor", n.odometer_floor),
+            ],
+            NoiseSource::Gps => vec![("gps_m", n.gps_m)],
+        };
+        pairs.into_iter().map(|(k, v)| (k.to_string(), v)).collect()
+    }
+}
+
+/// `stated` with each source's variance scaled by `exp(theta[j])`.
+pub fn scaled(stated: &NoiseConfig, theta: [f64; 4]) -> NoiseConfig {
+    let sigma = |j: usize| (0.5 * theta[j]).exp();
+    NoiseConfig {
+        gyro_psd: stated.gyro_psd * theta[0].exp(),
+        accel_psd: stated.accel_psd * theta[1].exp(),
+        odometer_rel: stated.odometer_rel * sigma(2),
+        odometer_floor: stated.odometer_floor * sigma(2),
+        gps_m: stated.gps_m * sigma(3),
+    }
+}
+
+/// What the data say of one source.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum NoiseVerdict {
+    /// The stated level fits, within the data's resolution.
+    Fits,
+    /// The noise is larger than stated.
+    UnderStated,
+    /// The noise is smaller than stated.
+    OverStated,
+    /// The data cannot fix the level within [`RESOLVED_SIGMA_FACTOR`].
+    Unresolved,
+}
+
+/// One source's fit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SourceFit {
+    /// The source.
+    pub source: NoiseSource,
+    /// The verdict.
+    pub verdict: NoiseVerdict,
+    /// Fitted over stated, in sigma (the square root of the variance scale).
+    pub sigma_ratio: f64,
+    /// 95 % interval of that ratio.
+    pub sigma_ratio_interval: [f64; 2],
+    /// Stated values by `dataset.toml` key.
+    pub stated: BTreeMap<String, f64>,
+    /// Fitted values by key (the maximum-likelihood ones, used only when mis-stated).
+    pub fitted: BTreeMap<String, f64>,
+}
+
+/// The noise check of one model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NoiseFit {
+    /// Effects of the model the check was made on.
+    pub model: Vec<String>,
+    /// The stated noise.
+    pub stated: NoiseConfig,
+    /// The levels the check started from (the stated ones, or ones fitted earlier).
+    pub start: NoiseConfig,
+    /// Whether some source's score at the start levels was significant, so that its level
+    /// was fitted.
+    pub refitted: bool,
+    /// The levels to use: the fitted ones for mis-stated sources, the stated ones otherwise.
+    pub used: NoiseConfig,
+    /// Their log-variance scales over the stated levels.
+    pub used_theta: [f64; 4],
+    /// Log-variance scales of the maximum-likelihood levels over the stated ones.
+    pub theta: [f64; 4],
+    /// Their standard errors.
+    pub theta_se: [f64; 4],
+    /// Per source, against the stated levels.
+    pub sources: Vec<SourceFit>,
+    /// Log-likelihood gain of the maximum-likelihood levels over the start levels.
+    pub loglik_gain: f64,
+    /// Filter passes the check took.
+    pub passes: usize,
+}
+
+impl NoiseFit {
+    /// Whether any source is mis-stated.
+    pub fn mis_stated(&self) -> bool {
+        self.sources.iter().any(|s| {
+            matches!(
+                s.verdict,
+                NoiseVerdict::UnderStated | NoiseVerdict::OverStated
+            )
+        })
+    }
+}
+
+/// Log-likelihood surface access: one filter pass per point, in parallel.
+struct Surface<'a> {
+    ds: &'a Dataset,
+    setup: &'a FitSetup,
+    stated: NoiseConfig,
+    registry: &'a Registry,
+    filter: &'a FilterChoice,
+    passes: std::sync::atomic::AtomicUsize,
+}
+
+impl Surface<'_> {
+    fn at(&self, thetas: &[[f64; 4]]) -> Result<Vec<f64>, DiagnoseError> {
+        self.passes
+            .fetch_add(thetas.len(), std::sync::atomic::Ordering::Relaxed);
+        thetas
+            .par_iter()
+            .map(|th| {
+                let mut s = self.setup.clone();
+                s.noise = scaled(&self.stated, *th);
+                let f = fit(self.ds, &s, self.registry, self.filter)?;
+                Ok(if f.failure.is_some() || !f.loglik.is_finite() {
+                    f64::NEG_INFINITY
+                } else {
+                    f.loglik
+                })
+            })
+            .collect()
+    }
+
+    /// Gradient and Hessian at `theta` (whose value is `f0`) along `axes`, by finite
+    /// differences: central along each axis; forward for the cross terms when `cross`. Other
+    /// entries are left at zero.
+    fn derivatives(
+        &self,
+        theta: [f64; 4],
+        f0: f64,
+        axes: &[usize],
+        cross: bool,
+    ) -> Result<([f64; 4], [[f64; 4]; 4]), DiagnoseError> {
+        let mut pts = Vec::new();
+        for &j in axes {
+            for s in [H, -H] {
+                let mut t = theta;
+                t[j] += s;
+                pts.push(t);
+            }
+        }
+        let pairs: Vec<(usize, usize)> = if cross {
+            axes.iter()
+                .enumerate()
+                .flat_map(|(a, &i)| axes[a + 1..].iter().map(move |&j| (i, j)))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        for &(i, j) in &pairs {
+            let mut t = theta;
+            t[i] += H;
+            t[j] += H;
+            pts.push(t);
+        }
+        let v = self.at(&pts)?;
+        let mut g = [0.0; 4];
+        let mut hess = [[0.0; 4]; 4];
+        let mut plus = [0.0; 4];
+        for (a, &j) in axes.iter().enumerate() {
+            let (fp, fm) = (v[2 * a], v[2 * a + 1]);
+            plus[j] = fp;
+            g[j] = (fp - fm) / (2.0 * H);
+            hess[j][j] = (fp - 2.0 * f0 + fm) / (H * H);
+        }
+        let base = 2 * axes.len();
+        for (k, &(i, j)) in pairs.iter().enumerate() {
+            let h = (v[base + k] - plus[i] - plus[j] + f0) / (H * H);
+            hess[i][j] = h;
+            hess[j][i] = h;
+        }
+        Ok((g, hess))
+    }
+}
+
+/// The score statistic `g / sqrt(-H)` of each axis; 0 where the curvature is not negative
+/// (no information).
+fn scores(g: &[f64; 4], hess: &[[f64; 4]; 4]) -> [f64; 4] {
+    std::array::from_fn(|j| {
+        let curv = -hess[j][j];
+        if curv > 0.0 && g[j].is_finite() {
+            g[j] / curv.sqrt()
+        } else {
+            0.0
+        }
+    })
+}
+
+/// A first step for the active sources from the axis values at the stated levels, fitting
+/// each axis with the shape a pure noise scale gives the log-likelihood,
+/// `f(theta) = a - b (theta + r exp(-theta))`, whose maximum is at `ln r` (exact when the
+/// innovations of that source are its own noise, as for GPS and odometer). Kept only if the
+/// log-likelihood rises.
+fn model_jump(
+    surface: &Surface<'_>,
+    start: [f64; 4],
+    f0: f64,
+    g: &[f64; 4],
+    hess: &[[f64; 4]; 4],
+    active: &[usize],
+) -> Result<([f64; 4], f64), DiagnoseError> {
+    let mut theta = start;
+    for &j in active {
+        // Back from the derivatives to the differences of the three axis values.
+        let d1 = 2.0 * H * g[j];
+        let d2 = H * H * hess[j][j];
+        let denom = d1 * (2.0 * H.cosh() - 2.0) + 2.0 * d2 * H.sinh();
+        let r = 2.0 * H * d2 / denom;
+        if r.is_finite() && r > 0.0 {
+            theta[j] += r.ln().clamp(-4.0 * MAX_STEP, 4.0 * MAX_STEP);
+        }
+    }
+    if theta == start {
+        return Ok((theta, f0));
+    }
+    let v = surface.at(&[theta])?[0];
+    Ok(if v > f0 { (theta, v) } else { (start, f0) })
+}
+
+/// Newton's method over `active` from `theta` (value `f`), then the scores of the other
+/// sources at the optimum; any significant one joins and Newton runs again (at most three
+/// times). Leaves in `g` and `hess` the last derivatives along every axis it took.
+fn optimise(
+    surface: &Surface<'_>,
+    mut theta: [f64; 4],
+    mut f: f64,
+    active: &mut Vec<usize>,
+    g: &mut [f64; 4],
+    hess: &mut [[f64; 4]; 4],
+) -> Result<([f64; 4], f64), DiagnoseError> {
+    for _ in 0..3 {
+        let (t, v, h) = newton(surface, theta, f, active)?;
+        theta = t;
+        f = v;
+        *hess = h;
+        let inactive: Vec<usize> = (0..4).filter(|j| !active.contains(j)).collect();
+        if inactive.is_empty() {
+            break;
+        }
+        let (gi, hi) = surface.derivatives(theta, f, &inactive, false)?;
+        for &j in &inactive {
+            g[j] = gi[j];
+            hess[j][j] = hi[j][j];
+        }
+        let z = scores(&gi, &hi);
+        let joining: Vec<usize> = inactive
+            .into_iter()
+            .filter(|&j| z[j].abs() >= Z_FLAG)
+            .collect();
+        if joining.is_empty() {
+            break;
+        }
+        active.extend(joining);
+        active.sort_unstable();
+    }
+    Ok((theta, f))
+}
+
+/// Newton's method on the log-scales of `active` (the others fixed), from `theta` with value
+/// `f`; returns the optimum, its value and the information matrix there (over `active`).
+fn newton(
+    surface: &Surface<'_>,
+    mut theta: [f64; 4],
+    mut f: f64,
+    active: &[usize],
+) -> Result<([f64; 4], f64, [[f64; 4]; 4]), DiagnoseError> {
+    for _ in 0..MAX_ITERATIONS {
+        let (g, hess) = surface.derivatives(theta, f, active, true)?;
+        if active.iter().any(|&j| !g[j].is_finite()) {
+            return Ok((theta, f, hess));
+        }
+        let m = active.len();
+        let info = information(&hess, active);
+        let Some(inv) = info.clone().try_inverse() else {
+            return Ok((theta, f, hess));
+        };
+        let gv = nalgebra::DVector::from_iterator(m, active.iter().map(|&j| g[j]));
+        let step = inv * gv;
+        let step: Vec<f64> = step.iter().map(|s| s.clamp(-MAX_STEP, MAX_STEP)).collect();
+        if step.iter().all(|s| s.abs() < CONVERGED) {
+            break;
+        }
+        let mut t = 1.0;
+        let mut moved = false;
+        for _ in 0..4 {
+            let mut cand = theta;
+            for (a, &j) in active.iter().enumerate() {
+                cand[j] += t * step[a];
+            }
+            let v = surface.at(&[cand])?[0];
+            if v > f {
+                theta = cand;
+                f = v;
+                moved = true;
+                break;
+            }
+            t *= 0.5;
+        }
+        let size = step.iter().fold(0.0f64, |m, s| m.max(s.abs())) * t;
+        if !moved || size < CONVERGED {
+            break;
+        }
+    }
+    let (_, hess) = surface.derivatives(theta, f, active, true)?;
+    Ok((theta, f, hess))
+}
+
+/// `-H` over `active`, made positive definite (eigenvalues at least [`MIN_CURVATURE`]);
+/// non-finite entries count as no information.
+fn information(hess: &[[f64; 4]; 4], active: &[usize]) -> nalgebra::DMatrix<f64> {
+    let m = active.len();
+    let raw = nalgebra::DMatrix::from_fn(m, m, |a, b| {
+        let v = -hess[active[a]][active[b]];
+        if v.is_finite() {
+            v
+        } else if a == b {
+            MIN_CURVATURE
+        } else {
+            0.0
+        }
+    });
+    let sym = 0.5 * (&raw + raw.transpose());
+    let mut e = sym.symmetric_eigen();
+    for l in e.eigenvalues.iter_mut() {
+        *l = l.max(MIN_CURVATURE);
+    }
+    e.recompose()
+}
+
+/// Checks the noise of `setup` (the levels `stated` scaled by `theta_start`, whose fit has
+/// log-likelihood `loglik_start`) on `ds` (module documentation).
+///
+/// Newton's method runs only over the sources whose score is at least [`Z_ACTIVE`] at the
+/// start levels, and those fitted earlier (the others' log-likelihood is typically flat, and
+/// letting them wander costs passes and changes nothing); at the optimum the other sources'
+/// scores are taken again, and any that became significant joins.
+#[allow(clippy::too_many_arguments)]
+pub fn check(
+    ds: &Dataset,
+    setup: &FitSetup,
+    loglik_start: f64,
+    stated: &NoiseConfig,
+    theta_start: [f64; 4],
+    registry: &Registry,
+    filter: &FilterChoice,
+) -> Result<NoiseFit, DiagnoseError> {
+    let surface = Surface {
+        ds,
+        setup,
+        stated: *stated,
+        registry,
+        filter,
+        passes: Default::default(),
+    };
+    let all = [0, 1, 2, 3];
+    let (mut theta, mut f) = (theta_start, loglik_start);
+    let mut failed_start = false;
+    if !f.is_finite() {
+        // The filter failed at the start levels: start from the best of a few common scales
+        // (variance x 7 to x 22000).
+        failed_start = true;
+        let starts: Vec<[f64; 4]> = (1..=5).map(|k| [2.0 * k as f64; 4]).collect();
+        let v = surface.at(&starts)?;
+        if let Some((k, &best)) = v
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| v.is_finite())
+            .max_by(|a, b| a.1.total_cmp(b.1))
+        {
+            theta = starts[k];
+            f = best;
+        }
+    }
+    // The axes at the start: scores and curvatures.
+    let (mut g, mut hess) = if f.is_finite() {
+        surface.derivatives(theta, f, &all, false)?
+    } else {
+        ([f64::NAN; 4], [[f64::NAN; 4]; 4])
+    };
+    let joined = |z: [f64; 4], active: &mut Vec<usize>, threshold: f64| {
+        let mut any = false;
+        for j in 0..4 {
+            if !active.contains(&j) && z[j].abs() >= threshold {
+                active.push(j);
+                any = true;
+            }
+        }
+        active.sort_unstable();
+        any
+    };
+    let z0 = scores(&g, &hess);
+    let mut active: Vec<usize> = if failed_start {
+        all.to_vec()
+    } else {
+        all.iter().copied().filter(|&j| theta[j] != 0.0).collect()
+    };
+    let mut refitted = failed_start || z0.iter().any(|z| z.abs() >= Z_FLAG);
+    if f.is_finite() && refitted {
+        joined(z0, &mut active, Z_ACTIVE);
+        if !failed_start && theta == theta_start {
+            let jump = model_jump(&surface, theta, f, &g, &hess, &active)?;
+            theta = jump.0;
+            f = jump.1;
+        }
+        (theta, f) = optimise(&surface, theta, f, &mut active, &mut g, &mut hess)?;
+    }
+    // Process noise stated far too small leaves the log-likelihood flat around the stated
+    // level (the filter ignores it either way), so the local score cannot see it: probe the
+    // gyro and accelerometer densities 10 and 100 times larger in sigma, from the optimum of
+    // the local search (probing first would let a process noise stand in for a measurement
+    // noise the local search finds at once).
+    if f.is_finite() && !failed_start {
+        let probes: Vec<(usize, [f64; 4])> = [0usize, 1]
+            .iter()
+            .filter(|j| !active.contains(j))
+            .flat_map(|&j| {
+                PROBES.iter().map(move |&p| {
+                    let mut t = theta;
+                    t[j] += p;
+                    (j, t)
+                })
+            })
+            .collect();
+        let v = surface.at(&probes.iter().map(|p| p.1).collect::<Vec<_>>())?;
+        let mut best = (f, theta);
+        let mut probed = false;
+        for ((j, t), &vj) in probes.iter().zip(&v) {
+            if vj - f > PROBE_GAIN {
+                probed = true;
+                if !active.contains(j) {
+                    active.push(*j);
+                }
+                if vj > best.0 {
+                    best = (vj, *t);
+                }
+            }
+        }
+        if probed {
+            refitted = true;
+            active.sort_unstable();
+            (theta, f) = optimise(&surface, best.1, best.0, &mut active, &mut g, &mut hess)?;
+        }
+    }
+    // Standard errors: the inverse information over the active sources; the axis curvature
+    // for the others.
+    let mut se = [0.0; 4];
+    if !active.is_empty() {
+        let info = information(&hess, &active);
+        let cov = info.try_inverse().unwrap_or_else(|| {
+            nalgebra::DMatrix::identity(active.len(), active.len()) / MIN_CURVATURE
+        });
+        for (a, &j) in active.iter().enumerate() {
+            se[j] = cov[(a, a)].max(0.0).sqrt();
+        }
+    }
+    for j in all.iter().copied().filter(|j| !active.contains(j)) {
+        let curv = -hess[j][j];
+        se[j] = if curv.is_finite() {
+            1.0 / curv.max(MIN_CURVATURE).sqrt()
+        } else {
+            1.0 / MIN_CURVATURE.sqrt()
+        };
+    }
+    let mut used_theta = [0.0; 4];
+    let ml = scaled(stated, theta);
+    let sources = SOURCES
+        .iter()
+        .enumerate()
+        .map(|(j, &source)| {
+            let z = theta[j] / se[j];
+            let verdict = if z.abs() > Z_FLAG {
+                used_theta[j] = theta[j];
+                if theta[j] > 0.0 {
+                    NoiseVerdict::UnderStated
+                } else {
+                    NoiseVerdict::OverStated
+                }
+            } else if (0.5 * 1.96 * se[j]).exp() > RESOLVED_SIGMA_FACTOR {
+                NoiseVerdict::Unresolved
+            } else {
+                NoiseVerdict::Fits
+            };
+            SourceFit {
+                source,
+                verdict,
+                sigma_ratio: (0.5 * theta[j]).exp(),
+                sigma_ratio_interval: [
+                    (0.5 * (theta[j] - 1.96 * se[j])).exp(),
+                    (0.5 * (theta[j] + 1.96 * se[j])).exp(),
+                ],
+                stated: source.values(stated),
+                fitted: source.values(&ml),
+            }
+        })
+        .collect();
+    Ok(NoiseFit {
+        model: setup.effects.clone(),
+        stated: *stated,
+        start: scaled(stated, theta_start),
+        refitted,
+        used: scaled(stated, used_theta),
+        used_theta,
+        theta,
+        theta_se: se,
+        sources,
+        loglik_gain: f - loglik_start,
+        passes: surface.passes.into_inner(),
+    })
+}

@@ -1,0 +1,278 @@
+//! The priors a diagnosis starts from, and how it keeps a prior from capping what it finds.
+//!
+//! **Where they come from.** Command-line flags over `dataset.toml`'s `[prior]` table over the
+//! defaults of [`navkf_dynamics::prior`] (which gives their reasons). Every value is kept with
+//! its source for the report.
+//!
+//! **Widening.** A Kalman filter shrinks each coefficient towards its prior: with prior sigma
+//! `s` and data information `F`, the estimate is `c_hat = c_ml (1 - p^2 / s^2)`, where `p` is
+//! the posterior sigma and `c_ml` the estimate the data alone would give. A true value several
+//! `s` away is then found only in part: it stalls at a few prior sigmas and leaves a misfit
+//! that looks like something else. After each fit, every constant coefficient's `c_ml` is
+//! recovered from that relation (`F = 1/p^2 - 1/s^2`, `c_ml = c_hat s^2 / (s^2 - p^2)`).
+//! Where the data pull it beyond [`WIDEN_BEYOND`] prior sigmas and disagree with the prior
+//! (`|c_ml|` beyond [`WIDEN_Z`] standard deviations of its prior predictive distribution
+//! `N(0, s^2 + 1/F)`), its prior is proposed `3 |c_ml|` wide. A posterior sigma close to the
+//! prior's is no reason to leave a coefficient alone: a torquer scale error of 3 % tested
+//! with a prior of 300 ppm ends at its prior sigma although the data put it 15 of their own
+//! standard errors from zero.
+//!
+//! The relation is exact for one coefficient on its own; among correlated ones it can
+//! propose a widening the data do not want. So the proposal is a hypothesis about the prior's
+//! width, tested like one: the model is refitted with the wider priors, and they are kept only
+//! if the marginal likelihood (the filter's own, with the priors' Occam factors) rises by at
+//! least [`WIDEN_EVIDENCE`], which a wider prior does only when the data put the coefficient
+//! out there. Refits go on until nothing more is proposed (at most [`MAX_WIDENINGS`]). An
+//! effect's coefficient may grow to [`WIDEST_EFFECT`] times its starting prior: how large it
+//! is, is the question. A base coefficient only to [`WIDEST_BASE`] times: beyond that the
+//! platform belongs to another class than the stated (or default) priors describe, its user
+//! should state priors for it, and a base coefficient let free that far would soak up what a
+//! missing effect does (a drag on the paper's test is matched, to the last unit of
+//! log-likelihood, by g-sensitive drifts 500 times their typical size). The likelihoods compared
+//! afterwards do not depend on the prior's width ([`super::fit::Fit::profile_loglik`]), so a
+//! real effect found with a wide prior is not punished for it.
+
+use super::fit::{fit, FilterChoice, Fit, FitSetup};
+use super::DiagnoseError;
+use navkf_dynamics::dataset::Dataset;
+use navkf_dynamics::prior::{default_azimuth_rad, default_level_rad, PlatformPrior, PriorSource};
+use navkf_dynamics::simulate::base_coefficient_sigma;
+use navkf_dynamics::state::{BASE_DIM, BASE_NAMES, NAV_DIM};
+use navkf_dynamics::Registry;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// A coefficient pulled beyond this many prior sigmas gets a wider prior.
+pub const WIDEN_BEYOND: f64 = 3.0;
+/// ... and the data disagree with the prior by this many standard deviations of the
+/// estimate's prior predictive distribution.
+pub const WIDEN_Z: f64 = 3.5;
+/// Most refits with widened priors per fit.
+pub const MAX_WIDENINGS: usize = 4;
+/// A base coefficient's prior is not widened beyond this many times the one the diagnosis
+/// started from: far beyond it the platform is of another class than the priors describe,
+/// and a base coefficient that free would soak up what a missing effect does (a drag is
+/// matched by g-sensitive drifts 500 times their typical size).
+pub const WIDEST_BASE: f64 = 30.0;
+/// An effect's coefficient's prior is not widened beyond this many times its starting one:
+/// its size is what the diagnosis is asked for.
+pub const WIDEST_EFFECT: f64 = 1000.0;
+/// A widening is kept only if the marginal log-likelihood rises by at least this ("strong"
+/// evidence for the wider prior: a Bayes factor of e^3, about 20).
+pub const WIDEN_EVIDENCE: f64 = 3.0;
+/// A coefficient whose variance fell by less than this share is not informed by the data at
+/// all (and the data-only estimate cannot be recovered from the rounding).
+const UNINFORMED: f64 = 1e-6;
+
+/// The prior sigmas a fit starts from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Priors {
+    /// Initial level error, rad.
+    pub level_rad: f64,
+    /// Initial azimuth error, rad.
+    pub azimuth_rad: f64,
+    /// Coefficients whose sigma is not their typical one (stated or widened), by name.
+    pub coefficients: BTreeMap<String, f64>,
+    /// The coefficient sigmas the diagnosis started from (stated ones; the others are
+    /// typical): the unit of the widening's caps.
+    pub stated: BTreeMap<String, f64>,
+    /// Coefficients of effects whose presence and size are the question (candidates, and
+    /// effects named or added by `--with`): they may widen to [`WIDEST_EFFECT`]; the base
+    /// model's, to [`WIDEST_BASE`].
+    pub open: Vec<String>,
+}
+
+impl Priors {
+    /// The priors the diagnosis started from: every widening undone.
+    pub fn restarted(&self) -> Priors {
+        Priors {
+            coefficients: self.stated.clone(),
+            ..self.clone()
+        }
+    }
+}
+
+/// One prior as the report shows it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PriorEntry {
+    /// `level_rad`, `azimuth_rad` or a coefficient's name.
+    pub name: String,
+    /// One-sigma the diagnosis starts from.
+    pub sigma: f64,
+    /// The project's default for it.
+    pub default: f64,
+    /// Where `sigma` came from.
+    pub source: PriorSource,
+}
+
+/// The starting priors for `ds`: `flags` over the dataset's `[prior]` table over the defaults
+/// (the azimuth's at the dataset's first latitude). Returns them with the report's table: the
+/// tilt, the 13 base coefficients and every stated effect coefficient.
+pub fn resolve(ds: &Dataset, flags: &PlatformPrior, start_lat: f64) -> (Priors, Vec<PriorEntry>) {
+    let stated = ds.prior.overridden_by(flags);
+    let source = |from_flag: bool| {
+        if from_flag {
+            PriorSource::Flag
+        } else {
+            PriorSource::Dataset
+        }
+    };
+    let mut entries = Vec::new();
+    let mut tilt = |name: &str, value: Option<f64>, flag: Option<f64>, default: f64| {
+        let (sigma, src) = match value {
+            Some(v) => (v, source(flag.is_some())),
+            None => (default, PriorSource::Default),
+        };
+        entries.push(PriorEntry {
+            name: name.into(),
+            sigma,
+            default,
+            source: src,
+        });
+        sigma
+    };
+    let level_rad = tilt(
+        "level_rad",
+        stated.level_rad,
+        flags.level_rad,
+        default_level_rad(),
+    );
+    let azimuth_rad = tilt(
+        "azimuth_rad",
+        stated.azimuth_rad,
+        flags.azimuth_rad,
+        default_azimuth_rad(start_lat),
+    );
+    for (i, name) in BASE_NAMES.iter().enumerate().take(BASE_DIM).skip(NAV_DIM) {
+        let default = base_coefficient_sigma(i);
+        let (sigma, src) = match stated.coefficients.get(*name) {
+            Some(&v) => (v, source(flags.coefficients.contains_key(*name))),
+            None => (default, PriorSource::Default),
+        };
+        entries.push(PriorEntry {
+            name: name.to_string(),
+            sigma,
+            default,
+            source: src,
+        });
+    }
+    for (name, &v) in &stated.coefficients {
+        if !BASE_NAMES.contains(&name.as_str()) {
+            entries.push(PriorEntry {
+                name: name.clone(),
+                sigma: v,
+                default: f64::NAN,
+                source: source(flags.coefficients.contains_key(name)),
+            });
+        }
+    }
+    (
+        Priors {
+            level_rad,
+            azimuth_rad,
+            stated: stated.coefficients.clone(),
+            coefficients: stated.coefficients,
+            open: Vec::new(),
+        },
+        entries,
+    )
+}
+
+/// One prior widened during a fit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Widening {
+    /// Coefficient.
+    pub name: String,
+    /// Prior sigma before.
+    pub from: f64,
+    /// Prior sigma after.
+    pub to: f64,
+    /// The estimate the data alone gave, which asked for it.
+    pub implied_estimate: f64,
+    /// Whether `to` is the widest prior allowed (the data asked for more).
+    pub at_cap: bool,
+}
+
+/// How many times its starting prior coefficient `name` may widen to.
+pub fn widest_factor(priors: &Priors, name: &str) -> f64 {
+    if priors.open.iter().any(|o| o == name) {
+        WIDEST_EFFECT
+    } else {
+        WIDEST_BASE
+    }
+}
+
+/// The widenings `f` asks for (module documentation), in state order, leaving out the
+/// coefficients in `refused`.
+pub fn widenings(f: &Fit, refused: &[String]) -> Vec<Widening> {
+    let mut out = Vec::new();
+    for i in NAV_DIM..f.names.len() {
+        if f.noisy[i] || refused.contains(&f.names[i]) {
+            continue;
+        }
+        let s = f.prior_sigma[i];
+        let p2 = f.sigma(i).powi(2);
+        let shrink = p2 / (s * s);
+        if !(shrink < 1.0 - UNINFORMED) {
+            continue;
+        }
+        let c_ml = f.x[i] / (1.0 - shrink);
+        let var_ml = p2 / (1.0 - shrink);
+        let start = f
+            .setup
+            .priors
+            .stated
+            .get(&f.names[i])
+            .copied()
+            .unwrap_or(f.typical_sigma[i]);
+        let widest = start * widest_factor(&f.setup.priors, &f.names[i]);
+        // Under the prior, c_ml ~ N(0, s^2 + var_ml): beyond WIDEN_Z of that, data and prior
+        // disagree.
+        let disagree = c_ml * c_ml > WIDEN_Z * WIDEN_Z * (s * s + var_ml);
+        if c_ml.abs() > WIDEN_BEYOND * s && disagree && s < widest {
+            out.push(Widening {
+                name: f.names[i].clone(),
+                from: s,
+                to: (3.0 * c_ml.abs()).min(widest),
+                implied_estimate: c_ml,
+                at_cap: 3.0 * c_ml.abs() >= widest,
+            });
+        }
+    }
+    out
+}
+
+/// Fits `setup`, widening priors until none caps its coefficient (module documentation).
+/// Returns the last fit (its setup holds the priors it was fitted with) and the widenings
+/// kept.
+pub fn fit_adaptive(
+    ds: &Dataset,
+    setup: &FitSetup,
+    registry: &Registry,
+    filter: &FilterChoice,
+) -> Result<(Fit, Vec<Widening>), DiagnoseError> {
+    let mut f = fit(ds, setup, registry, filter)?;
+    let mut log = Vec::new();
+    let mut refused: Vec<String> = Vec::new();
+    for _ in 0..MAX_WIDENINGS {
+        if f.failure.is_some() {
+            break;
+        }
+        let w = widenings(&f, &refused);
+        if w.is_empty() {
+            break;
+        }
+        let mut trial = f.setup.clone();
+        for wi in &w {
+            trial.priors.coefficients.insert(wi.name.clone(), wi.to);
+        }
+        let g = fit(ds, &trial, registry, filter)?;
+        if g.failure.is_none() && g.loglik >= f.loglik + WIDEN_EVIDENCE {
+            f = g;
+            log.extend(w);
+        } else {
+            refused.extend(w.into_iter().map(|wi| wi.name));
+        }
+    }
+    Ok((f, log))
+}

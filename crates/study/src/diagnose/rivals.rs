@@ -1,0 +1,71 @@
+//! Explanations outside the catalogue that a noise-only candidate must beat before it is
+//! named.
+//!
+//! A noise-only term fitted by maximum likelihood can soak up any slow misfit: a random walk
+//! of the gyro drifts (`gyro-bias-walk`) tracks a drag, a warming-up accelerometer bias, a
+//! torquer scale error. Whether the data single out the *gyros* is a question the data can
+//! answer, because a gyro drift reaches the velocity through the tilt (`g phi`, one more
+//! integration) and an accelerometer error reaches it directly: the two random walks give
+//! velocity errors of different spectral shapes. So before naming `gyro-bias-walk`, the
+//! diagnosis fits the same walk on the accelerometer biases ([`AccelBiasWalk`], not in the
+//! catalogue, never named), and names the gyro walk only if it fits decisively better. When
+//! it does not, the report says that a slow drift is there and that the data cannot say
+//! where it comes from.
+
+use navkf_dynamics::state::{KA0X, KA0Y};
+use navkf_dynamics::{Effect, NoiseChannel};
+
+/// Random walks of the accelerometer biases `Ka0x`, `Ka0y` of density `q` ((m/s^2)^2/s).
+#[derive(Debug, Clone)]
+pub struct AccelBiasWalk {
+    /// The density.
+    pub psd: f64,
+}
+
+impl AccelBiasWalk {
+    /// The registry name.
+    pub const NAME: &'static str = "accel-bias-walk";
+    /// Typical density: the bias wanders by `sqrt(q T)` = 1e-4 m/s^2 (10 micro-g) over a
+    /// 2400 s test.
+    pub const DEFAULT_PSD: f64 = 4.0e-12;
+}
+
+impl Default for AccelBiasWalk {
+    fn default() -> Self {
+        AccelBiasWalk {
+            psd: Self::DEFAULT_PSD,
+        }
+    }
+}
+
+impl Effect for AccelBiasWalk {
+    fn name(&self) -> &str {
+        Self::NAME
+    }
+    fn description(&self) -> &str {
+        "Ka0x, Ka0y wander as random walks of density q ((m/s^2)^2/s) (outside the catalogue)"
+    }
+    fn adds_rates(&self) -> bool {
+        false
+    }
+    fn process_noise(&self) -> Vec<NoiseChannel> {
+        [("w_ax0", KA0X), ("w_ay0", KA0Y)]
+            .iter()
+            .map(|(name, state)| NoiseChannel {
+                name: name.to_string(),
+                state: *state,
+                psd: self.psd,
+            })
+            .collect()
+    }
+    fn set_parameter(&mut self, value: f64) -> Result<(), String> {
+        if value.is_finite() && value >= 0.0 {
+            self.psd = value;
+            Ok(())
+        } else {
+            Err(format!(
+                "accel-bias-walk density {value}: expected a finite q >= 0"
+            ))
+        }
+    }
+}

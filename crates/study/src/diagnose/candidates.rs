@@ -61,6 +61,8 @@ pub const INDISTINGUISHABLE: f64 = 0.9;
 pub const CONSTANCY_ALPHA: f64 = 1e-3;
 /// Decades of a noise-only term's density searched below and above its typical value.
 const DENSITY_DECADES: (i32, i32) = (-2, 6);
+/// Spacing of that grid, decades.
+const DENSITY_STEP: i32 = 2;
 
 /// Whether a candidate adds coefficients or only process noise.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -314,6 +316,7 @@ pub fn fit_density(
         Ok((decade, v, f))
     };
     let grid: Vec<f64> = (DENSITY_DECADES.0..=DENSITY_DECADES.1)
+        .step_by(DENSITY_STEP as usize)
         .map(f64::from)
         .collect();
     let mut tried = grid
@@ -325,12 +328,14 @@ pub fn fit_density(
         .unwrap_or(0);
     let mut log10_se = None;
     if best > 0 && best + 1 < tried.len() {
+        // A parabola through the best grid point and its neighbours (in decades): its
+        // vertex is the next try, its curvature the resolution.
+        let h = f64::from(DENSITY_STEP);
         let (l, c, r) = (tried[best - 1].1, tried[best].1, tried[best + 1].1);
-        // The grid is one decade apart: the curvature is per decade squared.
-        let curvature = l - 2.0 * c + r;
+        let curvature = (l - 2.0 * c + r) / (h * h);
         if curvature < 0.0 && l.is_finite() && r.is_finite() {
             log10_se = Some(1.0 / (-curvature).sqrt());
-            let offset = (0.5 * (l - r) / curvature).clamp(-0.5, 0.5);
+            let offset = ((r - l) / (2.0 * h) / -curvature).clamp(-h, h);
             tried.push(at(grid[best] + offset)?);
         }
     }

@@ -1,32 +1,36 @@
 //! Diagnosis: compare a model with a dataset, see where it fails, and learn which catalogued
 //! effects are missing, on data whose noise and effect sizes nobody chose to suit it.
 //!
-//! 1. **Priors** ([`priors`]): flags over `dataset.toml`'s `[prior]` over the defaults; any
-//!    coefficient the data pull beyond its prior gets a wider one and the model is refitted,
-//!    so a prior never caps what can be found.
-//! 2. **Fit** ([`fit`]) the model under test (base plus `--with` effects) with a filter
-//!    (the EKF by default), keeping every innovation, its covariance, the NIS, the
-//!    log-likelihood and each coefficient's path.
-//! 3. **Noise** ([`noise`]): does the stated noise fit? A scale per source (gyro,
-//!    accelerometer, odometer, GPS) fitted by maximum likelihood; sources off by more than the
-//!    data's resolution take their fitted level from here on, and the report says so.
-//! 4. **Where it fails** ([`consistency`]): NIS overall, in sliding windows and per motion
-//!    phase; whiteness of each channel.
-//! 5. **Which effects** ([`candidates`]): forward selection in rounds. Each round refits the
-//!    model with every catalogued effect not yet in it (in parallel), weighs them by BIC gain
-//!    on the maximised innovation likelihood, names the decisive one that explains most, and
-//!    re-ranks the rest with it in the model. It stops when no candidate is decisive: not
-//!    when the model first looks consistent, because a likelihood-ratio test sees effects
-//!    that NIS and whiteness tests cannot. With a mis-stated noise found in step 3, the noise
-//!    is checked again after each named effect (a structured misfit inflates the fitted
-//!    noise, and must not be explained away as noise).
-//! 6. **Constancy**: a named structured effect whose coefficients do not behave as
-//!    constants in the final model is withdrawn: it stood in for something the catalogue
-//!    lacks ([`candidates::constancy`]).
+//! 1. **Priors** ([`priors`]): flags over `dataset.toml`'s `[prior]` over the defaults of
+//!    [`navkf_dynamics::prior`]. A coefficient the data pull beyond its prior gets a wider
+//!    one, kept if the marginal likelihood says so, so that a prior does not cap what can be
+//!    found.
+//! 2. **Fit** ([`fit`]) the model under test (base plus `--with` effects) with a filter (the
+//!    EKF by default), keeping every innovation, its covariance, the NIS, the log-likelihood
+//!    and each coefficient's path. Models are compared on the likelihood at their estimates,
+//!    which does not depend on how wide a prior was ([`fit::Fit::profile_loglik`]).
+//! 3. **Rounds** of forward selection ([`candidates`]). Each round weighs, against the model
+//!    as it stands: every catalogued effect not yet in it (refitted with it, in parallel);
+//!    the noise-only terms with their density fitted; and the noise levels themselves
+//!    ([`noise`]: does the stated noise fit? a scale per source, fitted by maximum likelihood
+//!    where the score test says it is off). The evidence is the BIC gain on the maximised
+//!    innovation likelihood; the decisive candidate that explains most is named, and the next
+//!    round re-ranks the rest with it in the model. Noise competes with structure rather than
+//!    going first, because a missing effect inflates the fitted noise: the right structural
+//!    model has the larger likelihood, and a noise explanation must beat the best structured
+//!    one decisively to be named ([`rivals`] adds the accelerometer-walk check for noise
+//!    terms). The search stops when nothing is decisive, not when the model first looks
+//!    consistent: a likelihood-ratio test sees effects that NIS and whiteness tests cannot.
+//! 4. **Constancy**: a named structured effect whose coefficients differ between the two
+//!    halves of the record is withdrawn: it stood in for something the catalogue lacks
+//!    ([`candidates::constancy`]); a noise term whose density differs likewise.
+//! 5. **Where it fails** ([`consistency`]): NIS overall, in sliding windows and per motion
+//!    phase; whiteness of each channel, over seconds and over minutes.
 //!
-//! The verdict is `consistent` (nothing named, and the model under test is consistent),
-//! `explained` (the named effects make it consistent), `partly explained` (they help
-//! decisively, but a misfit remains that nothing in the catalogue explains) or `unexplained`.
+//! The verdict is `consistent` (nothing named, and the model is consistent with the data, at
+//! fitted noise levels if the stated ones were off), `explained` (the named effects make it
+//! consistent), `partly explained` (they help decisively, but a misfit remains that nothing
+//! in the catalogue explains) or `unexplained`.
 
 pub mod candidates;
 pub mod consistency;

@@ -411,18 +411,20 @@ fn fit_table(out: &mut String, title: &str, f: &FitSummary) {
     );
     let _ = writeln!(
         out,
-        "| channel | white | Ljung-Box (99 % critical) | mean | variance |\n|---|---|---|---|---|"
+        "| channel | white | Ljung-Box (critical) | mean | variance | slow drift: block-sum variance (critical) |\n|---|---|---|---|---|---|"
     );
     for w in &f.whiteness {
         let _ = writeln!(
             out,
-            "| {} | {} | {:.1} ({:.1}) | {:+.3} | {:.3} |",
+            "| {} | {} | {:.1} ({:.1}) | {:+.3} | {:.3} | {:.2} ({:.2}) |",
             w.channel,
             if w.white { "yes" } else { "no" },
             w.ljung_box,
             w.critical,
             w.mean,
-            w.variance
+            w.variance,
+            w.block_variance,
+            w.block_critical
         );
     }
     let _ = writeln!(

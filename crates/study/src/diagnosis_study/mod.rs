@@ -287,6 +287,9 @@ pub struct Record {
     /// BIC gain, in the first automatic round, of each hidden catalogued effect (what the
     /// detection curves are made of).
     pub first_round_bic: BTreeMap<String, f64>,
+    /// For the coefficients of hidden effects that were named: (estimate - truth) / sigma in
+    /// the final model (standard normal if the estimates and their sigmas are honest).
+    pub estimate_errors: BTreeMap<String, f64>,
     /// The error, if the diagnosis stopped.
     pub error: Option<String>,
 }
@@ -308,6 +311,7 @@ fn run_one(
         withdrawn: Vec::new(),
         rounds: 0,
         first_round_bic: BTreeMap::new(),
+        estimate_errors: BTreeMap::new(),
         error: None,
     };
     let result = content::simulate(config, trajectory, p)
@@ -322,6 +326,19 @@ fn run_one(
                 .rounds
                 .iter()
                 .any(|r| r.named.iter().any(|n| n == "noise levels"));
+            for c in &d.model.coefficients {
+                let hidden_named = p.hidden.iter().any(|h| match h {
+                    Hidden::Effect { name, values, .. } => {
+                        d.effects.contains(name) && values.contains_key(&c.name)
+                    }
+                    _ => false,
+                });
+                if let (true, Some(t)) = (hidden_named, c.truth) {
+                    record
+                        .estimate_errors
+                        .insert(c.name.clone(), (c.estimate - t) / c.sigma);
+                }
+            }
             if let Some(first) = d.rounds.first() {
                 for h in &p.hidden {
                     if let Some(e) = h.effect() {

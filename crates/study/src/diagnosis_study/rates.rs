@@ -214,6 +214,10 @@ pub struct Rates {
     pub confusion: Vec<ConfusionRow>,
     /// Single effects: hidden effect (rows) by named effect or "nothing" (columns).
     pub effect_matrix: BTreeMap<String, BTreeMap<String, usize>>,
+    /// Named hidden effects' coefficients: share with |estimate - truth| < 3 sigma.
+    pub estimates_within_3_sigma: Rate,
+    /// Their RMS of (estimate - truth) / sigma (1 when the sigmas are honest).
+    pub estimate_error_rms: f64,
     /// The targets.
     pub targets: Vec<Target>,
 }
@@ -549,7 +553,15 @@ pub fn rates(records: &[Record]) -> Rates {
         measured: pairs_both_above.to_string(),
         met: pairs_both_above.n > 0 && pairs_both_above.rate >= 0.9,
     });
+    let z: Vec<f64> = records
+        .iter()
+        .flat_map(|r| r.estimate_errors.values().copied())
+        .collect();
+    let estimates_within_3_sigma = Rate::of(z.iter().filter(|v| v.abs() < 3.0).count(), z.len());
+    let estimate_error_rms = (z.iter().map(|v| v * v).sum::<f64>() / z.len().max(1) as f64).sqrt();
     Rates {
+        estimates_within_3_sigma,
+        estimate_error_rms,
         datasets: records.len(),
         errors: records.iter().filter(|r| r.error.is_some()).count(),
         clean_named,

@@ -98,6 +98,11 @@ pub fn markdown(s: &Summary, command: &str, timing: Option<Timing>) -> String {
     );
     let _ = writeln!(
         out,
+        "Estimates of the named hidden effects' coefficients (final model): within 3 sigma of the truth {}; RMS of (estimate - truth) / sigma {:.2} (1 if the sigmas are honest).\n",
+        r.estimates_within_3_sigma, r.estimate_error_rms
+    );
+    let _ = writeln!(
+        out,
         "## Detection\n\nPer catalogued effect, over the datasets that hid it alone (sizes log-uniform, as multiples of its typical size): the size named 90 % of the time on a logistic fit, and the share named above it. ![detection](detection.png)\n"
     );
     let _ = writeln!(

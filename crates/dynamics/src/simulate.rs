@@ -474,7 +474,9 @@ impl Simulator {
             if (k + 1) % self.steps_per_measurement == 0 {
                 let t = (k + 1) as f64 * h;
                 model.measure(&x, &mut z);
-                let speed = x[V_X].hypot(x[V_Y]);
+                // The odometer's noise scales with its own reading (which an odometer scale
+                // error makes differ from the true speed), as the filters assume.
+                let speed = z[0].hypot(z[1]);
                 let sig = self.noise.measurement_sigmas(speed, x[LAT]);
                 let mut e = [0.0; MEAS_DIM];
                 for (ei, s) in e.iter_mut().zip(sig) {

@@ -323,14 +323,14 @@ fn priors_from_dataset_toml_and_flags_reach_the_filter() {
 
 #[test]
 fn a_prior_far_too_narrow_is_widened_until_the_truth_fits() {
-    // The user states kod within 1e-4 (0.01 %) and Kg0x within 0.002 deg/h; the truth has a
-    // 1.5 % scale and a 0.4 deg/h drift (150 and 200 of those sigmas).
+    // The user states kod within 1e-4 (0.01 %) and Kg0x within 0.004 deg/h; the truth has a
+    // 1.5 % scale and a 0.08 deg/h drift (150 and 20 of those sigmas).
     let mut ds = dataset(
         catalogue(&["odometer-scale"]),
-        &[("kod", 0.015), ("Kg0x", 2e-6)],
+        &[("kod", 0.015), ("Kg0x", 4e-7)],
         51,
     );
-    ds.prior.coefficients = [("kod".to_string(), 1e-4), ("Kg0x".to_string(), 1e-8)].into();
+    ds.prior.coefficients = [("kod".to_string(), 1e-4), ("Kg0x".to_string(), 2e-8)].into();
     let d = run(&ds);
     assert_eq!(d.effects, ["odometer-scale"], "{:#?}", d.findings);
     for name in ["kod", "Kg0x"] {

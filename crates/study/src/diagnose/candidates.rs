@@ -362,19 +362,54 @@ pub struct DensityFit {
     pub log10_se: Option<f64>,
 }
 
-/// Coefficients of the candidate (those after the model's own `n_model` states) strongly
-/// correlated with a model coefficient at the end of the fit.
+/// Coefficients of the candidate (those after the model's own `n_model` states) that cannot
+/// be told apart from one of the model's: correlated beyond [`INDISTINGUISHABLE`] in the
+/// posterior the data would give from the priors the diagnosis started from.
+///
+/// Not the fit's own posterior: after widening, two coefficients the data see only as a sum
+/// (`Kg13z fz` and `Kg0z` on a level vehicle) can carry priors a hundred times apart, and
+/// their posterior correlation is then near zero although nothing but the priors separates
+/// them. Nor the data alone: a drag and the g-sensitive drifts are nearly collinear on the
+/// paper's test, and only the platform's priors (a drift of 500 times its typical size is not
+/// this platform's) tell them apart. So the data's information `F = P_c^-1 - P0^-1` is put
+/// back on the starting priors and the correlation read from `(F + P_start^-1)^-1`.
 fn confusion(f: &Fit, n_model: usize) -> Vec<Confusion> {
     let n = f.names.len();
+    let idx: Vec<usize> = (NAV_DIM..n).filter(|&i| !f.noisy[i]).collect();
+    let m = idx.len();
+    let p = nalgebra::DMatrix::from_fn(m, m, |a, b| f.p[idx[a] + idx[b] * n]);
+    let Some(p_inv) = p.clone().cholesky().map(|c| c.inverse()) else {
+        return Vec::new();
+    };
+    let mut precision = p_inv;
+    for (a, &i) in idx.iter().enumerate() {
+        let start = f
+            .setup
+            .priors
+            .stated
+            .get(&f.names[i])
+            .copied()
+            .unwrap_or(f.typical_sigma[i]);
+        precision[(a, a)] += 1.0 / (start * start) - 1.0 / (f.prior_sigma[i] * f.prior_sigma[i]);
+    }
+    let Some(c) = precision.cholesky().map(|c| c.inverse()) else {
+        return Vec::new();
+    };
     let mut out = Vec::new();
-    for i in n_model..n {
-        for j in NAV_DIM..n_model {
-            let c = f.p[i + j * n] / (f.p[i + i * n] * f.p[j + j * n]).sqrt();
-            if c.abs() > INDISTINGUISHABLE {
+    for (u, &i) in idx.iter().enumerate() {
+        if i < n_model {
+            continue;
+        }
+        for (v, &j) in idx.iter().enumerate() {
+            if j >= n_model {
+                continue;
+            }
+            let corr = c[(u, v)] / (c[(u, u)] * c[(v, v)]).sqrt();
+            if corr.abs() > INDISTINGUISHABLE {
                 out.push(Confusion {
                     coefficient: f.names[i].clone(),
                     with: f.names[j].clone(),
-                    correlation: c,
+                    correlation: corr,
                 });
             }
         }
@@ -440,6 +475,31 @@ pub fn select(cands: &mut [Candidate], not_specific: &[usize]) -> (Option<usize>
             .map(|(i, c)| (i, c.bic_gain))
     };
     let structured = best(cands, false);
+    // The misfit is best explained by something the trajectory cannot tell apart from the
+    // model's own coefficients: naming a lesser candidate would name a stand-in.
+    let confounded = cands
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.outcome == Outcome::Confounded)
+        .max_by(|a, b| a.1.bic_gain.total_cmp(&b.1.bic_gain))
+        .map(|(i, c)| (i, c.bic_gain));
+    let best_named = structured
+        .map(|s| s.1)
+        .into_iter()
+        .chain(best(cands, true).map(|n| n.1))
+        .fold(f64::NEG_INFINITY, f64::max);
+    if let Some((i, bc)) = confounded {
+        if bc - best_named >= DECISIVE_BIC && best_named > f64::NEG_INFINITY {
+            notes.push(format!(
+                "`{}` explains the misfit decisively better than any candidate that could be \
+                 named (BIC gain {bc:.0} against {best_named:.0}), but the trajectory cannot tell \
+                 it apart from coefficients already in the model: naming a lesser candidate would \
+                 name a stand-in, so nothing is named in this round.",
+                cands[i].effect
+            ));
+            return (None, notes);
+        }
+    }
     let named = loop {
         let noise = best(cands, true);
         match (structured, noise) {

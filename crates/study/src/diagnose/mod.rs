@@ -373,11 +373,10 @@ pub fn diagnose(
 ) -> Result<(Diagnosis, Fits), DiagnoseError> {
     let (_, _, start) = fit::first_full_measurement(ds)?;
     let (start_priors, prior_entries) = priors::resolve(ds, &opts.prior, start[0]);
-    let stated = ds.noise;
     let base = FitSetup {
         effects: Vec::new(),
         parameters: BTreeMap::new(),
-        noise: stated,
+        noise: ds.noise,
         priors: start_priors.clone(),
     };
     let mut under_test = FitSetup {
@@ -402,63 +401,10 @@ pub fn diagnose(
     let mut noise_theta = [0.0; 4];
     let mut noise_checks: Vec<NoiseFit> = Vec::new();
     for _ in 0..opts.max_rounds {
-        let summary = summarize_fit(ds, &current, opts);
-        let model = Model {
-            fit: &current,
-            summary: &summary,
-        };
-        let mut evaluated = evaluate_all(ds, &model, registry, opts)?;
-        if opts.fit_noise {
-            let check = noise::check(
-                ds,
-                &current.setup,
-                current.loglik,
-                &stated,
-                noise_theta,
-                registry,
-                &opts.filter,
-            )?;
-            if check.refitted && check.used != current.setup.noise {
-                evaluated.push(noise_candidate(
-                    ds,
-                    &model,
-                    &check,
-                    &start_priors,
-                    registry,
-                    opts,
-                )?);
-            }
-            noise_checks.push(check);
-        }
-        let mut cands: Vec<Candidate> = evaluated.iter().map(|e| e.candidate.clone()).collect();
-        let mut not_specific = Vec::new();
-        let mut rival_notes = Vec::new();
-        let (choice, mut notes) = loop {
-            let (choice, notes) = select(&mut cands, &not_specific);
-            if let Some(i) = choice.filter(|&i| cands[i].kind == CandidateKind::NoiseOnly) {
-                if let Some(note) = rival_note(ds, &current, &evaluated[i], registry, opts)? {
-                    not_specific.push(i);
-                    rival_notes.push(note);
-                    continue;
-                }
-            }
-            break (choice, notes);
-        };
-        notes.extend(rival_notes);
-        cands_sort(&mut cands);
-        rounds.push(Round {
-            kind: RoundKind::Automatic,
-            model: current.effects.clone(),
-            nis: summary.nis.clone(),
-            consistent: summary.consistent,
-            candidates: cands.clone(),
-            named: choice
-                .map(|i| vec![evaluated[i].candidate.effect.clone()])
-                .unwrap_or_default(),
-            notes,
-        });
-        let Some(i) = choice else { break };
-        let chosen = evaluated.swap_remove(i);
+        let (round, chosen, check) = run_round(ds, &current, noise_theta, registry, opts)?;
+        rounds.push(round);
+        noise_checks.extend(check);
+        let Some(chosen) = chosen else { break };
         if chosen.candidate.kind == CandidateKind::NoiseLevels {
             if let Some(n) = &chosen.candidate.noise {
                 noise_theta = n.used_theta;
@@ -551,9 +497,70 @@ pub fn diagnose(
     ))
 }
 
-/// Candidates best first (by BIC gain), for the report.
-fn cands_sort(cands: &mut [Candidate]) {
+/// One round of the forward selection on the model `current` (whose noise levels are the
+/// stated ones scaled by `noise_theta`): every candidate weighed, the noise checked, the
+/// choice made. Returns the round, the named candidate with its fit (the next model), and
+/// the noise check.
+fn run_round(
+    ds: &Dataset,
+    current: &Fit,
+    noise_theta: [f64; 4],
+    registry: &Registry,
+    opts: &Options,
+) -> Result<(Round, Option<candidates::Evaluated>, Option<NoiseFit>), DiagnoseError> {
+    let summary = summarize_fit(ds, current, opts);
+    let model = Model {
+        fit: current,
+        summary: &summary,
+    };
+    let mut evaluated = evaluate_all(ds, &model, registry, opts)?;
+    let mut check = None;
+    if opts.fit_noise {
+        let c = noise::check(
+            ds,
+            &current.setup,
+            current.loglik,
+            &ds.noise,
+            noise_theta,
+            registry,
+            &opts.filter,
+        )?;
+        if c.refitted && c.used != current.setup.noise {
+            evaluated.push(noise_candidate(ds, &model, &c, registry, opts)?);
+        }
+        check = Some(c);
+    }
+    let mut cands: Vec<Candidate> = evaluated.iter().map(|e| e.candidate.clone()).collect();
+    // A noise-only choice must beat its rival outside the catalogue ([`rivals`]); if it does
+    // not, it is set aside and the choice made again.
+    let mut not_specific = Vec::new();
+    let mut rival_notes = Vec::new();
+    let (choice, mut notes) = loop {
+        let (choice, notes) = select(&mut cands, &not_specific);
+        if let Some(i) = choice.filter(|&i| cands[i].kind == CandidateKind::NoiseOnly) {
+            if let Some(note) = rival_note(ds, current, &evaluated[i], registry, opts)? {
+                not_specific.push(i);
+                rival_notes.push(note);
+                continue;
+            }
+        }
+        break (choice, notes);
+    };
+    notes.extend(rival_notes);
+    let named = choice
+        .map(|i| vec![cands[i].effect.clone()])
+        .unwrap_or_default();
     cands.sort_by(|a, b| b.bic_gain.total_cmp(&a.bic_gain));
+    let round = Round {
+        kind: RoundKind::Automatic,
+        model: current.effects.clone(),
+        nis: summary.nis.clone(),
+        consistent: summary.consistent,
+        candidates: cands,
+        named,
+        notes,
+    };
+    Ok((round, choice.map(|i| evaluated.swap_remove(i)), check))
 }
 
 /// Whether a random walk of the accelerometer biases ([`rivals::AccelBiasWalk`], outside the
@@ -606,13 +613,12 @@ fn noise_candidate(
     ds: &Dataset,
     model: &Model<'_>,
     check: &NoiseFit,
-    start_priors: &priors::Priors,
     registry: &Registry,
     opts: &Options,
 ) -> Result<candidates::Evaluated, DiagnoseError> {
     let mut setup = model.fit.setup.clone();
     setup.noise = check.used;
-    setup.priors = start_priors.clone();
+    setup.priors = setup.priors.restarted();
     let (fit, widened) = fit_adaptive(ds, &setup, registry, &opts.filter)?;
     let s = summarize_fit(ds, &fit, opts);
     let keep: Vec<String> = fit

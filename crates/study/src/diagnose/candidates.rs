@@ -347,6 +347,7 @@ pub fn fit_density(
         fit,
         density: typical * 10f64.powf(decade),
         log10_se,
+        at_lower_edge: best == 0,
     })
 }
 
@@ -360,6 +361,9 @@ pub struct DensityFit {
     /// Standard error of its decimal logarithm, from the likelihood's curvature; `None`
     /// when the maximum is at the edge of the grid or the likelihood is flat there.
     pub log10_se: Option<f64>,
+    /// Whether the maximum is at the grid's smallest density: the data want none of it (the
+    /// density is then at most the one given).
+    pub at_lower_edge: bool,
 }
 
 /// Coefficients of the candidate (those after the model's own `n_model` states) that cannot
@@ -375,14 +379,16 @@ pub struct DensityFit {
 /// back on the starting priors and the correlation read from `(F + P_start^-1)^-1`.
 fn confusion(f: &Fit, n_model: usize) -> Vec<Confusion> {
     let n = f.names.len();
-    let idx: Vec<usize> = (NAV_DIM..n).filter(|&i| !f.noisy[i]).collect();
+    // States driven by noise (the drifts under `gyro-bias-walk`) stay in, with their
+    // posterior as it is: a walking drift still cannot be told from a constant g-sensitive one.
+    let idx: Vec<usize> = (NAV_DIM..n).collect();
     let m = idx.len();
     let p = nalgebra::DMatrix::from_fn(m, m, |a, b| f.p[idx[a] + idx[b] * n]);
     let Some(p_inv) = p.clone().cholesky().map(|c| c.inverse()) else {
         return Vec::new();
     };
     let mut precision = p_inv;
-    for (a, &i) in idx.iter().enumerate() {
+    for (a, &i) in idx.iter().enumerate().filter(|(_, &i)| !f.noisy[i]) {
         let start = f
             .setup
             .priors
@@ -593,9 +599,11 @@ pub fn constancy(
 /// The constancy test of a noise-only term `name` in the model `setup` (which holds it): is
 /// its density the same in both halves of the record? A random walk's is; a term that only
 /// tracks a misfit concentrated in one part of the test (a bias settling after switch-on)
-/// needs a larger one there. Each half's density is fitted by maximum likelihood with the
-/// rest of the model as it is; their decimal logarithms are compared with the standard
-/// errors the likelihood's curvature gives. `None` when a half cannot fix its density.
+/// needs a larger one there and none in the other. Each half's density is fitted by maximum
+/// likelihood with the rest of the model as it is; their decimal logarithms are compared with
+/// the standard errors the likelihood's curvature gives (a half that wants no walk at all
+/// bounds its density by the smallest tried, and the other half is tested against that bound,
+/// one-sided). `None` when neither half can fix its density.
 pub fn density_constancy(
     ds: &Dataset,
     setup: &super::fit::FitSetup,
@@ -622,10 +630,19 @@ pub fn density_constancy(
     let [a, b] = &fits[..] else {
         return Ok(None);
     };
-    let (Some(sa), Some(sb)) = (a.log10_se, b.log10_se) else {
-        return Ok(None);
+    let stat = match ((a.log10_se, a.at_lower_edge), (b.log10_se, b.at_lower_edge)) {
+        ((Some(sa), _), (Some(sb), _)) => {
+            (a.density.log10() - b.density.log10()).powi(2) / (sa * sa + sb * sb)
+        }
+        // One half wants no walk at all: its density is at most the grid's smallest. The
+        // other half's is tested against that bound, one-sided.
+        ((Some(s), false), (_, true)) | ((_, true), (Some(s), false)) => {
+            let (walk, none) = if a.at_lower_edge { (b, a) } else { (a, b) };
+            let excess = (walk.density.log10() - none.density.log10()).max(0.0) / s;
+            excess * excess
+        }
+        _ => return Ok(None),
     };
-    let stat = (a.density.log10() - b.density.log10()).powi(2) / (sa * sa + sb * sb);
     let p_value = crate::stats::chi2_sf(stat, 1.0);
     Ok(Some(Constancy {
         coefficients: vec![("log10 density".into(), stat, 1, p_value)],

@@ -390,8 +390,16 @@ pub fn diagnose(
             .open
             .extend(effect.coefficient_names().iter().map(|c| c.to_string()));
     }
-    let (mut current, _) = fit_adaptive(ds, &under_test, registry, &opts.filter)?;
+    let (current, _) = fit_adaptive(ds, &under_test, registry, &opts.filter)?;
+    let (mut current, tilt_widened) = priors::widen_tilt(ds, current, registry, &opts.filter)?;
     let mut rounds = Vec::new();
+    let base = FitSetup {
+        priors: priors::Priors {
+            coefficients: base.priors.coefficients.clone(),
+            ..current.setup.priors.clone()
+        },
+        ..base
+    };
     if !opts.with.is_empty() {
         let (b, _) = fit_adaptive(ds, &base, registry, &opts.filter)?;
         rounds.push(manual_round(ds, &b, &current, opts));
@@ -453,7 +461,8 @@ pub fn diagnose(
             .retain(|e| !withdrawn.iter().any(|w| &w.effect == e));
         current = fit_adaptive(ds, &setup, registry, &opts.filter)?.0;
     }
-    let widened = widened_priors(&start_priors, &current);
+    let mut widened = tilt_widened;
+    widened.extend(widened_priors(&start_priors, &current));
     let model = summarize_fit(ds, &current, opts);
     let before_fit = if current.effects.is_empty() {
         None

@@ -55,10 +55,14 @@ const PROBE_GAIN: f64 = 0.5 * Z_FLAG * Z_FLAG;
 pub const Z_ACTIVE: f64 = Z_FLAG;
 /// Finite-difference step in log-variance.
 const H: f64 = 0.3;
-/// Newton stops when no log-scale moves by more than this (a 1.5 % change of a sigma).
-const CONVERGED: f64 = 0.03;
+/// Newton stops when no log-scale moves by more than this (a 2.5 % change of a sigma).
+const CONVERGED: f64 = 0.05;
+/// Filter passes after which Newton stops where it is: the levels are then resolved to within
+/// the steps taken, which is all a competing candidate needs (a slow structured misfit can
+/// leak into flat process-noise directions and keep Newton walking them).
+const PASS_BUDGET: usize = 80;
 /// Most Newton iterations.
-const MAX_ITERATIONS: usize = 10;
+const MAX_ITERATIONS: usize = 6;
 /// Curvature floor: a log-scale the data do not inform gets a standard error of at most 5.
 const MIN_CURVATURE: f64 = 1.0 / 25.0;
 
@@ -204,6 +208,11 @@ struct Surface<'a> {
 }
 
 impl Surface<'_> {
+    /// Filter passes made so far.
+    fn spent(&self) -> usize {
+        self.passes.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
     fn at(&self, thetas: &[[f64; 4]]) -> Result<Vec<f64>, DiagnoseError> {
         self.passes
             .fetch_add(thetas.len(), std::sync::atomic::Ordering::Relaxed);
@@ -319,7 +328,7 @@ fn model_jump(
 }
 
 /// Newton's method over `active` from `theta` (value `f`), then the scores of the other
-/// sources at the optimum; any significant one joins and Newton runs again (at most three
+/// sources at the optimum; any significant one joins and Newton runs again (at most two
 /// times). Leaves in `g` and `hess` the last derivatives along every axis it took.
 fn optimise(
     surface: &Surface<'_>,
@@ -329,7 +338,7 @@ fn optimise(
     g: &mut [f64; 4],
     hess: &mut [[f64; 4]; 4],
 ) -> Result<([f64; 4], f64), DiagnoseError> {
-    for _ in 0..3 {
+    for _ in 0..2 {
         let (t, v, h) = newton(surface, theta, f, active)?;
         theta = t;
         f = v;
@@ -366,6 +375,9 @@ fn newton(
     active: &[usize],
 ) -> Result<([f64; 4], f64, [[f64; 4]; 4]), DiagnoseError> {
     for _ in 0..MAX_ITERATIONS {
+        if surface.spent() >= PASS_BUDGET {
+            break;
+        }
         let (g, hess) = surface.derivatives(theta, f, active, true)?;
         if active.iter().any(|&j| !g[j].is_finite()) {
             return Ok((theta, f, hess));

@@ -276,3 +276,61 @@ pub fn fit_adaptive(
     }
     Ok((f, log))
 }
+
+/// Factors by which the initial tilt's priors are tried wider ([`widen_tilt`]).
+pub const TILT_FACTORS: [f64; 2] = [10.0, 100.0];
+
+/// The initial tilt's priors (level, azimuth) tried [`TILT_FACTORS`] times wider, one at a
+/// time; the best is kept if it raises the marginal likelihood by at least
+/// [`WIDEN_EVIDENCE`] (a gyrocompassed platform whose drift is far beyond the default starts
+/// degrees off in azimuth, and a filter held to arcminutes then blames the misfit on
+/// something else). Returns the fit to go on from and the widenings kept (named `level_rad`
+/// and `azimuth_rad`).
+pub fn widen_tilt(
+    ds: &Dataset,
+    f: Fit,
+    registry: &Registry,
+    filter: &FilterChoice,
+) -> Result<(Fit, Vec<Widening>), DiagnoseError> {
+    use rayon::prelude::*;
+    let trials: Vec<(usize, f64)> = (0..2)
+        .flat_map(|k| TILT_FACTORS.iter().map(move |&m| (k, m)))
+        .collect();
+    let fits = trials
+        .par_iter()
+        .map(|&(k, m)| {
+            let mut setup = f.setup.clone();
+            if k == 0 {
+                setup.priors.level_rad *= m;
+            } else {
+                setup.priors.azimuth_rad *= m;
+            }
+            fit(ds, &setup, registry, filter)
+        })
+        .collect::<Result<Vec<Fit>, _>>()?;
+    let best = fits
+        .into_iter()
+        .zip(&trials)
+        .filter(|(g, _)| g.failure.is_none())
+        .max_by(|a, b| a.0.loglik.total_cmp(&b.0.loglik));
+    match best {
+        Some((g, &(k, m))) if g.loglik >= f.loglik + WIDEN_EVIDENCE => {
+            let (name, from) = if k == 0 {
+                ("level_rad", f.setup.priors.level_rad)
+            } else {
+                ("azimuth_rad", f.setup.priors.azimuth_rad)
+            };
+            let w = Widening {
+                name: name.into(),
+                from,
+                to: from * m,
+                implied_estimate: f64::NAN,
+                at_cap: m == TILT_FACTORS[TILT_FACTORS.len() - 1],
+            };
+            // The coefficients' priors may now want other widths.
+            let (g, _) = fit_adaptive(ds, &g.setup, registry, filter)?;
+            Ok((g, vec![w]))
+        }
+        _ => Ok((f, Vec::new())),
+    }
+}

@@ -362,6 +362,26 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
         }
     }
     for w in &d.widened {
+        if w.implied_estimate.is_nan() {
+            out.push(format!(
+                "The prior of the initial {} error was widened from {:.2e} to {:.2e} rad: the \
+                 data fit decisively better with it. A platform gyrocompassed with drifts far \
+                 beyond its priors' starts that far off{}.",
+                if w.name == "azimuth_rad" {
+                    "azimuth"
+                } else {
+                    "level"
+                },
+                w.from,
+                w.to,
+                if w.to > 0.05 {
+                    "; beyond a few degrees the small-angle model itself no longer holds"
+                } else {
+                    ""
+                }
+            ));
+            continue;
+        }
         out.push(if w.at_cap {
             format!(
                 "The prior of {} was widened from {:.2e} to {:.2e}, the widest the diagnosis \

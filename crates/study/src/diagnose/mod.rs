@@ -408,8 +408,22 @@ pub fn diagnose(
     let mut named: Vec<String> = Vec::new();
     let mut noise_theta = [0.0; 4];
     let mut noise_checks: Vec<NoiseFit> = Vec::new();
+    // Effects the trajectory cannot tell from the base model's coefficients stay so in later
+    // rounds: a noise term named meanwhile (a walk of the drifts) makes the base coefficients
+    // wander, which hides the confusion without removing it.
+    let mut confounded: Vec<(String, Vec<candidates::Confusion>)> = Vec::new();
     for _ in 0..opts.max_rounds {
-        let (round, chosen, check) = run_round(ds, &current, noise_theta, registry, opts)?;
+        let (round, chosen, check) =
+            run_round(ds, &current, noise_theta, &confounded, registry, opts)?;
+        for c in &round.candidates {
+            let inseparable = !c.confused_with.is_empty()
+                && !c
+                    .separable_bic
+                    .is_some_and(|b| b > candidates::DECISIVE_BIC);
+            if inseparable && !confounded.iter().any(|k| k.0 == c.effect) {
+                confounded.push((c.effect.clone(), c.confused_with.clone()));
+            }
+        }
         rounds.push(round);
         noise_checks.extend(check);
         let Some(chosen) = chosen else { break };
@@ -507,13 +521,14 @@ pub fn diagnose(
 }
 
 /// One round of the forward selection on the model `current` (whose noise levels are the
-/// stated ones scaled by `noise_theta`): every candidate weighed, the noise checked, the
-/// choice made. Returns the round, the named candidate with its fit (the next model), and
+/// stated ones scaled by `noise_theta`): every candidate weighed (those found `confounded` in
+/// an earlier round stay so), the noise checked, the choice made. Returns the round, the named candidate with its fit (the next model), and
 /// the noise check.
 fn run_round(
     ds: &Dataset,
     current: &Fit,
     noise_theta: [f64; 4],
+    confounded: &[(String, Vec<candidates::Confusion>)],
     registry: &Registry,
     opts: &Options,
 ) -> Result<(Round, Option<candidates::Evaluated>, Option<NoiseFit>), DiagnoseError> {
@@ -523,6 +538,14 @@ fn run_round(
         summary: &summary,
     };
     let mut evaluated = evaluate_all(ds, &model, registry, opts)?;
+    for e in &mut evaluated {
+        if let Some((_, confusion)) = confounded.iter().find(|k| k.0 == e.candidate.effect) {
+            if e.candidate.confused_with.is_empty() {
+                e.candidate.confused_with = confusion.clone();
+                e.candidate.separable_bic = Some(f64::NEG_INFINITY);
+            }
+        }
+    }
     let mut check = None;
     if opts.fit_noise {
         let c = noise::check(

@@ -339,10 +339,10 @@ fn optimise(
     hess: &mut [[f64; 4]; 4],
 ) -> Result<([f64; 4], f64), DiagnoseError> {
     for _ in 0..2 {
-        let (t, v, h) = newton(surface, theta, f, active)?;
-        theta = t;
-        f = v;
-        *hess = h;
+        let end = newton(surface, theta, f, active)?;
+        theta = end.theta;
+        f = end.value;
+        *hess = end.hessian;
         let inactive: Vec<usize> = (0..4).filter(|j| !active.contains(j)).collect();
         if inactive.is_empty() {
             break;
@@ -366,26 +366,41 @@ fn optimise(
     Ok((theta, f))
 }
 
+/// Where Newton's method stopped: the log-scales, the log-likelihood there and its Hessian.
+struct NewtonEnd {
+    theta: [f64; 4],
+    value: f64,
+    hessian: [[f64; 4]; 4],
+}
+
 /// Newton's method on the log-scales of `active` (the others fixed), from `theta` with value
-/// `f`; returns the optimum, its value and the information matrix there (over `active`).
+/// `f`; returns the optimum, its value and the Hessian there (over `active`).
 fn newton(
     surface: &Surface<'_>,
     mut theta: [f64; 4],
     mut f: f64,
     active: &[usize],
-) -> Result<([f64; 4], f64, [[f64; 4]; 4]), DiagnoseError> {
+) -> Result<NewtonEnd, DiagnoseError> {
     for _ in 0..MAX_ITERATIONS {
         if surface.spent() >= PASS_BUDGET {
             break;
         }
         let (g, hess) = surface.derivatives(theta, f, active, true)?;
         if active.iter().any(|&j| !g[j].is_finite()) {
-            return Ok((theta, f, hess));
+            return Ok(NewtonEnd {
+                theta,
+                value: f,
+                hessian: hess,
+            });
         }
         let m = active.len();
         let info = information(&hess, active);
         let Some(inv) = info.clone().try_inverse() else {
-            return Ok((theta, f, hess));
+            return Ok(NewtonEnd {
+                theta,
+                value: f,
+                hessian: hess,
+            });
         };
         let gv = nalgebra::DVector::from_iterator(m, active.iter().map(|&j| g[j]));
         let step = inv * gv;
@@ -415,7 +430,11 @@ fn newton(
         }
     }
     let (_, hess) = surface.derivatives(theta, f, active, true)?;
-    Ok((theta, f, hess))
+    Ok(NewtonEnd {
+        theta,
+        value: f,
+        hessian: hess,
+    })
 }
 
 /// `-H` over `active`, made positive definite (eigenvalues at least [`MIN_CURVATURE`]);

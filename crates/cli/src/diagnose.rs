@@ -41,7 +41,7 @@ pub struct Args {
     #[arg(long, default_value = "ekf")]
     filter: String,
     /// Most automatic rounds of the forward selection.
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = Options::default().max_rounds)]
     max_rounds: usize,
 }
 

@@ -178,14 +178,20 @@ pub fn plan(config: &DiagnosisStudyConfig) -> Result<Vec<Planned>, StudyError> {
                     let h = draw_effect(&mut rng, name, range(name), &registry)?;
                     (Class::Single, vec![h])
                 }
-                ContentClass::Pair { .. } => {
-                    let a = rng.gen_range(0..catalogue.len());
-                    let mut b = rng.gen_range(0..catalogue.len() - 1);
+                ContentClass::Pair { effects, sizes, .. } => {
+                    let pool: &[String] = if effects.is_empty() {
+                        &catalogue
+                    } else {
+                        effects
+                    };
+                    let a = rng.gen_range(0..pool.len());
+                    let mut b = rng.gen_range(0..pool.len() - 1);
                     if b >= a {
                         b += 1;
                     }
-                    let ha = draw_effect(&mut rng, &catalogue[a], range(&catalogue[a]), &registry)?;
-                    let hb = draw_effect(&mut rng, &catalogue[b], range(&catalogue[b]), &registry)?;
+                    let range = |name: &str| sizes.get(name).copied().unwrap_or(range(name));
+                    let ha = draw_effect(&mut rng, &pool[a], range(&pool[a]), &registry)?;
+                    let hb = draw_effect(&mut rng, &pool[b], range(&pool[b]), &registry)?;
                     (Class::Pair, vec![ha, hb])
                 }
                 ContentClass::Outside { effect, sizes, .. } => {

@@ -116,6 +116,12 @@ pub enum ContentClass {
     Pair {
         /// Datasets.
         count: usize,
+        /// The effects drawn from (default: the whole catalogue).
+        #[serde(default)]
+        effects: Vec<String>,
+        /// Size bounds for these datasets by effect name, over `[sizes]`.
+        #[serde(default)]
+        sizes: BTreeMap<String, [f64; 2]>,
     },
     /// An effect outside the catalogue.
     Outside {
@@ -141,7 +147,7 @@ impl ContentClass {
         match self {
             ContentClass::Single { count } => count * Registry::catalogue().names().len(),
             ContentClass::Nothing { count }
-            | ContentClass::Pair { count }
+            | ContentClass::Pair { count, .. }
             | ContentClass::Outside { count, .. }
             | ContentClass::MisstatedNoise { count, .. } => *count,
         }
@@ -221,13 +227,18 @@ impl DiagnosisStudyConfig {
                 Err(format!("{key} = [{lo}, {hi}]: expected 0 < low <= high"))
             }
         };
-        for (name, r) in &self.sizes {
-            if !names.contains(name) {
-                return Err(format!(
-                    "sizes.{name}: not a catalogued effect; expected one of {}",
+        let catalogued = |key: String, name: &String| {
+            if names.contains(name) {
+                Ok(())
+            } else {
+                Err(format!(
+                    "{key}: `{name}` is not a catalogued effect; expected one of {}",
                     names.join(", ")
-                ));
+                ))
             }
+        };
+        for (name, r) in &self.sizes {
+            catalogued(format!("sizes.{name}"), name)?;
             bounds(format!("sizes.{name}"), *r)?;
         }
         for (i, c) in self.content.iter().enumerate() {
@@ -238,6 +249,20 @@ impl DiagnosisStudyConfig {
                 ContentClass::Outside { sizes, .. }
                 | ContentClass::MisstatedNoise { sizes, .. } => {
                     bounds(format!("content[{i}].sizes"), *sizes)?
+                }
+                ContentClass::Pair { effects, sizes, .. } => {
+                    for name in effects {
+                        catalogued(format!("content[{i}].effects"), name)?;
+                    }
+                    if effects.len() == 1 {
+                        return Err(format!(
+                            "content[{i}].effects: one effect; a pair needs at least two"
+                        ));
+                    }
+                    for (name, r) in sizes {
+                        catalogued(format!("content[{i}].sizes.{name}"), name)?;
+                        bounds(format!("content[{i}].sizes.{name}"), *r)?;
+                    }
                 }
                 _ => {}
             }

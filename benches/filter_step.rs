@@ -1,5 +1,6 @@
 //! Cost of one filter step (predict over 1 s with 10 input sub-steps, then update) for the
-//! 20-state base model, per filter; and the model evaluation on its own.
+//! 20-state base model and for the model with two effects that add rates
+//! ([`WITH_EFFECTS`], 25 states), per filter; and the model evaluation on its own.
 //!
 //! `cargo bench -p navkf-benches` (add `-- --quick` for a short run).
 
@@ -9,29 +10,35 @@ use navkf_dynamics::{PropagationScratch, SystemModel};
 use navkf_filters::Observation;
 use std::hint::black_box;
 
+/// Two catalogued effects that add rates (every candidate fit of a diagnosis carries some).
+const WITH_EFFECTS: [&str; 2] = ["accel-cross-axis", "torquer-scale"];
+
 fn filter_steps(c: &mut Criterion) {
-    let sc = Scenario::new();
-    let (window, z, sigma, avail) = sc.window_at(300.0);
-    let obs = Observation {
-        z: &z,
-        sigma: &sigma,
-        available: &avail,
-    };
     let mut group = c.benchmark_group("predict_update");
-    let filters = navkf_benches::all_filters(&sc.model);
-    for mut f in filters {
-        sc.warm_up(&mut *f, 300.0);
-        let x = f.state().to_vec();
-        let p = f.covariance().to_vec();
-        let name = f.name().to_string();
-        group.bench_function(BenchmarkId::new(name, sc.model.dim()), |b| {
-            b.iter(|| {
-                // Same prior every time, so each iteration does the same work.
-                f.reset(&x, &p).unwrap();
-                f.predict(black_box(&window)).unwrap();
-                black_box(f.update(black_box(&obs)).unwrap().nis);
-            })
-        });
+    for (label, sc) in [
+        ("base", Scenario::new()),
+        ("with_rate_effects", Scenario::with_effects(&WITH_EFFECTS)),
+    ] {
+        let (window, z, sigma, avail) = sc.window_at(300.0);
+        let obs = Observation {
+            z: &z,
+            sigma: &sigma,
+            available: &avail,
+        };
+        for mut f in navkf_benches::all_filters(&sc.model) {
+            sc.warm_up(&mut *f, 300.0);
+            let x = f.state().to_vec();
+            let p = f.covariance().to_vec();
+            let id = format!("{}/{label}", f.name());
+            group.bench_function(BenchmarkId::new(id, sc.model.dim()), |b| {
+                b.iter(|| {
+                    // Same prior every time, so each iteration does the same work.
+                    f.reset(&x, &p).unwrap();
+                    f.predict(black_box(&window)).unwrap();
+                    black_box(f.update(black_box(&obs)).unwrap().nis);
+                })
+            });
+        }
     }
     group.finish();
 }

@@ -10,7 +10,7 @@ use std::sync::Arc;
 /// A filter warmed up on 300 s of a simulated run, with the next window (1 s, 10 input
 /// sub-steps, cruising) and its measurement.
 pub struct Scenario {
-    /// The base model.
+    /// The model: the base one, or with effects.
     pub model: Arc<PlatformModel>,
     /// Initial state for `reset`.
     pub x0: Vec<f64>,
@@ -23,10 +23,21 @@ pub struct Scenario {
 }
 
 impl Scenario {
-    /// Builds the scenario (seed 1, run 0, default trajectory).
+    /// Builds the scenario (seed 1, run 0, default trajectory) on the base model.
     pub fn new() -> Self {
+        Self::with_effects(&[])
+    }
+
+    /// The scenario with catalogued effects switched on, in the truth and in the filters (their
+    /// coefficients drawn from, and started at, their typical sigma).
+    pub fn with_effects(effects: &[&str]) -> Self {
+        Self::with_effect_objects(Registry::catalogue().build_all(effects).unwrap())
+    }
+
+    /// The scenario with these effects switched on (see [`Scenario::with_effects`]).
+    pub fn with_effect_objects(effects: Vec<Box<dyn DynEffect>>) -> Self {
         let noise = NoiseConfig::default();
-        let model = Arc::new(PlatformModel::base(&noise));
+        let model = Arc::new(PlatformModel::new(effects, &noise).unwrap());
         let traj = Arc::new(Trajectory::build(&TrajectoryConfig::default()).unwrap());
         let sim = Simulator::new(model.clone(), traj, TruthConfig::default(), noise).unwrap();
         let run = sim.run(1, 0);
@@ -41,8 +52,12 @@ impl Scenario {
                 PHI_Z => 2.91e-4,
                 V_X | V_Y => 0.01,
                 LAT | LON => 5e-7,
-                _ => base_coefficient_sigma(i),
+                _ if i < BASE_DIM => base_coefficient_sigma(i),
+                _ => 0.0,
             };
+            p0[i + i * n] = s * s;
+        }
+        for (i, s) in model.effect_coefficient_sigmas() {
             p0[i + i * n] = s * s;
         }
         Scenario {

@@ -4,7 +4,8 @@
 //! `cargo run --release -p navkf-benches --example step_timing [-- FILTER [SECONDS]]`
 //! with FILTER a filter's name (`ekf`, `simplified_ukf`, `standard_ukf`, `standard_ukf_25`,
 //! `square_root_ukf`) or `all`. Prints the median over batches and, with `--dump`, the state
-//! and covariance after one step (to compare results between versions).
+//! and covariance after one step (to compare results between versions). `--rate-effects`
+//! switches on two effects that add rates (`accel-cross-axis`, `torquer-scale`: 25 states).
 
 use navkf_benches::{all_filters, Scenario};
 use navkf_filters::Observation;
@@ -13,7 +14,11 @@ use std::time::Instant;
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let dump = args.iter().any(|a| a == "--dump");
-    let args: Vec<&String> = args.iter().filter(|a| *a != "--dump").collect();
+    let effects = args.iter().any(|a| a == "--rate-effects");
+    let args: Vec<&String> = args
+        .iter()
+        .filter(|a| *a != "--dump" && *a != "--rate-effects")
+        .collect();
     let which = args.first().map_or("all", |s| s.as_str());
     let seconds: f64 = match args.get(1).map(|s| s.parse()) {
         None => 2.0,
@@ -23,7 +28,11 @@ fn main() {
             std::process::exit(2);
         }
     };
-    let sc = Scenario::new();
+    let sc = if effects {
+        Scenario::with_effects(&["accel-cross-axis", "torquer-scale"])
+    } else {
+        Scenario::new()
+    };
     let (window, z, sigma, avail) = sc.window_at(300.0);
     let obs = Observation {
         z: &z,

@@ -1,64 +1,28 @@
-//! Batched RK4 propagation of many states of the base model at once: the UKF's hot path.
+//! Batched RK4 propagation of many states at once: the UKF's hot path.
 //!
 //! A UKF step sends 41 to 59 sigma points through 10 RK4 sub-steps, 4 derivative calls each;
-//! that is almost all of its cost. Here points travel in blocks of [`LANES`], each quantity of
-//! a block in a fixed-size array, so that the compiler evaluates the model for all lanes in
-//! SIMD registers. Two things make the evaluation cheap without changing its value beyond
-//! rounding:
+//! that is almost all of its cost. Here points travel in blocks of [`LANES`], each state of a
+//! block one [`Lanes`] value, and the model's own rates ([`PlatformModel::nav_rates`], with
+//! every switched-on effect's) are evaluated on them: the compiler turns the element-wise
+//! arithmetic into SIMD instructions. Only `sin L` and `cos L` are computed differently from
+//! the one-state path: from one `sin_cos` of a reference latitude per window and the
+//! angle-addition formula with Taylor series of the offset `d = L - L_ref` (terms up to `d^9`
+//! and `d^10`; the path is taken only while `|d| < 0.03 rad`, where the first omitted term is
+//! below 1e-20). The two paths agree to rounding; a test checks it.
 //!
-//! - `sin L` and `cos L` come from one `sin_cos` of a reference latitude per window and the
-//!   angle-addition formula with Taylor series of the offset `d = L - L_ref` (terms up to
-//!   `d^9` and `d^10`; the path is taken only while `|d| < 0.03 rad`, where the first omitted
-//!   term is below 1e-20);
-//! - the coefficients only enter through `eps = Kg0 + Kg11 fx + Kg12 fy` and
-//!   `nab = Ka0 + Ka1 f`, formed once per stage input rather than per derivative.
-//!
-//! Only the seven navigation states are integrated (the coefficients are constant). The
-//! arithmetic mirrors [`crate::PlatformModel::nav_rates`] and
-//! [`crate::integrate::propagate_generic`] operation for operation; a test checks both paths
-//! agree to rounding. Models with effects that add rates, or noise on the coefficients, take
-//! the generic path.
+//! The RK4 stages are the table [`RK4`], stepped through as
+//! [`crate::integrate::propagate_generic`] does, operation for operation, including noise held over the window and coefficients that a noise channel
+//! drives moving linearly.
 
-use crate::earth::{FLATTENING, RE, WIE};
-use crate::integrate::InputWindow;
-use crate::kinematics::Input;
+use crate::integrate::{rk4_step, InputWindow, PropagationScratch, RK4};
+use crate::kinematics::Kinematics;
+use crate::model::PlatformModel;
+use crate::real::{Lanes, LANES};
 use crate::state::*;
-
-/// Points per block.
-pub const LANES: usize = 8;
-type Lane = [f64; LANES];
+use crate::system::SystemModel;
 
 /// Largest latitude offset from the reference for which the series are used.
 pub const MAX_OFFSET: f64 = 0.03;
-
-/// Per-block constants at one stage input: gyro drifts and accelerometer errors, plus f.
-struct StageInput {
-    eps: [Lane; 3],
-    nab: [Lane; 2],
-    f: Input,
-}
-
-fn stage_input(coef: &[Lane; BASE_COEFFICIENTS], f: &Input) -> StageInput {
-    let [fx, fy, _] = *f;
-    let mut eps = [[0.0; LANES]; 3];
-    let mut nab = [[0.0; LANES]; 2];
-    for a in 0..3 {
-        for l in 0..LANES {
-            eps[a][l] = coef[3 * a][l] + coef[3 * a + 1][l] * fx + coef[3 * a + 2][l] * fy;
-        }
-    }
-    let (ka0x, ka1x, ka0y, ka1y) = (
-        KA0X - NAV_DIM,
-        KA1X - NAV_DIM,
-        KA0Y - NAV_DIM,
-        KA1Y - NAV_DIM,
-    );
-    for l in 0..LANES {
-        nab[0][l] = coef[ka0x][l] + coef[ka1x][l] * fx;
-        nab[1][l] = coef[ka0y][l] + coef[ka1y][l] * fy;
-    }
-    StageInput { eps, nab, f: *f }
-}
 
 /// `sin(d)` and `cos(d)` by their Taylor series in Horner form, for `|d| < MAX_OFFSET`
 /// (coefficients are reciprocal factorials, multiplied rather than divided: a vector divide
@@ -80,44 +44,30 @@ fn small_sin_cos(d: f64) -> (f64, f64) {
     (s, c)
 }
 
-/// Navigation-state derivatives of a block at states `x`.
+/// Navigation-state derivatives of a block at states `x` (all `n` states, as lanes).
+/// `EFFECTS` says whether the model has effects with rates: without, nothing takes the
+/// kinematics' address, and they stay in registers.
 #[inline(always)]
-fn rates(
-    x: &[Lane; NAV_DIM],
-    si: &StageInput,
+fn rates<const EFFECTS: bool>(
+    model: &PlatformModel,
+    x: &[Lanes],
+    f: &crate::kinematics::Input,
     reference: (f64, f64, f64),
-    out: &mut [Lane; NAV_DIM],
-) {
+) -> [Lanes; NAV_DIM] {
     let (lat_ref, s0, c0) = reference;
-    let [fx, fy, fz] = si.f;
+    let mut sin_l = Lanes::default();
+    let mut cos_l = Lanes::default();
     for l in 0..LANES {
-        let (sd, cd) = small_sin_cos(x[LAT][l] - lat_ref);
-        let sin_l = s0 * cd + c0 * sd;
-        let cos_l = c0 * cd - s0 * sd;
-        let s2 = sin_l * sin_l;
-        // One division for three reciprocals.
-        let rm = RE * (1.0 - 2.0 * FLATTENING + 3.0 * FLATTENING * s2);
-        let rn = RE * (1.0 + FLATTENING * s2);
-        let rn_cos = rn * cos_l;
-        let inv = 1.0 / (rm * rn_cos);
-        let inv_rm = rn_cos * inv;
-        let inv_rn = rm * cos_l * inv;
-        let inv_cos = rm * rn * inv;
-        let tan_over_rn = sin_l * inv_cos * inv_rn;
-        let (px, py, pz) = (x[PHI_X][l], x[PHI_Y][l], x[PHI_Z][l]);
-        let (vx, vy) = (x[V_X][l], x[V_Y][l]);
-        let w1 = -vy * inv_rm;
-        let w2 = WIE * cos_l + vx * inv_rn;
-        let w3 = WIE * sin_l + vx * tan_over_rn;
-        let coriolis = 2.0 * WIE * sin_l + vx * tan_over_rn;
-        out[PHI_X][l] = py * w3 - pz * w2 + si.eps[0][l];
-        out[PHI_Y][l] = pz * w1 - px * w3 + si.eps[1][l];
-        out[PHI_Z][l] = px * w2 - py * w1 + si.eps[2][l];
-        out[V_X][l] = coriolis * vy + si.nab[0][l] + fx + fy * pz - fz * py;
-        out[V_Y][l] = -coriolis * vx + si.nab[1][l] + fy + fz * px - fx * pz;
-        out[LAT][l] = vy * inv_rm;
-        out[LON][l] = vx * inv_rn * inv_cos;
+        let (sd, cd) = small_sin_cos(x[LAT].0[l] - lat_ref);
+        sin_l.0[l] = s0 * cd + c0 * sd;
+        cos_l.0[l] = c0 * cd - s0 * sd;
     }
+    let k = Kinematics::values(x, f, sin_l, cos_l);
+    let mut r = model.base_rates(x, &k);
+    if EFFECTS {
+        model.add_effect_rates(x, &k, &mut r);
+    }
+    r
 }
 
 /// Whether the batched path applies to these points over this window: every latitude within
@@ -135,15 +85,36 @@ pub fn applicable(points: &[f64], n: usize, window: &InputWindow, lat_ref: f64) 
     max_d.is_finite() && max_d + reach < MAX_OFFSET
 }
 
-/// Propagates `points` (each `n` long: 7 navigation states, 13 base coefficients, then effect
-/// coefficients that do not enter the rates) across `window`. `noise`, when given, holds
-/// `channels.len()` values per point, each driving the derivative of `channels[j]` (< 7).
+/// Lanes of scratch [`propagate`] uses for a model of `n` states.
+pub fn scratch_lanes(n: usize) -> usize {
+    3 * n
+}
+
+/// Propagates `points` (each `model.dim()` long, one after another) across `window`.
+/// `noise`, when given, holds one value per noise channel per point, held over the window.
 pub fn propagate(
+    model: &PlatformModel,
     points: &mut [f64],
-    n: usize,
-    noise: Option<(&[f64], &[usize])>,
+    noise: Option<&[f64]>,
     window: &InputWindow,
+    scratch: &mut PropagationScratch,
 ) {
+    if model.has_rate_effects() {
+        propagate_blocks::<true>(model, points, noise, window, scratch)
+    } else {
+        propagate_blocks::<false>(model, points, noise, window, scratch)
+    }
+}
+
+/// [`propagate`], compiled with and without effects' rates.
+fn propagate_blocks<const EFFECTS: bool>(
+    model: &PlatformModel,
+    points: &mut [f64],
+    noise: Option<&[f64]>,
+    window: &InputWindow,
+    scratch: &mut PropagationScratch,
+) {
+    let n = model.dim();
     let count = points.len() / n;
     if count == 0 || window.substeps() == 0 {
         return;
@@ -151,84 +122,77 @@ pub fn propagate(
     let lat_ref = points[LAT];
     let (s0, c0) = lat_ref.sin_cos();
     let reference = (lat_ref, s0, c0);
-    let nw = noise.map_or(0, |(_, ch)| ch.len());
+    let channels = model.noise_channels();
+    let nw = channels.len();
+    // Coefficients a noise channel drives move linearly over the window.
+    let drifting = noise.is_some() && channels.iter().any(|c| c.state >= NAV_DIM);
+    let (x, rest) = scratch.lanes(scratch_lanes(n)).split_at_mut(n);
+    let (tmp, w) = rest.split_at_mut(n);
     for first in (0..count).step_by(LANES) {
         // Gather; padding lanes repeat the block's first point (valid numbers, discarded).
-        let mut x = [[0.0; LANES]; NAV_DIM];
-        let mut coef = [[0.0; LANES]; BASE_COEFFICIENTS];
-        let mut w = [[0.0; LANES]; NAV_DIM];
+        w.fill(Lanes::default());
         for l in 0..LANES {
             let p = if first + l < count { first + l } else { first };
             let src = &points[p * n..(p + 1) * n];
-            for s in 0..NAV_DIM {
-                x[s][l] = src[s];
+            for (xs, v) in x.iter_mut().zip(src) {
+                xs.0[l] = *v;
             }
-            for c in 0..BASE_COEFFICIENTS {
-                coef[c][l] = src[NAV_DIM + c];
-            }
-            if let Some((values, channels)) = noise {
-                for (j, &s) in channels.iter().enumerate() {
-                    w[s][l] += values[p * nw + j];
+            if let Some(values) = noise {
+                for (j, c) in channels.iter().enumerate() {
+                    w[c.state].0[l] += values[p * nw + j];
                 }
             }
         }
-        let has_noise = noise.is_some();
-        let mut k1 = [[0.0; LANES]; NAV_DIM];
-        let mut k2 = [[0.0; LANES]; NAV_DIM];
-        let mut k3 = [[0.0; LANES]; NAV_DIM];
-        let mut k4 = [[0.0; LANES]; NAV_DIM];
-        let mut tmp = [[0.0; LANES]; NAV_DIM];
-        let add_noise = |k: &mut [Lane; NAV_DIM]| {
-            if has_noise {
-                for (ki, wi) in k.as_flattened_mut().iter_mut().zip(w.as_flattened()) {
-                    *ki += wi;
+        let add_noise = |k: &mut [Lanes; NAV_DIM], w: &[Lanes]| {
+            if noise.is_some() {
+                for (ki, wi) in k.iter_mut().zip(w) {
+                    *ki += *wi;
                 }
             }
         };
-        // tmp = x + c k, over the flattened (contiguous) arrays so the loop runs along lanes.
-        let axpy = |tmp: &mut [Lane; NAV_DIM], x: &[Lane; NAV_DIM], c: f64, k: &[Lane; NAV_DIM]| {
-            for ((t, xi), ki) in tmp
-                .as_flattened_mut()
-                .iter_mut()
-                .zip(x.as_flattened())
-                .zip(k.as_flattened())
-            {
-                *t = xi + c * ki;
+        // tmp = x + c k on the navigation states.
+        let stage = |tmp: &mut [Lanes], x: &[Lanes], c: f64, k: &[Lanes; NAV_DIM]| {
+            for ((t, xi), ki) in tmp.iter_mut().zip(x).zip(k) {
+                *t = *xi + *ki * c;
             }
         };
-        let mut si_start = stage_input(&coef, &window.f[0]);
+        let drift = |tmp: &mut [Lanes], x: &[Lanes], w: &[Lanes], tau: f64| {
+            for s in NAV_DIM..n {
+                tmp[s] = x[s] + w[s] * tau;
+            }
+        };
+        tmp.copy_from_slice(x);
+        let mut k = [[Lanes::default(); NAV_DIM]; 4];
         for j in 0..window.substeps() {
             let h = window.t[j + 1] - window.t[j];
-            let h6 = h / 6.0;
-            let si_mid = stage_input(&coef, &window.f_mid[j]);
-            let si_end = stage_input(&coef, &window.f[j + 1]);
-            rates(&x, &si_start, reference, &mut k1);
-            add_noise(&mut k1);
-            axpy(&mut tmp, &x, 0.5 * h, &k1);
-            rates(&tmp, &si_mid, reference, &mut k2);
-            add_noise(&mut k2);
-            axpy(&mut tmp, &x, 0.5 * h, &k2);
-            rates(&tmp, &si_mid, reference, &mut k3);
-            add_noise(&mut k3);
-            axpy(&mut tmp, &x, h, &k3);
-            rates(&tmp, &si_end, reference, &mut k4);
-            add_noise(&mut k4);
-            for ((((xi, a), b), c), d) in x
-                .as_flattened_mut()
-                .iter_mut()
-                .zip(k1.as_flattened())
-                .zip(k2.as_flattened())
-                .zip(k3.as_flattened())
-                .zip(k4.as_flattened())
-            {
-                *xi += h6 * (a + 2.0 * (b + c) + d);
+            for (s, st) in RK4.iter().enumerate() {
+                let u = st.input(window, j);
+                k[s] = if s == 0 {
+                    rates::<EFFECTS>(model, x, u, reference)
+                } else {
+                    let c = st.offset(h);
+                    stage(tmp, x, c, &k[s - 1]);
+                    if drifting {
+                        drift(tmp, x, w, c);
+                    }
+                    rates::<EFFECTS>(model, tmp, u, reference)
+                };
+                add_noise(&mut k[s], w);
             }
-            si_start = si_end;
+            for s in 0..NAV_DIM {
+                x[s] += rk4_step(h, [k[0][s], k[1][s], k[2][s], k[3][s]]);
+            }
+            if drifting {
+                for s in NAV_DIM..n {
+                    x[s] += w[s] * h;
+                }
+                tmp[NAV_DIM..].copy_from_slice(&x[NAV_DIM..]);
+            }
         }
         for l in 0..LANES.min(count - first) {
             let dst = &mut points[(first + l) * n..(first + l + 1) * n];
-            for s in 0..NAV_DIM {
-                dst[s] = x[s][l];
+            for (d, xs) in dst.iter_mut().zip(x.iter()) {
+                *d = xs.0[l];
             }
         }
     }

@@ -4,6 +4,8 @@
 //! prime-vertical radius: the paper's first-order forms, kept exactly so that the truth
 //! simulator and every filter use one Earth.
 
+use crate::real::Real;
+
 /// Equatorial radius `Re`, metres.
 pub const RE: f64 = 6_378_137.0;
 /// Flattening `f`.
@@ -12,15 +14,17 @@ pub const FLATTENING: f64 = 1.0 / 298.257;
 pub const WIE: f64 = 7.292_115e-5;
 
 /// Meridian radius of curvature `RM` from `sin L`.
-#[inline]
-pub fn meridian_radius(sin_lat: f64) -> f64 {
-    RE * (1.0 - 2.0 * FLATTENING + 3.0 * FLATTENING * sin_lat * sin_lat)
+#[inline(always)]
+pub fn meridian_radius<T: Real>(sin_lat: T) -> T {
+    // RE (1 - 2f + 3f sin^2 L), written so that every product rounds as in that order.
+    (sin_lat * (3.0 * FLATTENING) * sin_lat + (1.0 - 2.0 * FLATTENING)) * RE
 }
 
 /// Prime-vertical radius of curvature `RN` from `sin L`.
-#[inline]
-pub fn prime_vertical_radius(sin_lat: f64) -> f64 {
-    RE * (1.0 + FLATTENING * sin_lat * sin_lat)
+#[inline(always)]
+pub fn prime_vertical_radius<T: Real>(sin_lat: T) -> T {
+    // RE (1 + f sin^2 L).
+    (sin_lat * FLATTENING * sin_lat + 1.0) * RE
 }
 
 /// Normal gravity at the ellipsoid surface (Somigliana's series, WGS-84 coefficients), m/s^2.

@@ -2,13 +2,19 @@
 //!
 //! An effect owns named coefficients (random constants that join the state after the 20 base
 //! states when the effect is switched on), and may add to the navigation-state derivatives,
-//! to the measurement, or to the process noise. It supplies the partial derivatives of what it
-//! adds, which the EKF needs; the test suite checks every effect's partials against finite
-//! differences. The catalogue of model.md lives in [`crate::effects`]; a user writes a new
-//! effect by implementing this trait in their own crate and passing it to
-//! [`crate::PlatformModel::new`] or registering it in an [`crate::effects::Registry`].
+//! to the measurement, or to the process noise; it says which in [`Effect::terms`]. Its rates
+//! are written once, generic over the number type ([`Real`]): the truth simulator and the EKF
+//! evaluate them on `f64`, the UKFs' batched propagation on eight sigma points at once
+//! ([`Lanes`]). It supplies the partial derivatives of what it adds, which the EKF needs; the
+//! test suite checks every effect's partials against finite differences.
+//!
+//! The catalogue of model.md lives in [`crate::effects`]; a user writes a new effect by
+//! implementing [`Effect`] in their own crate and passing it to [`crate::PlatformModel::new`]
+//! or registering it in an [`crate::effects::Registry`]. The model holds effects as
+//! [`DynEffect`] objects, which every [`Effect`] is.
 
 use crate::kinematics::Kinematics;
+use crate::real::{Lanes, Real};
 use crate::state::{MEAS_DIM, NAV_DIM};
 use std::fmt;
 
@@ -44,27 +50,73 @@ impl<'a> Partials<'a> {
     pub fn add(&mut self, row: usize, col: usize, value: f64) {
         self.data[row * self.cols + col] += value;
     }
-    /// Reads one entry.
-    #[inline]
-    pub fn get(&self, row: usize, col: usize) -> f64 {
-        self.data[row * self.cols + col]
-    }
     /// Number of columns: the row stride, at least the state dimension.
     pub fn cols(&self) -> usize {
         self.cols
     }
 }
 
+/// How an effect's measurement term depends on the state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MeasurementTerm {
+    /// It adds nothing to the measurement.
+    #[default]
+    None,
+    /// It adds a term linear in the state (its Jacobian is constant).
+    Linear,
+    /// It adds a term non-linear in the state (the simplified UKF then takes its
+    /// sigma-point measurement path).
+    NonLinear,
+}
+
+/// What an effect contributes: the one declaration the model reads to decide which of its
+/// methods to call. [`crate::PlatformModel::new`] checks it against the code (an effect that
+/// adds rates or a measurement term it did not declare, or noise channels it did not declare,
+/// is refused), so a term is never silently dropped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Terms {
+    /// It adds to the navigation-state derivatives ([`Effect::add_rates`]).
+    pub rates: bool,
+    /// Its measurement term ([`Effect::add_measurement`]).
+    pub measurement: MeasurementTerm,
+    /// It brings process-noise channels ([`Effect::process_noise`]).
+    pub noise: bool,
+}
+
+impl Terms {
+    /// Rates only.
+    pub const RATES: Terms = Terms {
+        rates: true,
+        measurement: MeasurementTerm::None,
+        noise: false,
+    };
+    /// A measurement term only.
+    pub const fn measurement(kind: MeasurementTerm) -> Terms {
+        Terms {
+            rates: false,
+            measurement: kind,
+            noise: false,
+        }
+    }
+    /// Process noise only.
+    pub const NOISE: Terms = Terms {
+        rates: false,
+        measurement: MeasurementTerm::None,
+        noise: true,
+    };
+}
+
 /// One switchable term of the model.
 ///
-/// Every method that adds something has a default that adds nothing, so an effect implements
-/// only what it touches. `c` is always the slice of the state holding this effect's own
-/// coefficients, in the order of [`Effect::coefficient_names`]; `offset` is the index of the
-/// first of them in the full state (for writing partials).
+/// An effect declares what it adds in [`Effect::terms`] and implements those methods; the
+/// others default to adding nothing. `c` is always the slice of the state holding this
+/// effect's own coefficients, in the order of [`Effect::coefficient_names`]; `offset` is the
+/// index of the first of them in the full state (for writing partials).
 ///
 /// ```
-/// use navkf_dynamics::{Effect, Kinematics, Partials, PlatformModel, NoiseConfig, SystemModel};
+/// use navkf_dynamics::{Effect, Kinematics, Partials, PlatformModel, NoiseConfig, Real, Terms};
 /// use navkf_dynamics::state::{V_X, NAV_DIM};
+/// use navkf_dynamics::SystemModel;
 ///
 /// /// A drag-like East velocity damping `v_x' += -kd v_x` (not in the catalogue).
 /// #[derive(Debug)]
@@ -75,7 +127,8 @@ impl<'a> Partials<'a> {
 ///     fn coefficient_names(&self) -> &[&str] { &["kd"] }
 ///     fn coefficient_units(&self) -> &[&str] { &["1/s"] }
 ///     fn coefficient_sigma(&self) -> &[f64] { &[1e-5] }
-///     fn add_rates(&self, k: &Kinematics, c: &[f64], rates: &mut [f64; NAV_DIM]) {
+///     fn terms(&self) -> Terms { Terms::RATES }
+///     fn add_rates<T: Real>(&self, k: &Kinematics<T>, c: &[T], rates: &mut [T; NAV_DIM]) {
 ///         rates[V_X] -= c[0] * k.v_x;
 ///     }
 ///     fn add_rate_partials(&self, k: &Kinematics, c: &[f64], offset: usize, p: &mut Partials) {
@@ -88,7 +141,7 @@ impl<'a> Partials<'a> {
 /// assert_eq!(model.dim(), 21);
 /// assert_eq!(model.state_names()[20], "kd");
 /// ```
-pub trait Effect: Send + Sync + fmt::Debug {
+pub trait Effect: Send + Sync + fmt::Debug + 'static {
     /// The effect's name, as written on command lines and in study files (`gyro-fz`).
     fn name(&self) -> &str;
     /// One line: what the effect adds, as a formula.
@@ -106,14 +159,13 @@ pub trait Effect: Send + Sync + fmt::Debug {
     fn coefficient_sigma(&self) -> &[f64] {
         &[]
     }
-    /// Adds the effect's terms to the navigation-state derivatives `[phi, v_x, v_y, L, lambda]`.
-    fn add_rates(&self, _k: &Kinematics, _c: &[f64], _rates: &mut [f64; NAV_DIM]) {}
+    /// What the effect adds (required: the model calls only what is declared here).
+    fn terms(&self) -> Terms;
+    /// Adds the effect's terms to the navigation-state derivatives `[phi, v_x, v_y, L, lambda]`,
+    /// on one state (`T = f64`) or a batch of them ([`Lanes`]).
+    fn add_rates<T: Real>(&self, _k: &Kinematics<T>, _c: &[T], _rates: &mut [T; NAV_DIM]) {}
     /// Adds the partial derivatives of [`Effect::add_rates`] (rows: navigation states).
     fn add_rate_partials(&self, _k: &Kinematics, _c: &[f64], _offset: usize, _p: &mut Partials) {}
-    /// Whether [`Effect::add_rates`] adds anything (lets the model skip the call).
-    fn adds_rates(&self) -> bool {
-        true
-    }
     /// Adds the effect's terms to the predicted measurement `[v_x, v_y, L, lambda]`.
     fn add_measurement(&self, _k: &Kinematics, _c: &[f64], _z: &mut [f64; MEAS_DIM]) {}
     /// Adds the partial derivatives of [`Effect::add_measurement`] (rows: measurement channels).
@@ -124,14 +176,6 @@ pub trait Effect: Send + Sync + fmt::Debug {
         _offset: usize,
         _p: &mut Partials,
     ) {
-    }
-    /// Whether the effect touches the measurement at all.
-    fn adds_measurement(&self) -> bool {
-        false
-    }
-    /// Whether the measurement stays linear in the state with this effect switched on.
-    fn measurement_is_linear(&self) -> bool {
-        !self.adds_measurement()
     }
     /// Extra white-noise channels the effect brings (indices into the full state).
     fn process_noise(&self) -> Vec<NoiseChannel> {
@@ -144,5 +188,112 @@ pub trait Effect: Send + Sync + fmt::Debug {
             "effect `{}` has no parameter; its value sets its coefficients",
             self.name()
         ))
+    }
+}
+
+/// An [`Effect`] as the model holds it: the same methods, with the generic rates
+/// instantiated for each number type the model evaluates (a trait object cannot carry a
+/// generic method). Every [`Effect`] is one; nobody implements this by hand.
+pub trait DynEffect: Send + Sync + fmt::Debug {
+    /// [`Effect::name`].
+    fn name(&self) -> &str;
+    /// [`Effect::description`].
+    fn description(&self) -> &str;
+    /// [`Effect::coefficient_names`].
+    fn coefficient_names(&self) -> &[&str];
+    /// [`Effect::coefficient_units`].
+    fn coefficient_units(&self) -> &[&str];
+    /// [`Effect::coefficient_sigma`].
+    fn coefficient_sigma(&self) -> &[f64];
+    /// [`Effect::terms`].
+    fn terms(&self) -> Terms;
+    /// [`Effect::add_rates`] on one state.
+    fn add_rates(&self, k: &Kinematics, c: &[f64], rates: &mut [f64; NAV_DIM]);
+    /// [`Effect::add_rates`] on a batch of eight.
+    fn add_rates_lanes(&self, k: &Kinematics<Lanes>, c: &[Lanes], rates: &mut [Lanes; NAV_DIM]);
+    /// [`Effect::add_rate_partials`].
+    fn add_rate_partials(&self, k: &Kinematics, c: &[f64], offset: usize, p: &mut Partials);
+    /// [`Effect::add_measurement`].
+    fn add_measurement(&self, k: &Kinematics, c: &[f64], z: &mut [f64; MEAS_DIM]);
+    /// [`Effect::add_measurement_partials`].
+    fn add_measurement_partials(&self, k: &Kinematics, c: &[f64], offset: usize, p: &mut Partials);
+    /// [`Effect::process_noise`].
+    fn process_noise(&self) -> Vec<NoiseChannel>;
+    /// [`Effect::set_parameter`].
+    fn set_parameter(&mut self, value: f64) -> Result<(), String>;
+}
+
+impl<E: Effect> DynEffect for E {
+    fn name(&self) -> &str {
+        Effect::name(self)
+    }
+    fn description(&self) -> &str {
+        Effect::description(self)
+    }
+    fn coefficient_names(&self) -> &[&str] {
+        Effect::coefficient_names(self)
+    }
+    fn coefficient_units(&self) -> &[&str] {
+        Effect::coefficient_units(self)
+    }
+    fn coefficient_sigma(&self) -> &[f64] {
+        Effect::coefficient_sigma(self)
+    }
+    fn terms(&self) -> Terms {
+        Effect::terms(self)
+    }
+    #[inline]
+    fn add_rates(&self, k: &Kinematics, c: &[f64], rates: &mut [f64; NAV_DIM]) {
+        Effect::add_rates(self, k, c, rates)
+    }
+    #[inline]
+    fn add_rates_lanes(&self, k: &Kinematics<Lanes>, c: &[Lanes], rates: &mut [Lanes; NAV_DIM]) {
+        Effect::add_rates(self, k, c, rates)
+    }
+    fn add_rate_partials(&self, k: &Kinematics, c: &[f64], offset: usize, p: &mut Partials) {
+        Effect::add_rate_partials(self, k, c, offset, p)
+    }
+    fn add_measurement(&self, k: &Kinematics, c: &[f64], z: &mut [f64; MEAS_DIM]) {
+        Effect::add_measurement(self, k, c, z)
+    }
+    fn add_measurement_partials(&self, k: &Kinematics, c: &[f64], offset: usize, p: &mut Partials) {
+        Effect::add_measurement_partials(self, k, c, offset, p)
+    }
+    fn process_noise(&self) -> Vec<NoiseChannel> {
+        Effect::process_noise(self)
+    }
+    fn set_parameter(&mut self, value: f64) -> Result<(), String> {
+        Effect::set_parameter(self, value)
+    }
+}
+
+/// The number types the model evaluates effects' rates on: `f64` and [`Lanes`], each calling
+/// its instance of the effect's one generic [`Effect::add_rates`].
+pub trait EffectNumber: Real {
+    /// `e`'s rates on this number type.
+    fn add_effect_rates(
+        e: &dyn DynEffect,
+        k: &Kinematics<Self>,
+        c: &[Self],
+        rates: &mut [Self; NAV_DIM],
+    );
+}
+
+impl EffectNumber for f64 {
+    #[inline(always)]
+    fn add_effect_rates(e: &dyn DynEffect, k: &Kinematics, c: &[f64], r: &mut [f64; NAV_DIM]) {
+        e.add_rates(k, c, r)
+    }
+}
+
+impl EffectNumber for Lanes {
+    #[inline(always)]
+    fn add_effect_rates(
+        e: &dyn DynEffect,
+        k: &Kinematics<Lanes>,
+        c: &[Lanes],
+        r: &mut [Lanes; NAV_DIM],
+    ) {
+        e.add_rates_lanes(k, c, r)
     }
 }

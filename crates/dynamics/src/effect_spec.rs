@@ -7,7 +7,7 @@
 //! - `coefficient=value`: fix one coefficient (a base one such as `Ka0x`, or an effect's, which
 //!   switches that effect on).
 
-use crate::effect::Effect;
+use crate::effect::DynEffect;
 use crate::effects::Registry;
 use crate::error::DynamicsError;
 use crate::simulate::Prior;
@@ -18,7 +18,7 @@ use std::collections::BTreeMap;
 #[derive(Debug, Default)]
 pub struct EffectSpec {
     /// Effects to switch on, in the order first named.
-    pub effects: Vec<Box<dyn Effect>>,
+    pub effects: Vec<Box<dyn DynEffect>>,
     /// Fixed true values by coefficient name.
     pub fixed: BTreeMap<String, Prior>,
 }

@@ -1,5 +1,6 @@
 //! Fourth-order Runge-Kutta over an input window: the one integrator that the truth
-//! simulator and every filter use.
+//! simulator and every filter use, as one table of stages ([`RK4`]) that the one-state path
+//! here, the UKFs' batches ([`crate::batch_propagation`]) and the EKF's tangent step through.
 //!
 //! A window is a list of input knots `t_0 < t_1 < ... < t_m` with the specific force at each
 //! knot and at each sub-step's midpoint. Each pair of knots is one RK4 sub-step, with stage
@@ -12,6 +13,7 @@
 //! state linearly in time, which RK4 reproduces exactly.
 
 use crate::kinematics::Input;
+use crate::real::{Lanes, Real};
 use crate::system::SystemModel;
 
 /// Input knots over one propagation interval. Reused across steps: `clear` keeps capacity.
@@ -73,10 +75,12 @@ impl InputWindow {
     }
 }
 
-/// Reusable scratch memory for propagation, grown once and then reused.
+/// Reusable scratch memory for propagation, grown once and then reused: numbers for the
+/// one-state path, lanes for the batched one.
 #[derive(Debug, Clone, Default)]
 pub struct PropagationScratch {
     buf: Vec<f64>,
+    lanes: Vec<Lanes>,
 }
 
 impl PropagationScratch {
@@ -84,7 +88,15 @@ impl PropagationScratch {
     pub fn new(len: usize) -> Self {
         PropagationScratch {
             buf: vec![0.0; len],
+            lanes: Vec::new(),
         }
+    }
+    /// `len` lanes of scratch (allocates only when growing).
+    pub fn lanes(&mut self, len: usize) -> &mut [Lanes] {
+        if self.lanes.len() < len {
+            self.lanes.resize(len, Lanes::default());
+        }
+        &mut self.lanes[..len]
     }
     /// Makes sure at least `len` values are available (allocates only when growing).
     pub fn ensure(&mut self, len: usize) {
@@ -98,7 +110,85 @@ impl PropagationScratch {
     }
 }
 
-/// Propagates one state `x` across `window` with RK4. `scratch` must hold at least
+/// Which input a stage of a sub-step sees.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Knot {
+    /// The input at the sub-step's start.
+    Start,
+    /// The input at its midpoint.
+    Mid,
+    /// The input at its end.
+    End,
+}
+
+/// One stage of the RK4 table: stage `s` evaluates the rates at `x + offset h k_{s-1}` (the
+/// start state for the first) with the input at `knot`, and enters the sum with weight
+/// `h / divisor`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rk4Stage {
+    /// The input it sees.
+    pub knot: Knot,
+    /// Fraction of the sub-step at which its state lies.
+    pub offset: f64,
+    /// Its weight in the sum is `h / divisor`.
+    pub divisor: f64,
+}
+
+impl Rk4Stage {
+    /// Its input in sub-step `j` of `window`.
+    #[inline(always)]
+    pub fn input<'a>(&self, window: &'a InputWindow, j: usize) -> &'a Input {
+        match self.knot {
+            Knot::Start => &window.f[j],
+            Knot::Mid => &window.f_mid[j],
+            Knot::End => &window.f[j + 1],
+        }
+    }
+    /// `offset h`: how far along the sub-step of length `h` its state lies.
+    #[inline(always)]
+    pub fn offset(&self, h: f64) -> f64 {
+        self.offset * h
+    }
+    /// `h / divisor`: its weight in the sum over a sub-step of length `h`.
+    #[inline(always)]
+    pub fn weight(&self, h: f64) -> f64 {
+        h / self.divisor
+    }
+}
+
+/// The classical fourth-order Runge-Kutta table, which the truth simulator, the UKFs' batches
+/// and the EKF's tangent all step through.
+pub const RK4: [Rk4Stage; 4] = [
+    Rk4Stage {
+        knot: Knot::Start,
+        offset: 0.0,
+        divisor: 6.0,
+    },
+    Rk4Stage {
+        knot: Knot::Mid,
+        offset: 0.5,
+        divisor: 3.0,
+    },
+    Rk4Stage {
+        knot: Knot::Mid,
+        offset: 0.5,
+        divisor: 3.0,
+    },
+    Rk4Stage {
+        knot: Knot::End,
+        offset: 1.0,
+        divisor: 6.0,
+    },
+];
+
+/// The step of one sub-step from the stage rates, `h/6 (k1 + 2 (k2 + k3) + k4)`: the table's
+/// weights grouped so that the one-state and the batched paths round alike.
+#[inline(always)]
+pub fn rk4_step<T: Real>(h: f64, k: [T; 4]) -> T {
+    (k[0] + (k[1] + k[2]) * 2.0 + k[3]) * (h / 6.0)
+}
+
+/// Propagates one state `x` across `window` with RK4 ([`RK4`]). `scratch` must hold at least
 /// `4 * dynamic_dim + dim` values. `noise`, when given, holds one value per noise channel.
 pub fn propagate_generic<M: SystemModel + ?Sized>(
     model: &M,
@@ -110,9 +200,6 @@ pub fn propagate_generic<M: SystemModel + ?Sized>(
     let n = model.dim();
     let d = model.dynamic_dim();
     let (k, rest) = scratch.split_at_mut(4 * d);
-    let (k1, k) = k.split_at_mut(d);
-    let (k2, k) = k.split_at_mut(d);
-    let (k3, k4) = k.split_at_mut(d);
     let tmp = &mut rest[..n];
     let channels = model.noise_channels();
 
@@ -138,34 +225,28 @@ pub fn propagate_generic<M: SystemModel + ?Sized>(
 
     for j in 0..window.substeps() {
         let h = window.t[j + 1] - window.t[j];
-        let (f0, fm, f1) = (&window.f[j], &window.f_mid[j], &window.f[j + 1]);
-
-        model.rates(x, f0, k1);
-        add_noise(k1);
-
-        tmp.copy_from_slice(x);
-        for i in 0..d {
-            tmp[i] = x[i] + 0.5 * h * k1[i];
+        for (s, stage) in RK4.iter().enumerate() {
+            let (done, todo) = k.split_at_mut(s * d);
+            let ks = &mut todo[..d];
+            let u = stage.input(window, j);
+            if s == 0 {
+                model.rates(x, u, ks);
+            } else {
+                if s == 1 {
+                    tmp[d..].copy_from_slice(&x[d..]);
+                }
+                let c = stage.offset(h);
+                let prev = &done[(s - 1) * d..];
+                for i in 0..d {
+                    tmp[i] = x[i] + c * prev[i];
+                }
+                drift_constants(tmp, x, c);
+                model.rates(tmp, u, ks);
+            }
+            add_noise(ks);
         }
-        drift_constants(tmp, x, 0.5 * h);
-        model.rates(tmp, fm, k2);
-        add_noise(k2);
-
         for i in 0..d {
-            tmp[i] = x[i] + 0.5 * h * k2[i];
-        }
-        model.rates(tmp, fm, k3);
-        add_noise(k3);
-
-        for i in 0..d {
-            tmp[i] = x[i] + h * k3[i];
-        }
-        drift_constants(tmp, x, h);
-        model.rates(tmp, f1, k4);
-        add_noise(k4);
-
-        for i in 0..d {
-            x[i] += h / 6.0 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+            x[i] += rk4_step(h, [k[i], k[d + i], k[2 * d + i], k[3 * d + i]]);
         }
         drift_constants_final(channels, noise, d, x, h);
     }

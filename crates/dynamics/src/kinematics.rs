@@ -2,6 +2,7 @@
 //! derivative evaluation and shared by the base model and its effects.
 
 use crate::earth::{meridian_radius, prime_vertical_radius, FLATTENING, RE, WIE};
+use crate::real::Real;
 use crate::state::{LAT, PHI_X, PHI_Y, PHI_Z, V_X, V_Y};
 
 /// Specific force input `f = [fx, fy, fz]` along the platform axes, m/s^2.
@@ -9,67 +10,89 @@ pub type Input = [f64; 3];
 
 /// Trigonometry, radii and rates at one state, with their derivatives in latitude (for
 /// Jacobians). Field names follow model.md: `w_cmd` is the rate the platform is torqued at.
+///
+/// Generic over the number type ([`Real`]): `Kinematics<f64>` (the default) for one state,
+/// `Kinematics<Lanes>` for eight. Built by [`Kinematics::with_trig`] from `sin L` and `cos L`,
+/// which each caller evaluates its own way (see [`crate::trig`] and
+/// [`crate::batch_propagation`]); everything after that is one source for every number type.
 #[derive(Debug, Clone, Copy, Default)]
-pub struct Kinematics {
+pub struct Kinematics<T = f64> {
     /// Specific force input.
-    pub f: Input,
+    pub f: [T; 3],
     /// Platform error angles.
-    pub phi: [f64; 3],
-    /// East and North velocity.
-    pub v_x: f64,
+    pub phi: [T; 3],
+    /// East velocity.
+    pub v_x: T,
     /// North velocity.
-    pub v_y: f64,
-    /// sin L, cos L, tan L.
-    pub sin_l: f64,
+    pub v_y: T,
+    /// sin L.
+    pub sin_l: T,
     /// cos L.
-    pub cos_l: f64,
+    pub cos_l: T,
     /// tan L.
-    pub tan_l: f64,
+    pub tan_l: T,
     /// 1 / cos L.
-    pub inv_cos: f64,
+    pub inv_cos: T,
     /// 1 / RM.
-    pub inv_rm: f64,
+    pub inv_rm: T,
     /// 1 / RN.
-    pub inv_rn: f64,
+    pub inv_rn: T,
     /// d(1/RM)/dL.
-    pub d_inv_rm: f64,
+    pub d_inv_rm: T,
     /// d(1/RN)/dL.
-    pub d_inv_rn: f64,
+    pub d_inv_rn: T,
     /// tan L / RN.
-    pub tan_over_rn: f64,
+    pub tan_over_rn: T,
     /// d(tan L / RN)/dL.
-    pub d_tan_over_rn: f64,
+    pub d_tan_over_rn: T,
     /// `[-v_y/RM, wie cosL + v_x/RN, wie sinL + v_x tanL/RN]`, rad/s.
-    pub w_cmd: [f64; 3],
+    pub w_cmd: [T; 3],
 }
 
-impl Kinematics {
+impl Kinematics<f64> {
     /// Computes the kinematics of the full state `x` under input `f`.
     #[inline]
     pub fn new(x: &[f64], f: &Input) -> Self {
         let (sin_l, cos_l) = crate::trig::sin_cos(x[LAT]);
         Self::with_trig(x, f, sin_l, cos_l)
     }
+}
 
-    /// As [`Kinematics::new`], with `sin L` and `cos L` already known.
-    #[inline]
-    pub fn with_trig(x: &[f64], f: &Input, sin_l: f64, cos_l: f64) -> Self {
+impl<T: Real> Kinematics<T> {
+    /// As [`Kinematics::new`], with `sin L` and `cos L` already known. `x` holds at least the
+    /// navigation states.
+    #[inline(always)]
+    pub fn with_trig(x: &[T], f: &Input, sin_l: T, cos_l: T) -> Self {
+        Self::values(x, f, sin_l, cos_l).with_slopes()
+    }
+
+    /// The latitude derivatives (`d_inv_rm`, `d_inv_rn`, `d_tan_over_rn`), which only
+    /// Jacobians need, from the values.
+    #[inline(always)]
+    pub fn with_slopes(mut self) -> Self {
+        // dRM/dL = 6 Re f sinL cosL, dRN/dL = 2 Re f sinL cosL.
+        let sc = self.sin_l * self.cos_l;
+        self.d_inv_rm = sc * (-6.0 * RE * FLATTENING) * self.inv_rm * self.inv_rm;
+        self.d_inv_rn = sc * (-2.0 * RE * FLATTENING) * self.inv_rn * self.inv_rn;
+        self.d_tan_over_rn =
+            (self.tan_l * self.tan_l + 1.0) * self.inv_rn + self.tan_l * self.d_inv_rn;
+        self
+    }
+
+    /// The values without the latitude derivatives (left zero): what the rates need. The
+    /// batched propagation builds these, never a Jacobian.
+    #[inline(always)]
+    pub fn values(x: &[T], f: &Input, sin_l: T, cos_l: T) -> Self {
         let rm = meridian_radius(sin_l);
         let rn = prime_vertical_radius(sin_l);
-        let inv_rm = 1.0 / rm;
-        let inv_rn = 1.0 / rn;
-        let inv_cos = 1.0 / cos_l;
+        let [inv_rm, inv_rn, inv_cos] = T::reciprocals(rm, rn, cos_l);
         let tan_l = sin_l * inv_cos;
-        // dRM/dL = 6 Re f sinL cosL, dRN/dL = 2 Re f sinL cosL.
-        let sc = sin_l * cos_l;
-        let d_inv_rm = -6.0 * RE * FLATTENING * sc * inv_rm * inv_rm;
-        let d_inv_rn = -2.0 * RE * FLATTENING * sc * inv_rn * inv_rn;
         let tan_over_rn = tan_l * inv_rn;
-        let d_tan_over_rn = (1.0 + tan_l * tan_l) * inv_rn + tan_l * d_inv_rn;
+        let zero = T::splat(0.0);
         let v_x = x[V_X];
         let v_y = x[V_Y];
         Kinematics {
-            f: *f,
+            f: f.map(T::splat),
             phi: [x[PHI_X], x[PHI_Y], x[PHI_Z]],
             v_x,
             v_y,
@@ -79,14 +102,14 @@ impl Kinematics {
             inv_cos,
             inv_rm,
             inv_rn,
-            d_inv_rm,
-            d_inv_rn,
+            d_inv_rm: zero,
+            d_inv_rn: zero,
             tan_over_rn,
-            d_tan_over_rn,
+            d_tan_over_rn: zero,
             w_cmd: [
                 -v_y * inv_rm,
-                WIE * cos_l + v_x * inv_rn,
-                WIE * sin_l + v_x * tan_over_rn,
+                cos_l * WIE + v_x * inv_rn,
+                sin_l * WIE + v_x * tan_over_rn,
             ],
         }
     }

@@ -17,20 +17,52 @@
 
 use crate::batch_propagation;
 use crate::earth::WIE;
-use crate::effect::{Effect, NoiseChannel, Partials};
+use crate::effect::{DynEffect, EffectNumber, MeasurementTerm, NoiseChannel, Partials};
 use crate::error::DynamicsError;
 use crate::integrate::{propagate_generic, InputWindow, PropagationScratch};
 use crate::kinematics::{Input, Kinematics};
 use crate::noise::NoiseConfig;
+use crate::real::Real;
 use crate::state::*;
 use crate::system::SystemModel;
 use std::collections::HashSet;
 
+/// The base coefficients' terms in the rates at one input: the gyro drifts
+/// `eps = Kg0 + Kg11 fx + Kg12 fy` (eqs 6-8) and the accelerometer errors
+/// `nab = Ka0 + Ka1 f` (eqs 4-5).
+#[derive(Debug, Clone, Copy)]
+pub struct CoefficientTerms<T> {
+    /// `eps_x, eps_y, eps_z`, rad/s.
+    pub eps: [T; 3],
+    /// `nab_x, nab_y`, m/s^2.
+    pub nab: [T; 2],
+}
+
+impl<T: Real> CoefficientTerms<T> {
+    /// The terms of the full state `x` under input `f`.
+    #[inline(always)]
+    pub fn new(x: &[T], f: &[T; 3]) -> Self {
+        let [fx, fy, _] = *f;
+        // Written out rather than through a closure, which the batch path did not inline.
+        let c = &x[..BASE_DIM];
+        CoefficientTerms {
+            eps: [
+                c[KG0X] + c[KG11X] * fx + c[KG12X] * fy,
+                c[KG0Y] + c[KG11X + 3] * fx + c[KG12X + 3] * fy,
+                c[KG0Z] + c[KG11X + 6] * fx + c[KG12X + 6] * fy,
+            ],
+            nab: [c[KA0X] + c[KA1X] * fx, c[KA0Y] + c[KA1Y] * fy],
+        }
+    }
+}
+
 /// The base model plus switched-on effects.
 #[derive(Debug)]
 pub struct PlatformModel {
-    effects: Vec<Box<dyn Effect>>,
+    effects: Vec<Box<dyn DynEffect>>,
     offsets: Vec<usize>,
+    /// The state indices of each effect's coefficients.
+    ranges: Vec<std::ops::Range<usize>>,
     rate_effects: Vec<usize>,
     meas_effects: Vec<usize>,
     names: Vec<String>,
@@ -47,8 +79,12 @@ impl PlatformModel {
     }
 
     /// Assembles the base model with `effects`, in order. Fails on a duplicated effect or
-    /// coefficient name, or a malformed effect (names, units and sigmas of unequal length).
-    pub fn new(effects: Vec<Box<dyn Effect>>, noise: &NoiseConfig) -> Result<Self, DynamicsError> {
+    /// coefficient name, a malformed effect (names, units and sigmas of unequal length), or an
+    /// effect whose code adds a term its [`crate::Effect::terms`] does not declare.
+    pub fn new(
+        effects: Vec<Box<dyn DynEffect>>,
+        noise: &NoiseConfig,
+    ) -> Result<Self, DynamicsError> {
         let mut names: Vec<String> = BASE_NAMES.iter().map(|s| s.to_string()).collect();
         let mut units: Vec<String> = BASE_UNITS.iter().map(|s| s.to_string()).collect();
         let mut seen_effects = HashSet::new();
@@ -90,6 +126,9 @@ impl PlatformModel {
             channel("w_ax", V_X, noise.accel_psd),
             channel("w_ay", V_Y, noise.accel_psd),
         ];
+        for (e, &off) in effects.iter().zip(&offsets) {
+            check_declared_terms(e.as_ref(), off, dim)?;
+        }
         for e in &effects {
             for ch in e.process_noise() {
                 if ch.state >= dim || !(ch.psd.is_finite() && ch.psd >= 0.0) {
@@ -105,15 +144,23 @@ impl PlatformModel {
             }
         }
         let rate_effects = (0..effects.len())
-            .filter(|&i| effects[i].adds_rates())
+            .filter(|&i| effects[i].terms().rates)
             .collect();
         let meas_effects = (0..effects.len())
-            .filter(|&i| effects[i].adds_measurement())
+            .filter(|&i| effects[i].terms().measurement != MeasurementTerm::None)
             .collect();
-        let linear_measurement = effects.iter().all(|e| e.measurement_is_linear());
+        let linear_measurement = effects
+            .iter()
+            .all(|e| e.terms().measurement != MeasurementTerm::NonLinear);
+        let ranges = effects
+            .iter()
+            .zip(&offsets)
+            .map(|(e, &off)| off..off + e.coefficient_names().len())
+            .collect();
         Ok(PlatformModel {
             effects,
             offsets,
+            ranges,
             rate_effects,
             meas_effects,
             names,
@@ -129,7 +176,7 @@ impl PlatformModel {
         self.dim
     }
     /// The switched-on effects, in state order.
-    pub fn effects(&self) -> &[Box<dyn Effect>] {
+    pub fn effects(&self) -> &[Box<dyn DynEffect>] {
         &self.effects
     }
     /// Index of the first coefficient of effect `i`.
@@ -160,45 +207,80 @@ impl PlatformModel {
         out
     }
 
-    /// Derivative of the seven navigation states, given precomputed kinematics.
+    /// Derivative of the seven navigation states (model.md eqs 1-12 plus the effects' terms)
+    /// at the full state `x`, given its kinematics, for one state: the truth and the EKF.
+    /// [`PlatformModel::base_rates`] and [`PlatformModel::add_effect_rates`] are the one
+    /// source; the UKFs' batches call the same two on [`crate::Lanes`].
     // Inlined into its callers, the result stays in registers: returned through memory, its
     // seven scalar stores were read back as vectors, a store-forwarding stall per call.
     #[inline(always)]
     pub fn nav_rates(&self, x: &[f64], k: &Kinematics) -> [f64; NAV_DIM] {
-        let [fx, fy, fz] = k.f;
-        let [px, py, pz] = k.phi;
-        let [w1, w2, w3] = k.w_cmd;
-        let eps = |a: usize| x[KG0X + 3 * a] + x[KG11X + 3 * a] * fx + x[KG12X + 3 * a] * fy;
-        let nab_x = x[KA0X] + x[KA1X] * fx;
-        let nab_y = x[KA0Y] + x[KA1Y] * fy;
-        let coriolis = 2.0 * WIE * k.sin_l + k.v_x * k.tan_over_rn;
-        let mut r = [
-            py * w3 - pz * w2 + eps(0),
-            pz * w1 - px * w3 + eps(1),
-            px * w2 - py * w1 + eps(2),
-            coriolis * k.v_y + nab_x + fx + fy * pz - fz * py,
-            -coriolis * k.v_x + nab_y + fy + fz * px - fx * pz,
-            k.v_y * k.inv_rm,
-            k.v_x * k.inv_rn * k.inv_cos,
-        ];
-        if !self.rate_effects.is_empty() {
+        let mut r = self.base_rates(x, k);
+        if self.has_rate_effects() {
             // Through copies: were `r` or `k` passed by address, neither could stay in
             // registers, effects or not.
             let k = *k;
             let mut with = r;
-            for &i in &self.rate_effects {
-                let off = self.offsets[i];
-                let e = &self.effects[i];
-                e.add_rates(&k, &x[off..off + e.coefficient_names().len()], &mut with);
-            }
+            self.add_effect_rates(x, &k, &mut with);
             r = with;
         }
         r
     }
 
+    /// Whether any switched-on effect adds rates.
+    #[inline(always)]
+    pub fn has_rate_effects(&self) -> bool {
+        !self.rate_effects.is_empty()
+    }
+
+    /// The base model's navigation-state derivatives (model.md eqs 1-12), on one state or a
+    /// batch: `x` is the full state, `k` its kinematics.
+    #[inline(always)]
+    pub fn base_rates<T: Real>(&self, x: &[T], k: &Kinematics<T>) -> [T; NAV_DIM] {
+        self.base_rates_with(k, &CoefficientTerms::new(x, &k.f))
+    }
+
+    /// [`PlatformModel::base_rates`] with the coefficients' terms already formed (a batch
+    /// forms them once per input rather than once per stage).
+    #[inline(always)]
+    pub fn base_rates_with<T: Real>(
+        &self,
+        k: &Kinematics<T>,
+        terms: &CoefficientTerms<T>,
+    ) -> [T; NAV_DIM] {
+        let [fx, fy, fz] = k.f;
+        let [px, py, pz] = k.phi;
+        let [w1, w2, w3] = k.w_cmd;
+        let [eps_x, eps_y, eps_z] = terms.eps;
+        let [nab_x, nab_y] = terms.nab;
+        let coriolis = k.sin_l * (2.0 * WIE) + k.v_x * k.tan_over_rn;
+        [
+            py * w3 - pz * w2 + eps_x,
+            pz * w1 - px * w3 + eps_y,
+            px * w2 - py * w1 + eps_z,
+            coriolis * k.v_y + nab_x + fx + fy * pz - fz * py,
+            -coriolis * k.v_x + nab_y + fy + fz * px - fx * pz,
+            k.v_y * k.inv_rm,
+            k.v_x * k.inv_rn * k.inv_cos,
+        ]
+    }
+
+    /// Adds the switched-on effects' rate terms to `r`, on one state or a batch.
+    #[inline(always)]
+    pub fn add_effect_rates<T: EffectNumber>(
+        &self,
+        x: &[T],
+        k: &Kinematics<T>,
+        r: &mut [T; NAV_DIM],
+    ) {
+        for &i in &self.rate_effects {
+            let c = &x[self.ranges[i].clone()];
+            T::add_effect_rates(self.effects[i].as_ref(), k, c, r);
+        }
+    }
+
     fn effect_coeffs<'a>(&self, i: usize, x: &'a [f64]) -> &'a [f64] {
-        let off = self.offsets[i];
-        &x[off..off + self.effects[i].coefficient_names().len()]
+        &x[self.ranges[i].clone()]
     }
 
     /// The rate Jacobian (`NAV_DIM` rows `stride >= dim` apart) given the kinematics at `x`.
@@ -365,6 +447,13 @@ impl SystemModel for PlatformModel {
         self.names.clone()
     }
 
+    fn propagation_scratch(&self, count: usize) -> PropagationScratch {
+        let mut scratch = PropagationScratch::default();
+        scratch.ensure(self.scratch_len(count));
+        scratch.lanes(batch_propagation::scratch_lanes(self.dim));
+        scratch
+    }
+
     fn propagate_points(
         &self,
         points: &mut [f64],
@@ -373,18 +462,8 @@ impl SystemModel for PlatformModel {
         scratch: &mut PropagationScratch,
     ) {
         let n = self.dim;
-        let batched = self.rate_effects.is_empty()
-            && self.noise.iter().all(|c| c.state < NAV_DIM)
-            && self.noise.len() <= MAX_BATCH_NOISE
-            && points.len() >= n
-            && batch_propagation::applicable(points, n, window, points[LAT]);
-        if batched {
-            let mut states = [0usize; MAX_BATCH_NOISE];
-            for (s, c) in states.iter_mut().zip(&self.noise) {
-                *s = c.state;
-            }
-            let channels = &states[..self.noise.len()];
-            batch_propagation::propagate(points, n, noise.map(|w| (w, channels)), window);
+        if points.len() >= n && batch_propagation::applicable(points, n, window, points[LAT]) {
+            batch_propagation::propagate(self, points, noise, window, scratch);
         } else {
             let nw = self.noise.len();
             scratch.ensure(self.scratch_len(1));
@@ -396,5 +475,43 @@ impl SystemModel for PlatformModel {
     }
 }
 
-/// Most noise channels the batched path takes (the base model has five).
-const MAX_BATCH_NOISE: usize = 8;
+/// Checks an effect's declared [`crate::Terms`] against its code: at a probe state with
+/// every quantity non-zero, an effect that declares no rates must add none, one that declares
+/// no measurement term must add none, one that declares no noise must bring no channel.
+/// Otherwise the model, which calls only what is declared, would silently drop the term.
+fn check_declared_terms(e: &dyn DynEffect, offset: usize, dim: usize) -> Result<(), DynamicsError> {
+    let terms = e.terms();
+    let count = e.coefficient_names().len();
+    let mut x: Vec<f64> = (0..dim).map(|i| 1e-3 * (1.0 + i as f64)).collect();
+    x[V_X] = 12.0;
+    x[V_Y] = -7.0;
+    x[LAT] = 0.8;
+    x[LON] = 2.2;
+    let k = Kinematics::new(&x, &[0.4, -0.3, 9.8]);
+    let c = &x[offset..offset + count];
+    let undeclared = |what: &str| {
+        DynamicsError::Effect(format!(
+            "effect `{}` adds {what} that its `terms()` does not declare; declare it, or the \
+             model would drop it",
+            e.name()
+        ))
+    };
+    if !terms.rates {
+        let mut r = [0.0; NAV_DIM];
+        e.add_rates(&k, c, &mut r);
+        if r.iter().any(|&v| v != 0.0) {
+            return Err(undeclared("rates"));
+        }
+    }
+    if terms.measurement == MeasurementTerm::None {
+        let mut z = [0.0; MEAS_DIM];
+        e.add_measurement(&k, c, &mut z);
+        if z.iter().any(|&v| v != 0.0) {
+            return Err(undeclared("a measurement term"));
+        }
+    }
+    if !terms.noise && !e.process_noise().is_empty() {
+        return Err(undeclared("process noise"));
+    }
+    Ok(())
+}

@@ -10,8 +10,9 @@
 //!   constant) can carry. The truth simulator adds it to the specific force it integrates
 //!   ([`crate::Simulator::with_specific_force_error`]); the recorded input lacks it.
 
-use crate::effect::{Effect, Partials};
+use crate::effect::{Effect, Partials, Terms};
 use crate::kinematics::{Input, Kinematics};
+use crate::real::Real;
 use crate::state::{NAV_DIM, V_X, V_Y};
 
 /// `v' -= kd v`: a velocity-proportional acceleration error (not in the catalogue).
@@ -30,6 +31,9 @@ impl Effect for Drag {
     fn description(&self) -> &str {
         "v' -= kd v (velocity-proportional acceleration error; outside the catalogue)"
     }
+    fn terms(&self) -> Terms {
+        Terms::RATES
+    }
     fn coefficient_names(&self) -> &[&str] {
         &["kd"]
     }
@@ -39,7 +43,7 @@ impl Effect for Drag {
     fn coefficient_sigma(&self) -> &[f64] {
         &[Self::TYPICAL]
     }
-    fn add_rates(&self, k: &Kinematics, c: &[f64], r: &mut [f64; NAV_DIM]) {
+    fn add_rates<T: Real>(&self, k: &Kinematics<T>, c: &[T], r: &mut [T; NAV_DIM]) {
         r[V_X] -= c[0] * k.v_x;
         r[V_Y] -= c[0] * k.v_y;
     }

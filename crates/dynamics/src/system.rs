@@ -62,6 +62,14 @@ pub trait SystemModel: Send + Sync {
         4 * self.dynamic_dim() + self.dim()
     }
 
+    /// Scratch for [`SystemModel::propagate_points`] on up to `count` points, allocated now so
+    /// that propagating never allocates.
+    fn propagation_scratch(&self, count: usize) -> PropagationScratch {
+        let mut scratch = PropagationScratch::default();
+        scratch.ensure(self.scratch_len(count));
+        scratch
+    }
+
     /// Propagates `count = points.len() / dim()` states, stored one after another, across
     /// the input window with RK4 (one sub-step per pair of knots). `noise`, when given, holds
     /// `noise_channels().len()` white-noise values per point, held constant over the window.

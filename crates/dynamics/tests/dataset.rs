@@ -988,6 +988,13 @@ fn a_users_own_effect_coefficient_is_accepted_with_its_registry() {
     #[derive(Debug)]
     struct Drag;
     impl navkf_dynamics::Effect for Drag {
+        fn terms(&self) -> navkf_dynamics::Terms {
+            navkf_dynamics::Terms {
+                rates: false,
+                measurement: navkf_dynamics::MeasurementTerm::None,
+                noise: false,
+            }
+        }
         fn name(&self) -> &str {
             "drag"
         }
@@ -1016,7 +1023,7 @@ fn a_users_own_effect_coefficient_is_accepted_with_its_registry() {
         "kd is unknown to the catalogue"
     );
     let mut registry = Registry::catalogue();
-    registry.register("drag", || Box::new(Drag));
+    registry.register(|| Box::new(Drag));
     let d = Dataset::read_with(&dir, &registry).unwrap();
     std::fs::remove_dir_all(&dir).unwrap();
     assert_eq!(

@@ -150,6 +150,13 @@ fn all_catalogue_effects_in_reverse_order_match_finite_differences() {
 struct TorquerScaleMissingTerm;
 
 impl Effect for TorquerScaleMissingTerm {
+    fn terms(&self) -> navkf_dynamics::Terms {
+        navkf_dynamics::Terms {
+            rates: true,
+            measurement: navkf_dynamics::MeasurementTerm::None,
+            noise: false,
+        }
+    }
     fn name(&self) -> &str {
         "torquer-scale-broken"
     }
@@ -165,7 +172,12 @@ impl Effect for TorquerScaleMissingTerm {
     fn coefficient_sigma(&self) -> &[f64] {
         TorquerScale.coefficient_sigma()
     }
-    fn add_rates(&self, k: &Kinematics, c: &[f64], rates: &mut [f64; NAV_DIM]) {
+    fn add_rates<T: navkf_dynamics::Real>(
+        &self,
+        k: &Kinematics<T>,
+        c: &[T],
+        rates: &mut [T; NAV_DIM],
+    ) {
         TorquerScale.add_rates(k, c, rates)
     }
     fn add_rate_partials(&self, k: &Kinematics, c: &[f64], offset: usize, p: &mut Partials) {

@@ -28,6 +28,13 @@ use navkf_dynamics::{
 struct GyroMisalignment;
 
 impl Effect for GyroMisalignment {
+    fn terms(&self) -> navkf_dynamics::Terms {
+        navkf_dynamics::Terms {
+            rates: true,
+            measurement: navkf_dynamics::MeasurementTerm::None,
+            noise: false,
+        }
+    }
     fn name(&self) -> &str {
         "gyro-misalignment"
     }
@@ -44,7 +51,12 @@ impl Effect for GyroMisalignment {
         // 20 arcsec.
         &[1e-4, 1e-4]
     }
-    fn add_rates(&self, k: &Kinematics, c: &[f64], rates: &mut [f64; NAV_DIM]) {
+    fn add_rates<T: navkf_dynamics::Real>(
+        &self,
+        k: &Kinematics<T>,
+        c: &[T],
+        rates: &mut [T; NAV_DIM],
+    ) {
         rates[PHI_Z] -= c[0] * k.w_cmd[1];
         rates[PHI_X] -= c[1] * k.w_cmd[2];
     }
@@ -66,7 +78,7 @@ impl Effect for GyroMisalignment {
 
 fn registry() -> Registry {
     let mut reg = Registry::catalogue();
-    reg.register("gyro-misalignment", || Box::new(GyroMisalignment));
+    reg.register(|| Box::new(GyroMisalignment));
     reg
 }
 
@@ -233,6 +245,13 @@ struct Clashing(
 );
 
 impl Effect for Clashing {
+    fn terms(&self) -> navkf_dynamics::Terms {
+        navkf_dynamics::Terms {
+            rates: false,
+            measurement: navkf_dynamics::MeasurementTerm::None,
+            noise: false,
+        }
+    }
     fn name(&self) -> &str {
         "clashing"
     }
@@ -274,4 +293,87 @@ fn clashing_or_malformed_coefficients_are_refused() {
         vec![Box::new(Clashing(&["a"], &["1"], &[]))],
         &cfg,
     ));
+}
+
+/// An effect whose code adds a term its `terms()` leaves out.
+#[derive(Debug)]
+struct Undeclared(navkf_dynamics::Terms);
+
+impl Effect for Undeclared {
+    fn name(&self) -> &str {
+        "undeclared"
+    }
+    fn description(&self) -> &str {
+        "adds everything, declares what it is told"
+    }
+    fn coefficient_names(&self) -> &[&str] {
+        &["u"]
+    }
+    fn coefficient_units(&self) -> &[&str] {
+        &["1"]
+    }
+    fn coefficient_sigma(&self) -> &[f64] {
+        &[1.0]
+    }
+    fn terms(&self) -> navkf_dynamics::Terms {
+        self.0
+    }
+    fn add_rates<T: navkf_dynamics::Real>(
+        &self,
+        k: &Kinematics<T>,
+        c: &[T],
+        rates: &mut [T; NAV_DIM],
+    ) {
+        rates[V_X] += c[0] * k.v_y;
+    }
+    fn add_measurement(&self, k: &Kinematics, c: &[f64], z: &mut [f64; MEAS_DIM]) {
+        z[0] += c[0] * k.v_x;
+    }
+    fn process_noise(&self) -> Vec<navkf_dynamics::NoiseChannel> {
+        vec![navkf_dynamics::NoiseChannel {
+            name: "w_u".into(),
+            state: BASE_DIM,
+            psd: 1e-9,
+        }]
+    }
+}
+
+/// Catches: a term the model never calls because the effect forgot to declare it (it would
+/// be silently dropped from every filter and the truth).
+#[test]
+fn a_term_the_effect_adds_but_does_not_declare_is_refused() {
+    use navkf_dynamics::{MeasurementTerm, Terms};
+    let all = Terms {
+        rates: true,
+        measurement: MeasurementTerm::NonLinear,
+        noise: true,
+    };
+    let cfg = NoiseConfig::default();
+    PlatformModel::new(vec![Box::new(Undeclared(all))], &cfg).unwrap();
+    for (terms, what) in [
+        (
+            Terms {
+                rates: false,
+                ..all
+            },
+            "rates",
+        ),
+        (
+            Terms {
+                measurement: MeasurementTerm::None,
+                ..all
+            },
+            "measurement",
+        ),
+        (
+            Terms {
+                noise: false,
+                ..all
+            },
+            "noise",
+        ),
+    ] {
+        let msg = effect_error(PlatformModel::new(vec![Box::new(Undeclared(terms))], &cfg));
+        assert!(msg.contains("undeclared") && msg.contains(what), "{msg}");
+    }
 }

@@ -15,6 +15,7 @@ use crate::error::FilterError;
 use crate::filter::{add_process_noise, Estimate, Filter};
 use crate::tangent::{rows_times_matrix, ChunkBuf, Stage, LANES};
 use crate::update::{GainWorkspace, MeasurementMoments, Observation, UpdateReport};
+use navkf_dynamics::integrate::{rk4_step, RK4};
 use navkf_dynamics::{InputWindow, SystemModel};
 use std::sync::Arc;
 
@@ -89,18 +90,12 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
         let nc = self.nc;
         let np = nc * LANES;
         let h = window.t[j + 1] - window.t[j];
-        let (f0, fm, f1) = (&window.f[j], &window.f_mid[j], &window.f[j + 1]);
         let model = &*self.model;
         let x0 = &self.est.x[..d];
         self.xs[..d].copy_from_slice(x0);
-        // (input, offset of the stage state, weight in the sum, offset of the next stage).
-        let stages: [(&navkf_dynamics::Input, f64, f64, f64); 4] = [
-            (f0, 0.0, h / 6.0, 0.5 * h),
-            (fm, 0.5 * h, h / 3.0, 0.5 * h),
-            (fm, 0.5 * h, h / 3.0, h),
-            (f1, h, h / 6.0, 0.0),
-        ];
-        for (s, &(u, c, w, c_next)) in stages.iter().enumerate() {
+        for (s, stage) in RK4.iter().enumerate() {
+            let (u, c, w) = (stage.input(window, j), stage.offset(h), stage.weight(h));
+            let c_next = RK4.get(s + 1).map_or(0.0, |next| next.offset(h));
             let (prev, cur) = self.k.split_at_mut(s);
             if s > 0 {
                 for ((xs, x), k) in self.xs.iter_mut().zip(x0).zip(&prev[s - 1]) {
@@ -111,7 +106,7 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
             model.rates_and_jacobian(&self.xs, u, &mut cur[0], jac, np);
             let [y0, y1] = &mut self.y;
             let (y_in, y_out) = if s % 2 == 0 { (y0, y1) } else { (y1, y0) };
-            let stage = Stage {
+            let kernel = Stage {
                 d,
                 jac: &self.jac,
                 y_in: if s == 0 { &self.phi[..] } else { &y_in[..] },
@@ -119,13 +114,12 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
                 w,
                 first: s == 0,
             };
-            let next = (s < 3).then_some((&mut y_out[..], c_next));
-            stage.run(nc, &mut self.phi_next, next);
+            let next = (s + 1 < RK4.len()).then_some((&mut y_out[..], c_next));
+            kernel.run(nc, &mut self.phi_next, next);
         }
-        let h6 = h / 6.0;
         let [k1, k2, k3, k4] = &self.k;
         for (i, x) in self.est.x[..d].iter_mut().enumerate() {
-            *x += h6 * (k1[i] + 2.0 * (k2[i] + k3[i]) + k4[i]);
+            *x += rk4_step(h, [k1[i], k2[i], k3[i], k4[i]]);
         }
         std::mem::swap(&mut self.phi, &mut self.phi_next);
     }

@@ -68,8 +68,7 @@ impl<M: SystemModel + ?Sized> SquareRootUkf<M> {
         let q = model.noise_channels().len();
         let sp = SigmaPoints::new(n, scaling)?;
         let npts = sp.count();
-        let mut scratch = PropagationScratch::default();
-        scratch.ensure(model.scratch_len(npts));
+        let scratch = model.propagation_scratch(npts);
         // Largest tall matrix: the prediction's (2n + q) x n, the linear update's square
         // (nz + n), or the sigma update's (2n + nz) x nz.
         let tall = ((2 * n + q) * n)

@@ -95,8 +95,7 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
         let sp_state = SigmaPoints::new(n, scaling)?;
         let npts = sp.count().max(sp_state.count());
         let nprop = 1 + 2 * (n + nw);
-        let mut scratch = PropagationScratch::default();
-        scratch.ensure(model.scratch_len(npts));
+        let scratch = model.propagation_scratch(npts);
         let dev_len = npts.div_ceil(8) * 8;
         let pad = |rows: usize| rows.div_ceil(DOT_BLOCK) * DOT_BLOCK;
         let weights_m = (0..sp.count()).map(|i| sp.wm(i)).collect();

@@ -7,7 +7,7 @@
 use navkf_dynamics::outside::Drag;
 use navkf_dynamics::simulate::{Alignment, InitialTilt, Prior};
 use navkf_dynamics::{
-    dataset::Dataset, Effect, NoiseConfig, PlatformModel, PlatformPrior, Registry, Simulator,
+    dataset::Dataset, DynEffect, NoiseConfig, PlatformModel, PlatformPrior, Registry, Simulator,
     Trajectory, TrajectoryConfig, TruthConfig,
 };
 use navkf_study::diagnose::candidates::{CandidateKind, Outcome};
@@ -18,7 +18,7 @@ use std::sync::Arc;
 
 /// Simulates a gyrocompassed platform whose truth carries `effects` with the given fixed
 /// coefficients.
-fn dataset(effects: Vec<Box<dyn Effect>>, fixed: &[(&str, f64)], seed: u64) -> Dataset {
+fn dataset(effects: Vec<Box<dyn DynEffect>>, fixed: &[(&str, f64)], seed: u64) -> Dataset {
     let noise = NoiseConfig::default();
     let model = Arc::new(PlatformModel::new(effects, &noise).unwrap());
     let traj = Arc::new(Trajectory::build(&TrajectoryConfig::default()).unwrap());
@@ -40,7 +40,7 @@ fn dataset(effects: Vec<Box<dyn Effect>>, fixed: &[(&str, f64)], seed: u64) -> D
     sim.dataset("test", seed, &run)
 }
 
-fn catalogue(names: &[&str]) -> Vec<Box<dyn Effect>> {
+fn catalogue(names: &[&str]) -> Vec<Box<dyn DynEffect>> {
     Registry::catalogue().build_all(names).unwrap()
 }
 
@@ -181,7 +181,7 @@ fn effects_outside_the_catalogue_are_not_attributed_to_a_catalogued_one() {
         );
         // Written as a user effect and registered, the same drag is found.
         let mut reg = Registry::catalogue();
-        reg.register("drag", || Box::new(Drag));
+        reg.register(|| Box::new(Drag));
         let d = diagnose(&ds, &reg, &Options::default()).unwrap().0;
         assert_eq!(
             d.best.as_deref(),

@@ -1,8 +1,9 @@
 //! `accel-cross-axis`: accelerometer cross-axis sensitivity (input-axis misalignment),
 //! `nab_x += Ka12x fy`, `nab_y += Ka12y fx`.
 
-use crate::effect::{Effect, Partials};
+use crate::effect::{Effect, Partials, Terms};
 use crate::kinematics::Kinematics;
+use crate::real::Real;
 use crate::state::{NAV_DIM, V_X, V_Y};
 
 /// See the module documentation.
@@ -16,6 +17,9 @@ impl Effect for AccelCrossAxis {
     fn description(&self) -> &str {
         "nab_x += Ka12x fy, nab_y += Ka12y fx (accelerometer cross-axis coupling)"
     }
+    fn terms(&self) -> Terms {
+        Terms::RATES
+    }
     fn coefficient_names(&self) -> &[&str] {
         &["Ka12x", "Ka12y"]
     }
@@ -26,7 +30,7 @@ impl Effect for AccelCrossAxis {
         // 20 arcsec of input-axis misalignment.
         &[1.0e-4; 2]
     }
-    fn add_rates(&self, k: &Kinematics, c: &[f64], rates: &mut [f64; NAV_DIM]) {
+    fn add_rates<T: Real>(&self, k: &Kinematics<T>, c: &[T], rates: &mut [T; NAV_DIM]) {
         rates[V_X] += c[0] * k.f[1];
         rates[V_Y] += c[1] * k.f[0];
     }

@@ -1,8 +1,9 @@
 //! `accel-quadratic`: accelerometer second-order scale error,
 //! `nab_x += Ka2x fx^2`, `nab_y += Ka2y fy^2`.
 
-use crate::effect::{Effect, Partials};
+use crate::effect::{Effect, Partials, Terms};
 use crate::kinematics::Kinematics;
+use crate::real::Real;
 use crate::state::{NAV_DIM, V_X, V_Y};
 
 /// See the module documentation.
@@ -16,6 +17,9 @@ impl Effect for AccelQuadratic {
     fn description(&self) -> &str {
         "nab_x += Ka2x fx^2, nab_y += Ka2y fy^2 (second-order accelerometer scale error)"
     }
+    fn terms(&self) -> Terms {
+        Terms::RATES
+    }
     fn coefficient_names(&self) -> &[&str] {
         &["Ka2x", "Ka2y"]
     }
@@ -26,7 +30,7 @@ impl Effect for AccelQuadratic {
         // 50 ug/g^2 = 4.9e-4 m/s^2 per (9.81 m/s^2)^2.
         &[5.1e-6; 2]
     }
-    fn add_rates(&self, k: &Kinematics, c: &[f64], rates: &mut [f64; NAV_DIM]) {
+    fn add_rates<T: Real>(&self, k: &Kinematics<T>, c: &[T], rates: &mut [T; NAV_DIM]) {
         rates[V_X] += c[0] * k.f[0] * k.f[0];
         rates[V_Y] += c[1] * k.f[1] * k.f[1];
     }

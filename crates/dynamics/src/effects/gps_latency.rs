@@ -1,7 +1,7 @@
 //! `gps-latency`: the GPS fix refers to `tau` seconds before its time stamp,
 //! measured `L - tau v_y / RM`, `lambda - tau v_x / (RN cosL)` (a non-linear measurement).
 
-use crate::effect::{Effect, Partials};
+use crate::effect::{Effect, MeasurementTerm, Partials, Terms};
 use crate::kinematics::Kinematics;
 use crate::state::{LAT, MEAS_DIM, V_X, V_Y};
 
@@ -16,6 +16,9 @@ impl Effect for GpsLatency {
     fn description(&self) -> &str {
         "z_L -= tau v_y/RM, z_lambda -= tau v_x/(RN cosL) (GPS time-stamp latency)"
     }
+    fn terms(&self) -> Terms {
+        Terms::measurement(MeasurementTerm::NonLinear)
+    }
     fn coefficient_names(&self) -> &[&str] {
         &["tau"]
     }
@@ -25,12 +28,6 @@ impl Effect for GpsLatency {
     fn coefficient_sigma(&self) -> &[f64] {
         // A receiver's unmodelled output delay: tens to a few hundred milliseconds.
         &[0.1]
-    }
-    fn adds_rates(&self) -> bool {
-        false
-    }
-    fn adds_measurement(&self) -> bool {
-        true
     }
     fn add_measurement(&self, k: &Kinematics, c: &[f64], z: &mut [f64; MEAS_DIM]) {
         z[2] -= c[0] * k.v_y * k.inv_rm;

@@ -1,7 +1,7 @@
 //! `gyro-bias-walk`: the constant drifts `Kg0x, Kg0y, Kg0z` wander as random walks of
 //! spectral density `q_b` (rad^2/s^3). No coefficients: it changes the noise model only.
 
-use crate::effect::{Effect, NoiseChannel};
+use crate::effect::{Effect, NoiseChannel, Terms};
 use crate::state::KG0X;
 
 /// See the module documentation.
@@ -32,8 +32,8 @@ impl Effect for GyroBiasWalk {
     fn description(&self) -> &str {
         "Kg0x, Kg0y, Kg0z wander as random walks of density q_b (rad^2/s^3)"
     }
-    fn adds_rates(&self) -> bool {
-        false
+    fn terms(&self) -> Terms {
+        Terms::NOISE
     }
     fn process_noise(&self) -> Vec<NoiseChannel> {
         ["w_bx", "w_by", "w_bz"]

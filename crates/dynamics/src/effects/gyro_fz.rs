@@ -4,8 +4,9 @@
 //! On a level vehicle `fz` is nearly constant (gravity), so on a flat trajectory this term is
 //! almost indistinguishable from the constant drift `Kg0i`: the diagnosis reports that.
 
-use crate::effect::{Effect, Partials};
+use crate::effect::{Effect, Partials, Terms};
 use crate::kinematics::Kinematics;
+use crate::real::Real;
 use crate::state::{NAV_DIM, PHI_X};
 
 /// See the module documentation.
@@ -19,6 +20,9 @@ impl Effect for GyroFz {
     fn description(&self) -> &str {
         "eps_i += Kg13i fz (gyro drift per unit vertical specific force)"
     }
+    fn terms(&self) -> Terms {
+        Terms::RATES
+    }
     fn coefficient_names(&self) -> &[&str] {
         &["Kg13x", "Kg13y", "Kg13z"]
     }
@@ -29,7 +33,7 @@ impl Effect for GyroFz {
         // 0.02 deg/h per g.
         &[9.9e-9; 3]
     }
-    fn add_rates(&self, k: &Kinematics, c: &[f64], rates: &mut [f64; NAV_DIM]) {
+    fn add_rates<T: Real>(&self, k: &Kinematics<T>, c: &[T], rates: &mut [T; NAV_DIM]) {
         for i in 0..3 {
             rates[PHI_X + i] += c[i] * k.f[2];
         }

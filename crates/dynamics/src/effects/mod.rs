@@ -2,7 +2,8 @@
 //! and the registry that builds them by name.
 //!
 //! Adding an effect to the catalogue is one new file here plus one line in
-//! [`Registry::catalogue`]; a user adds their own with [`Registry::register`].
+//! [`Registry::catalogue`]; a user adds their own with [`Registry::register`]. The registry
+//! files each effect under the name the effect itself gives ([`crate::Effect::name`]).
 
 mod accel_cross_axis;
 mod accel_quadratic;
@@ -20,11 +21,11 @@ pub use gyro_fz::GyroFz;
 pub use odometer_scale::OdometerScale;
 pub use torquer_scale::TorquerScale;
 
-use crate::effect::Effect;
+use crate::effect::DynEffect;
 use crate::error::DynamicsError;
 use std::sync::Arc;
 
-type Factory = Arc<dyn Fn() -> Box<dyn Effect> + Send + Sync>;
+type Factory = Arc<dyn Fn() -> Box<dyn DynEffect> + Send + Sync>;
 
 /// Effects by name. [`Registry::catalogue`] holds model.md's seven; users add theirs.
 #[derive(Clone)]
@@ -52,23 +53,24 @@ impl Registry {
         let mut r = Registry {
             entries: Vec::new(),
         };
-        r.register("gyro-fz", || Box::new(GyroFz));
-        r.register("accel-quadratic", || Box::new(AccelQuadratic));
-        r.register("accel-cross-axis", || Box::new(AccelCrossAxis));
-        r.register("torquer-scale", || Box::new(TorquerScale));
-        r.register("odometer-scale", || Box::new(OdometerScale));
-        r.register("gps-latency", || Box::new(GpsLatency));
-        r.register("gyro-bias-walk", || Box::new(GyroBiasWalk::default()));
+        r.register(|| Box::new(GyroFz));
+        r.register(|| Box::new(AccelQuadratic));
+        r.register(|| Box::new(AccelCrossAxis));
+        r.register(|| Box::new(TorquerScale));
+        r.register(|| Box::new(OdometerScale));
+        r.register(|| Box::new(GpsLatency));
+        r.register(|| Box::new(GyroBiasWalk::default()));
         r
     }
 
-    /// Adds (or replaces) an effect under `name`.
-    pub fn register<F>(&mut self, name: &str, factory: F)
+    /// Adds an effect under the name it gives itself, replacing one of that name.
+    pub fn register<F>(&mut self, factory: F)
     where
-        F: Fn() -> Box<dyn Effect> + Send + Sync + 'static,
+        F: Fn() -> Box<dyn DynEffect> + Send + Sync + 'static,
     {
-        self.entries.retain(|(n, _)| n != name);
-        self.entries.push((name.to_string(), Arc::new(factory)));
+        let name = factory().name().to_string();
+        self.entries.retain(|(n, _)| *n != name);
+        self.entries.push((name, Arc::new(factory)));
     }
 
     /// Names, in registration order.
@@ -77,7 +79,7 @@ impl Registry {
     }
 
     /// Builds the effect called `name`.
-    pub fn build(&self, name: &str) -> Result<Box<dyn Effect>, DynamicsError> {
+    pub fn build(&self, name: &str) -> Result<Box<dyn DynEffect>, DynamicsError> {
         self.entries
             .iter()
             .find(|(n, _)| n == name)
@@ -94,7 +96,7 @@ impl Registry {
     pub fn build_all<S: AsRef<str>>(
         &self,
         names: &[S],
-    ) -> Result<Vec<Box<dyn Effect>>, DynamicsError> {
+    ) -> Result<Vec<Box<dyn DynEffect>>, DynamicsError> {
         names.iter().map(|n| self.build(n.as_ref())).collect()
     }
 

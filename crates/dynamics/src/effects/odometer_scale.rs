@@ -3,7 +3,7 @@
 //! The product `kod v` makes the measurement non-linear in the state, so the simplified UKF
 //! takes its sigma-point measurement path when this effect is on.
 
-use crate::effect::{Effect, Partials};
+use crate::effect::{Effect, MeasurementTerm, Partials, Terms};
 use crate::kinematics::Kinematics;
 use crate::state::{MEAS_DIM, V_X, V_Y};
 
@@ -18,6 +18,9 @@ impl Effect for OdometerScale {
     fn description(&self) -> &str {
         "z_v = (1 + kod) v (odometer scale error; non-linear measurement)"
     }
+    fn terms(&self) -> Terms {
+        Terms::measurement(MeasurementTerm::NonLinear)
+    }
     fn coefficient_names(&self) -> &[&str] {
         &["kod"]
     }
@@ -27,12 +30,6 @@ impl Effect for OdometerScale {
     fn coefficient_sigma(&self) -> &[f64] {
         // 0.2 % wheel-radius uncertainty.
         &[2.0e-3]
-    }
-    fn adds_rates(&self) -> bool {
-        false
-    }
-    fn adds_measurement(&self) -> bool {
-        true
     }
     fn add_measurement(&self, k: &Kinematics, c: &[f64], z: &mut [f64; MEAS_DIM]) {
         z[0] += c[0] * k.v_x;

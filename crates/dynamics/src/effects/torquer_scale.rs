@@ -5,8 +5,9 @@
 //! the platform follows the commanded rate only up to the torquer's scale factor.
 
 use crate::earth::WIE;
-use crate::effect::{Effect, Partials};
+use crate::effect::{Effect, Partials, Terms};
 use crate::kinematics::Kinematics;
+use crate::real::Real;
 use crate::state::{LAT, NAV_DIM, PHI_X, PHI_Y, PHI_Z, V_X, V_Y};
 
 /// See the module documentation.
@@ -20,6 +21,9 @@ impl Effect for TorquerScale {
     fn description(&self) -> &str {
         "phi' += diag(kt) w_cmd (scale error of the torquing commands)"
     }
+    fn terms(&self) -> Terms {
+        Terms::RATES
+    }
     fn coefficient_names(&self) -> &[&str] {
         &["ktx", "kty", "ktz"]
     }
@@ -30,7 +34,7 @@ impl Effect for TorquerScale {
         // 300 ppm torquer scale error.
         &[3.0e-4; 3]
     }
-    fn add_rates(&self, k: &Kinematics, c: &[f64], rates: &mut [f64; NAV_DIM]) {
+    fn add_rates<T: Real>(&self, k: &Kinematics<T>, c: &[T], rates: &mut [T; NAV_DIM]) {
         for i in 0..3 {
             rates[PHI_X + i] += c[i] * k.w_cmd[i];
         }

@@ -606,9 +606,7 @@ fn rival_note(
     opts: &Options,
 ) -> Result<Option<String>, DiagnoseError> {
     let mut with_rival = registry.clone();
-    with_rival.register(rivals::AccelBiasWalk::NAME, || {
-        Box::new(rivals::AccelBiasWalk::default())
-    });
+    with_rival.register(|| Box::new(rivals::AccelBiasWalk::default()));
     let candidates::DensityFit {
         fit: rival,
         density: q,

@@ -12,6 +12,7 @@
 //! it does not, the report says that a slow drift is there and that the data cannot say
 //! where it comes from.
 
+use navkf_dynamics::effect::Terms;
 use navkf_dynamics::state::{KA0X, KA0Y};
 use navkf_dynamics::{Effect, NoiseChannel};
 
@@ -45,8 +46,8 @@ impl Effect for AccelBiasWalk {
     fn description(&self) -> &str {
         "Ka0x, Ka0y wander as random walks of density q ((m/s^2)^2/s) (outside the catalogue)"
     }
-    fn adds_rates(&self) -> bool {
-        false
+    fn terms(&self) -> Terms {
+        Terms::NOISE
     }
     fn process_noise(&self) -> Vec<NoiseChannel> {
         [("w_ax0", KA0X), ("w_ay0", KA0Y)]

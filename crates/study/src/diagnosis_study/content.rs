@@ -13,9 +13,7 @@ use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::outside::{AccelWarmUp, Drag};
 use navkf_dynamics::rng::{stream, Purpose};
 use navkf_dynamics::simulate::Prior;
-use navkf_dynamics::{
-    Effect, NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TruthConfig,
-};
+use navkf_dynamics::{NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TruthConfig};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -245,7 +243,7 @@ pub fn simulate(
 ) -> Result<Dataset, StudyError> {
     let registry = Registry::catalogue();
     let noise = config.noise;
-    let mut effects: Vec<Box<dyn Effect>> = Vec::new();
+    let mut effects: Vec<Box<dyn navkf_dynamics::DynEffect>> = Vec::new();
     let mut coefficients = BTreeMap::new();
     let mut warm_up = None;
     let mut stated = noise;

@@ -106,16 +106,13 @@ impl Scenario {
     }
 }
 
-/// Every filter the harness has, built for `model` with the paper's sigma-point scaling.
+/// Every filter the harness has ([`FilterKind::ALL`]), built for `model` with the paper's
+/// sigma-point scaling.
 pub fn all_filters(model: &Arc<PlatformModel>) -> Vec<Box<dyn Filter>> {
-    let s = SigmaScaling::default();
-    vec![
-        Box::new(Ekf::new(model.clone())),
-        Box::new(simplified_ukf::new(model.clone(), s).unwrap()),
-        Box::new(standard_ukf::new(model.clone(), s).unwrap()),
-        Box::new(standard_ukf::process_only(model.clone(), s).unwrap()),
-        Box::new(SquareRootUkf::new(model.clone(), s).unwrap()),
-    ]
+    FilterKind::ALL
+        .iter()
+        .map(|k| k.build(model.clone(), SigmaScaling::default()).unwrap())
+        .collect()
 }
 
 impl Default for Scenario {

@@ -37,8 +37,8 @@ pub struct Args {
     /// stated noise as it is.
     #[arg(long, value_enum, default_value_t = NoiseMode::Fit)]
     noise: NoiseMode,
-    /// The filter of every fit (`ekf`, `simplified_ukf`, ...).
-    #[arg(long, default_value = "ekf")]
+    /// The filter of every fit.
+    #[arg(long, default_value = "ekf", value_parser = filter_names())]
     filter: String,
     /// Most automatic rounds of the forward selection.
     #[arg(long, default_value_t = Options::default().max_rounds)]
@@ -118,14 +118,6 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         };
         format!("{flag}: {message}")
     })?;
-    if !navkf_study::filters::KNOWN.contains(&a.filter.as_str()) {
-        return Err(format!(
-            "--filter `{}`: expected one of {}",
-            a.filter,
-            navkf_study::filters::KNOWN.join(", ")
-        )
-        .into());
-    }
     let ds = Dataset::read_with(&a.dataset, &registry)?;
     let opts = Options {
         with,
@@ -208,4 +200,13 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     Ok(())
+}
+
+/// The filters' names with their one-line documentation, for `--filter` (from the one list,
+/// [`navkf_filters::FilterKind`]).
+fn filter_names() -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(
+        navkf_filters::FilterKind::ALL
+            .map(|k| clap::builder::PossibleValue::new(k.name()).help(k.doc())),
+    )
 }

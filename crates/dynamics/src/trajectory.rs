@@ -161,6 +161,17 @@ pub enum Motion {
     },
 }
 
+/// The thresholds that sort recorded motion into [`Phase`]s: one definition for `inspect`'s
+/// summary and the diagnosis's per-phase NIS.
+pub mod phase_thresholds {
+    /// Below this speed the vehicle stands still, m/s (ten times the odometer's noise floor).
+    pub const STILL_SPEED: f64 = 0.1;
+    /// Along-track acceleration beyond which it accelerates or decelerates, m/s^2.
+    pub const ALONG_ACCEL: f64 = 0.1;
+    /// Heading rate beyond which it turns, deg/s.
+    pub const TURN_RATE_DEG_S: f64 = 1.0;
+}
+
 /// Motion phase labels, for reports and the diagnosis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

@@ -9,6 +9,7 @@
 pub mod ekf;
 pub mod error;
 pub mod filter;
+pub mod kind;
 pub mod linalg;
 pub mod runner;
 pub mod sigma_points;
@@ -23,6 +24,7 @@ pub mod update;
 pub use ekf::Ekf;
 pub use error::FilterError;
 pub use filter::{nees, Filter};
+pub use kind::FilterKind;
 pub use runner::{RunError, Runner, StepView};
 pub use sigma_points::{SigmaPoints, SigmaScaling};
 pub use square_root_ukf::SquareRootUkf;

@@ -65,17 +65,6 @@ pub fn forward_substitute(l: &[f64], n: usize, b: &mut [f64]) {
     }
 }
 
-/// Solves `L^T y = b` in place.
-pub fn backward_substitute(l: &[f64], n: usize, b: &mut [f64]) {
-    for j in (0..n).rev() {
-        let mut s = b[j];
-        for i in j + 1..n {
-            s -= l[i + j * n] * b[i];
-        }
-        b[j] = s / l[j + j * n];
-    }
-}
-
 /// Makes a column-major square matrix exactly symmetric: `A = (A + A^T) / 2`.
 pub fn symmetrize(a: &mut [f64], n: usize) {
     symmetrize_leading(a, n, n);

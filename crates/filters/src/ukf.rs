@@ -67,7 +67,6 @@ pub struct Ukf<M: SystemModel + ?Sized> {
     /// Whether `points` holds the propagated points of the last prediction (augmented
     /// filters update from them).
     have_points: bool,
-    last_dt: f64,
 }
 
 impl<M: SystemModel + ?Sized> Ukf<M> {
@@ -125,7 +124,6 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
             scratch,
             gain: GainWorkspace::new(n, nz),
             have_points: false,
-            last_dt: 0.0,
             model,
         })
     }
@@ -186,7 +184,7 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
     }
 
     /// Weighted mean of the first `count` points into `x`.
-    fn mean_and_deviations(&mut self, count: usize) {
+    fn weighted_mean(&mut self, count: usize) {
         let n = self.est.n;
         let x = &mut self.est.x;
         x.fill(0.0);
@@ -401,7 +399,7 @@ impl<M: SystemModel + ?Sized> Filter for Ukf<M> {
             self.points.copy_within(0..n, i * n);
         }
         let count = self.npts;
-        self.mean_and_deviations(count);
+        self.weighted_mean(count);
         self.build_deviations(count);
         self.covariance_from_deviations(sp.wc0, sp.wi);
         match self.noise {
@@ -415,7 +413,6 @@ impl<M: SystemModel + ?Sized> Filter for Ukf<M> {
                 self.have_points = true;
             }
         }
-        self.last_dt = dt;
         self.est.finish("state after prediction")
     }
 

@@ -73,12 +73,11 @@ struct Tally {
 }
 
 fn filters(model: &std::sync::Arc<PlatformModel>) -> Vec<Box<dyn Filter>> {
-    vec![
-        Box::new(Ekf::new(model.clone())),
-        Box::new(standard_ukf::new(model.clone(), SigmaScaling::default()).unwrap()),
-        Box::new(simplified_ukf::new(model.clone(), SigmaScaling::default()).unwrap()),
-        Box::new(SquareRootUkf::new(model.clone(), SigmaScaling::default()).unwrap()),
-    ]
+    // Every filter the harness has: a new one cannot be missed.
+    navkf_filters::FilterKind::ALL
+        .iter()
+        .map(|k| k.build(model.clone(), SigmaScaling::default()).unwrap())
+        .collect()
 }
 
 #[test]

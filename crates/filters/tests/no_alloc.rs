@@ -76,14 +76,12 @@ fn the_counter_counts() {
     assert_eq!(n, 1, "the counting allocator does not see allocations");
 }
 
-fn filters(m: &Arc<PlatformModel>) -> Vec<Box<dyn Filter>> {
-    vec![
-        Box::new(Ekf::new(m.clone())),
-        Box::new(simplified_ukf::new(m.clone(), SigmaScaling::default()).unwrap()),
-        Box::new(standard_ukf::new(m.clone(), SigmaScaling::default()).unwrap()),
-        Box::new(standard_ukf::process_only(m.clone(), SigmaScaling::default()).unwrap()),
-        Box::new(SquareRootUkf::new(m.clone(), SigmaScaling::default()).unwrap()),
-    ]
+fn filters(m: &std::sync::Arc<PlatformModel>) -> Vec<Box<dyn Filter>> {
+    // Every filter the harness has: a new one cannot be missed.
+    navkf_filters::FilterKind::ALL
+        .iter()
+        .map(|k| k.build(m.clone(), SigmaScaling::default()).unwrap())
+        .collect()
 }
 
 /// `steps` predict + update steps at rest, everything built up front, counted.

@@ -19,14 +19,12 @@ fn model() -> Arc<PlatformModel> {
     Arc::new(PlatformModel::base(&NoiseConfig::default()))
 }
 
-fn all_filters(m: &Arc<PlatformModel>) -> Vec<Box<dyn Filter>> {
-    vec![
-        Box::new(Ekf::new(m.clone())),
-        Box::new(simplified_ukf::new(m.clone(), SigmaScaling::default()).unwrap()),
-        Box::new(standard_ukf::new(m.clone(), SigmaScaling::default()).unwrap()),
-        Box::new(standard_ukf::process_only(m.clone(), SigmaScaling::default()).unwrap()),
-        Box::new(SquareRootUkf::new(m.clone(), SigmaScaling::default()).unwrap()),
-    ]
+fn all_filters(m: &std::sync::Arc<PlatformModel>) -> Vec<Box<dyn Filter>> {
+    // Every filter the harness has: a new one cannot be missed.
+    navkf_filters::FilterKind::ALL
+        .iter()
+        .map(|k| k.build(m.clone(), SigmaScaling::default()).unwrap())
+        .collect()
 }
 
 fn ukfs(m: &Arc<PlatformModel>) -> Vec<Box<dyn Filter>> {

@@ -20,7 +20,8 @@ pub struct StudySection {
     pub runs: usize,
     /// Seed of every random stream.
     pub seed: u64,
-    /// Filters to compare: `ekf`, `standard_ukf`, `standard_ukf_25`, `simplified_ukf`.
+    /// Filters to compare, by [`navkf_filters::FilterKind`] name: `ekf`, `standard_ukf`,
+    /// `standard_ukf_25`, `simplified_ukf`, `square_root_ukf`.
     pub filters: Vec<String>,
     /// Spacing of the stored time series, s.
     #[serde(default = "default_series_every")]
@@ -222,10 +223,10 @@ impl StudyConfig {
             return Err("study.filters is empty: expected at least one filter".into());
         }
         for f in &s.filters {
-            if !crate::filters::KNOWN.contains(&f.as_str()) {
+            if !crate::filters::is_known(f) {
                 return Err(format!(
                     "study.filters: unknown filter `{f}`; expected one of {}",
-                    crate::filters::KNOWN.join(", ")
+                    crate::filters::names()
                 ));
             }
         }

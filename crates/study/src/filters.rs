@@ -1,19 +1,18 @@
-//! The filters a study can compare, built by name.
+//! The filters a study can compare, built by name: [`FilterKind`] is the one list.
 
 use navkf_dynamics::PlatformModel;
-use navkf_filters::{
-    simplified_ukf, standard_ukf, Ekf, Filter, FilterError, SigmaScaling, SquareRootUkf,
-};
+use navkf_filters::{Filter, FilterError, FilterKind, SigmaScaling};
 use std::sync::Arc;
 
-/// Names a study file may list.
-pub const KNOWN: [&str; 5] = [
-    "ekf",
-    "standard_ukf",
-    "standard_ukf_25",
-    "simplified_ukf",
-    "square_root_ukf",
-];
+/// Whether `name` names a filter.
+pub fn is_known(name: &str) -> bool {
+    name.parse::<FilterKind>().is_ok()
+}
+
+/// Every filter name, comma-separated (for messages).
+pub fn names() -> String {
+    FilterKind::names()
+}
 
 /// Builds the filter called `name` for `model`.
 pub fn build(
@@ -21,17 +20,5 @@ pub fn build(
     model: Arc<PlatformModel>,
     scaling: SigmaScaling,
 ) -> Result<Box<dyn Filter>, FilterError> {
-    Ok(match name {
-        "ekf" => Box::new(Ekf::new(model)),
-        "standard_ukf" => Box::new(standard_ukf::new(model, scaling)?),
-        "standard_ukf_25" => Box::new(standard_ukf::process_only(model, scaling)?),
-        "simplified_ukf" => Box::new(simplified_ukf::new(model, scaling)?),
-        "square_root_ukf" => Box::new(SquareRootUkf::new(model, scaling)?),
-        other => {
-            return Err(FilterError::Invalid(format!(
-                "unknown filter `{other}`; expected one of {}",
-                KNOWN.join(", ")
-            )))
-        }
-    })
+    name.parse::<FilterKind>()?.build(model, scaling)
 }

@@ -14,10 +14,7 @@ use std::fmt;
 
 /// An interval more than this many times the median counts as a gap.
 pub const GAP_FACTOR: f64 = 2.0;
-/// Below this speed (m/s) the vehicle is standing still.
-pub const STILL_SPEED: f64 = 0.05;
-/// Above this |heading rate| (deg/s) the vehicle is turning.
-pub const TURN_RATE_DEG_S: f64 = 1.0;
+pub use crate::trajectory::phase_thresholds::{STILL_SPEED, TURN_RATE_DEG_S};
 /// Heading is taken from the odometer velocity only at or above this speed (m/s): at rest its
 /// direction is noise, and so would be the turn rate.
 pub const MIN_HEADING_SPEED: f64 = 0.5;

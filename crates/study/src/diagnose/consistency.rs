@@ -10,15 +10,7 @@ use crate::stats::{chi2_quantile, mean_chi2_bounds, normal_quantile};
 use navkf_dynamics::trajectory::Phase;
 use serde::{Deserialize, Serialize};
 
-/// Thresholds of the motion-phase detector (from the inputs and the odometer).
-pub mod thresholds {
-    /// Below this speed the vehicle stands still, m/s.
-    pub const STILL_SPEED: f64 = 0.1;
-    /// Along-track acceleration beyond which it accelerates or decelerates, m/s^2.
-    pub const ALONG_ACCEL: f64 = 0.1;
-    /// Heading rate beyond which it turns, rad/s (1 deg/s).
-    pub const TURN_RATE: f64 = 0.017_453_292_519_943_295;
-}
+use navkf_dynamics::trajectory::phase_thresholds as thresholds;
 
 /// The motion phase at one step, from the mean horizontal specific force over the step and
 /// the odometer velocity. Gravity and Coriolis are below the thresholds' resolution.
@@ -33,7 +25,7 @@ pub fn classify(f_mean: [f64; 2], velocity: Option<[f64; 2]>) -> Phase {
     let (ux, uy) = (v[0] / speed, v[1] / speed);
     let along = f_mean[0] * ux + f_mean[1] * uy;
     let cross = -f_mean[0] * uy + f_mean[1] * ux;
-    if (cross / speed).abs() > thresholds::TURN_RATE {
+    if (cross / speed).abs() > thresholds::TURN_RATE_DEG_S.to_radians() {
         Phase::Turning
     } else if along > thresholds::ALONG_ACCEL {
         Phase::Accelerating

@@ -67,7 +67,7 @@ impl FitSetup {
     }
 }
 
-/// The filter a diagnosis runs, by name (see [`crate::filters::KNOWN`]), with its sigma-point
+/// The filter a diagnosis runs, by name (see [`navkf_filters::FilterKind`]), with its sigma-point
 /// scaling.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FilterChoice {

@@ -267,11 +267,11 @@ impl DiagnosisStudyConfig {
                 _ => {}
             }
         }
-        if !crate::filters::KNOWN.contains(&self.diagnosis.filter.as_str()) {
+        if !crate::filters::is_known(&self.diagnosis.filter) {
             return Err(format!(
                 "diagnosis.filter = \"{}\": expected one of {}",
                 self.diagnosis.filter,
-                crate::filters::KNOWN.join(", ")
+                crate::filters::names()
             ));
         }
         self.noise.validate()

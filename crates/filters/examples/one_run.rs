@@ -33,8 +33,8 @@ fn main() {
     }
     let mut filters: Vec<Box<dyn Filter>> = vec![
         Box::new(Ekf::new(model.clone())),
-        Box::new(standard_ukf::new(model.clone(), SigmaScaling::default()).unwrap()),
-        Box::new(simplified_ukf::new(model.clone(), SigmaScaling::default()).unwrap()),
+        Box::new(Ukf::standard(model.clone(), SigmaScaling::default()).unwrap()),
+        Box::new(Ukf::simplified(model.clone(), SigmaScaling::default()).unwrap()),
     ];
     let last = run.truth.states.last().unwrap();
     for f in filters.iter_mut() {

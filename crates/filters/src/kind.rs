@@ -22,7 +22,7 @@
 use crate::error::FilterError;
 use crate::filter::Filter;
 use crate::sigma_points::SigmaScaling;
-use crate::{simplified_ukf, standard_ukf, Ekf, SquareRootUkf};
+use crate::{Ekf, SquareRootUkf, Ukf};
 use navkf_dynamics::SystemModel;
 use std::fmt;
 use std::str::FromStr;
@@ -33,11 +33,11 @@ use std::sync::Arc;
 pub enum FilterKind {
     /// [`Ekf`].
     Ekf,
-    /// [`standard_ukf::new`].
+    /// [`Ukf::standard`].
     StandardUkf,
-    /// [`standard_ukf::process_only`].
+    /// [`Ukf::standard_process_only`].
     StandardUkf25,
-    /// [`simplified_ukf::new`].
+    /// [`Ukf::simplified`].
     SimplifiedUkf,
     /// [`SquareRootUkf`].
     SquareRootUkf,
@@ -96,9 +96,9 @@ impl FilterKind {
     ) -> Result<Box<dyn Filter>, FilterError> {
         Ok(match self {
             FilterKind::Ekf => Box::new(Ekf::new(model)),
-            FilterKind::StandardUkf => Box::new(standard_ukf::new(model, scaling)?),
-            FilterKind::StandardUkf25 => Box::new(standard_ukf::process_only(model, scaling)?),
-            FilterKind::SimplifiedUkf => Box::new(simplified_ukf::new(model, scaling)?),
+            FilterKind::StandardUkf => Box::new(Ukf::standard(model, scaling)?),
+            FilterKind::StandardUkf25 => Box::new(Ukf::standard_process_only(model, scaling)?),
+            FilterKind::SimplifiedUkf => Box::new(Ukf::simplified(model, scaling)?),
             FilterKind::SquareRootUkf => Box::new(SquareRootUkf::new(model, scaling)?),
         })
     }

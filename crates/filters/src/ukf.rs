@@ -33,8 +33,8 @@ pub enum NoiseHandling {
     AugmentProcessAndMeasurement,
 }
 
-/// The unscented filter; see the module documentation and the constructors in
-/// [`crate::standard_ukf`] and [`crate::simplified_ukf`].
+/// The unscented filter; see the module documentation and the paper's constructors
+/// [`Ukf::standard`], [`Ukf::standard_process_only`] and [`Ukf::simplified`].
 pub struct Ukf<M: SystemModel + ?Sized> {
     model: Arc<M>,
     name: &'static str,
@@ -70,6 +70,74 @@ pub struct Ukf<M: SystemModel + ?Sized> {
 }
 
 impl<M: SystemModel + ?Sized> Ukf<M> {
+    /// The standard UKF of the paper (section 3.1): the state augmented with the process
+    /// noise and the measurement noise, `X^a = [X; W; V]` (n = 29 for the base model); every
+    /// sigma point goes through the dynamics and the measurement function.
+    ///
+    /// ```
+    /// use navkf_dynamics::{NoiseConfig, PlatformModel};
+    /// use navkf_filters::{SigmaScaling, Ukf};
+    /// use std::sync::Arc;
+    /// let model = Arc::new(PlatformModel::base(&NoiseConfig::default()));
+    /// let ukf = Ukf::standard(model, SigmaScaling::default()).unwrap();
+    /// assert_eq!(ukf.sigma_dim(), 29);
+    /// // The 8 measurement-noise points share the centre's propagation.
+    /// assert_eq!(ukf.propagated_points(), 2 * 25 + 1);
+    /// ```
+    pub fn standard(model: Arc<M>, scaling: SigmaScaling) -> Result<Self, FilterError> {
+        Self::new(
+            model,
+            "standard_ukf",
+            NoiseHandling::AugmentProcessAndMeasurement,
+            false,
+            scaling,
+        )
+    }
+
+    /// The standard UKF augmented with the process noise only, `X^a = [X; W]` (n = 25 for
+    /// the base model, as the paper's text counts), with additive `R`.
+    pub fn standard_process_only(
+        model: Arc<M>,
+        scaling: SigmaScaling,
+    ) -> Result<Self, FilterError> {
+        Self::new(
+            model,
+            "standard_ukf_25",
+            NoiseHandling::AugmentProcess,
+            false,
+            scaling,
+        )
+    }
+
+    /// The simplified UKF of the paper (section 3.2): no augmentation, additive `Q_k` on the
+    /// predicted covariance, and the Kalman filter's linear update `Z = H X` while the
+    /// model's measurement is linear. When an effect makes the measurement non-linear
+    /// (`odometer-scale`, `gps-latency`), the update falls back to sigma points drawn from
+    /// the prediction.
+    ///
+    /// ```
+    /// use navkf_dynamics::{NoiseConfig, PlatformModel, Registry};
+    /// use navkf_filters::{SigmaScaling, Ukf};
+    /// use std::sync::Arc;
+    /// let noise = NoiseConfig::default();
+    /// let base = Arc::new(PlatformModel::base(&noise));
+    /// let ukf = Ukf::simplified(base, SigmaScaling::default()).unwrap();
+    /// assert_eq!(ukf.sigma_dim(), 20);
+    /// assert!(ukf.uses_linear_update());
+    /// let odo = Registry::catalogue().build_all(&["odometer-scale"]).unwrap();
+    /// let model = Arc::new(PlatformModel::new(odo, &noise).unwrap());
+    /// assert!(!Ukf::simplified(model, SigmaScaling::default()).unwrap().uses_linear_update());
+    /// ```
+    pub fn simplified(model: Arc<M>, scaling: SigmaScaling) -> Result<Self, FilterError> {
+        Self::new(
+            model,
+            "simplified_ukf",
+            NoiseHandling::Additive,
+            true,
+            scaling,
+        )
+    }
+
     /// Builds a UKF for `model`. `linear_update` takes the Kalman update when the model's
     /// measurement is linear (only with [`NoiseHandling::Additive`]).
     pub fn new(

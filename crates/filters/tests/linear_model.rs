@@ -379,7 +379,7 @@ fn every_filter_equals_the_kalman_filter_on_a_linear_model() {
     let mut filters: Vec<(Box<dyn Filter>, bool)> = vec![
         (Box::new(Ekf::new(m.clone())), false),
         (
-            Box::new(simplified_ukf::new(m.clone(), SigmaScaling::default()).unwrap()),
+            Box::new(Ukf::simplified(m.clone(), SigmaScaling::default()).unwrap()),
             false,
         ),
         (
@@ -387,11 +387,11 @@ fn every_filter_equals_the_kalman_filter_on_a_linear_model() {
             false,
         ),
         (
-            Box::new(standard_ukf::new(m.clone(), SigmaScaling::default()).unwrap()),
+            Box::new(Ukf::standard(m.clone(), SigmaScaling::default()).unwrap()),
             true,
         ),
         (
-            Box::new(standard_ukf::process_only(m.clone(), SigmaScaling::default()).unwrap()),
+            Box::new(Ukf::standard_process_only(m.clone(), SigmaScaling::default()).unwrap()),
             true,
         ),
     ];

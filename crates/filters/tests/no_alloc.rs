@@ -152,7 +152,7 @@ fn runner_counts(knots: usize, steps: usize) -> (usize, Vec<usize>) {
     let sim = common::base_simulator(600.0);
     let run = sim.run(9, 0);
     let (x0, p0) = common::initial_estimate(&sim, &run);
-    let mut f = simplified_ukf::new(sim.model().clone(), SigmaScaling::default()).unwrap();
+    let mut f = Ukf::simplified(sim.model().clone(), SigmaScaling::default()).unwrap();
     f.reset(&x0, &p0).unwrap();
     let mut runner = Runner::new(knots);
     let mut after_step = Vec::with_capacity(steps);

@@ -42,8 +42,8 @@ fn standard_and_simplified_ukf_agree_on_one_run() {
     let (x0, p0) = common::initial_estimate(&sim, &run);
     let model = sim.model().clone();
     let n = model.dim();
-    let mut std_ukf = standard_ukf::new(model.clone(), SigmaScaling::default()).unwrap();
-    let mut simp = simplified_ukf::new(model.clone(), SigmaScaling::default()).unwrap();
+    let mut std_ukf = Ukf::standard(model.clone(), SigmaScaling::default()).unwrap();
+    let mut simp = Ukf::simplified(model.clone(), SigmaScaling::default()).unwrap();
     let mut ekf = Ekf::new(model.clone());
     let (xs, ps) = run_filter(&mut std_ukf, &sim, &run, &x0, &p0);
     let (xu, pu) = run_filter(&mut simp, &sim, &run, &x0, &p0);

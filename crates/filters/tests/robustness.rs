@@ -164,7 +164,7 @@ fn innovation_covariance_not_positive_definite_is_a_typed_error() {
     }
     recovers(&mut ekf);
     // The simplified UKF's linear update meets the same S.
-    let mut simp = simplified_ukf::new(m.clone(), SigmaScaling::default()).unwrap();
+    let mut simp = Ukf::simplified(m.clone(), SigmaScaling::default()).unwrap();
     simp.reset(&x, &p_neg).unwrap();
     assert!(matches!(
         no_panic("simplified update", || simp.update(&obs).cloned()),
@@ -175,7 +175,7 @@ fn innovation_covariance_not_positive_definite_is_a_typed_error() {
         })
     ));
     // The standard UKF updating without a prediction draws points from P first.
-    let mut std_ukf = standard_ukf::new(m.clone(), SigmaScaling::default()).unwrap();
+    let mut std_ukf = Ukf::standard(m.clone(), SigmaScaling::default()).unwrap();
     std_ukf.reset(&x, &p_neg).unwrap();
     assert!(matches!(
         no_panic("standard update", || std_ukf.update(&obs).cloned()),
@@ -361,7 +361,7 @@ fn runner_reports_where_a_filter_failed() {
     let n = BASE_DIM;
     p0[PHI_X + PHI_Y * n] = 2.0 * p0[PHI_X + PHI_X * n];
     p0[PHI_Y + PHI_X * n] = 2.0 * p0[PHI_X + PHI_X * n];
-    let mut f = simplified_ukf::new(sim.model().clone(), SigmaScaling::default()).unwrap();
+    let mut f = Ukf::simplified(sim.model().clone(), SigmaScaling::default()).unwrap();
     f.reset(&x0, &p0).unwrap();
     let mut seen = 0;
     let r = Runner::new(16).run(

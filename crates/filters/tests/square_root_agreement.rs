@@ -31,7 +31,7 @@ fn disagreement(sim: &Simulator, seed: u64, extra_sigma: &[f64]) -> (f64, f64) {
         };
     }
     let scaling = SigmaScaling::default();
-    let mut simp = simplified_ukf::new(model.clone(), scaling).unwrap();
+    let mut simp = Ukf::simplified(model.clone(), scaling).unwrap();
     let mut sr = SquareRootUkf::new(model.clone(), scaling).unwrap();
     assert_eq!(simp.uses_linear_update(), sr.uses_linear_update());
     let mut out = Vec::new();

@@ -159,7 +159,7 @@ fn through_filter(
     s: SigmaScaling,
 ) -> Moments {
     let n = 1 + model.m;
-    let mut f = simplified_ukf::new(model, s).unwrap();
+    let mut f = Ukf::simplified(model, s).unwrap();
     f.reset(mu.as_slice(), p.as_slice()).unwrap();
     f.predict(&window()).unwrap();
     // x is unchanged by the map: its mean and covariance must come back exactly.

@@ -123,12 +123,12 @@ fn derivative_and_measurement_calls_per_step_on_the_base_model() {
     assert_eq!((n, nw), (20, 5));
     for substeps in [1usize, 3, 10] {
         let s4 = 4 * substeps;
-        let mut simp = simplified_ukf::new(m.clone(), SigmaScaling::default()).unwrap();
+        let mut simp = Ukf::simplified(m.clone(), SigmaScaling::default()).unwrap();
         let (p, u) = one_step(&mut simp, &m, substeps);
         assert_eq!(p, [(2 * n + 1) * s4, 0, 0, 0], "simplified UKF predict");
         assert_eq!(u, [0, 0, 1, 1], "simplified UKF (linear) update");
 
-        let mut std29 = standard_ukf::new(m.clone(), SigmaScaling::default()).unwrap();
+        let mut std29 = Ukf::standard(m.clone(), SigmaScaling::default()).unwrap();
         assert_eq!(std29.sigma_dim(), n + nw + 4);
         let (p, u) = one_step(&mut std29, &m, substeps);
         assert_eq!(
@@ -138,7 +138,7 @@ fn derivative_and_measurement_calls_per_step_on_the_base_model() {
         );
         assert_eq!(u, [0, 0, 2 * (n + nw + 4) + 1, 0], "standard UKF update");
 
-        let mut std25 = standard_ukf::process_only(m.clone(), SigmaScaling::default()).unwrap();
+        let mut std25 = Ukf::standard_process_only(m.clone(), SigmaScaling::default()).unwrap();
         let (p, u) = one_step(&mut std25, &m, substeps);
         assert_eq!(p, [(1 + 2 * (n + nw)) * s4, 0, 0, 0], "W-only UKF predict");
         assert_eq!(u, [0, 0, 2 * (n + nw) + 1, 0], "W-only UKF update");
@@ -159,7 +159,7 @@ fn simplified_ukf_redraws_points_only_for_a_nonlinear_measurement() {
     let m = Counted::new(PlatformModel::new(fx, &noise).unwrap());
     let n = m.dim();
     assert_eq!(n, 21);
-    let mut simp = simplified_ukf::new(m.clone(), SigmaScaling::default()).unwrap();
+    let mut simp = Ukf::simplified(m.clone(), SigmaScaling::default()).unwrap();
     assert!(!simp.uses_linear_update());
     let (p, u) = one_step(&mut simp, &m, 10);
     assert_eq!(p, [(2 * n + 1) * 40, 0, 0, 0]);

@@ -47,6 +47,17 @@ pub struct Study {
 /// An estimate at one time: `(t, x, sigma)`.
 pub type TracePoint = (f64, Vec<f64>, Vec<f64>);
 
+/// NIS totals over one run.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct NisTotals {
+    /// Sum of the NIS of every update.
+    pub sum: f64,
+    /// Number of updates.
+    pub updates: u64,
+    /// Sum of their measurement dimensions (the expected sum of the NIS).
+    pub dof: u64,
+}
+
 /// One filter's outcome on one run.
 #[derive(Debug, Clone)]
 pub struct FilterRun {
@@ -60,8 +71,8 @@ pub struct FilterRun {
     pub nees: Vec<f64>,
     /// Per stored time: mean NIS since the previous stored time.
     pub nis_window: Vec<f64>,
-    /// NIS sum, count and degrees of freedom over the run.
-    pub nis: (f64, u64, u64),
+    /// NIS over the run.
+    pub nis: NisTotals,
     /// Step costs, ns.
     pub step_ns: Vec<u64>,
     /// Estimates at every step (only for the example run).
@@ -276,7 +287,7 @@ impl Study {
             var: Vec::with_capacity(self.times.len()),
             nees: Vec::with_capacity(self.times.len()),
             nis_window: Vec::with_capacity(self.times.len()),
-            nis: (0.0, 0, 0),
+            nis: NisTotals::default(),
             step_ns: Vec::with_capacity(sim_run.measurements.len()),
             trace: example.then(Vec::new),
         };
@@ -305,9 +316,9 @@ impl Study {
             |v| {
                 out.step_ns.push(v.step_ns);
                 let nis = v.report.nis;
-                out.nis.0 += nis;
-                out.nis.1 += 1;
-                out.nis.2 += v.report.dim() as u64;
+                out.nis.sum += nis;
+                out.nis.updates += 1;
+                out.nis.dof += v.report.dim() as u64;
                 win_sum += nis;
                 win_count += 1;
                 let x = v.filter.state();
@@ -544,12 +555,12 @@ impl Study {
                         sum_var: fr.var.clone(),
                         sum_nees: fr.nees.clone(),
                         sum_nis_window: fr.nis_window.clone(),
-                        sum_nis: fr.nis.0,
-                        nis_count: fr.nis.1,
-                        nis_dof: fr.nis.2,
+                        sum_nis: fr.nis.sum,
+                        nis_count: fr.nis.updates,
+                        nis_dof: fr.nis.dof,
                         ..Default::default()
                     };
-                    let run_nis = fr.nis.0 / fr.nis.1.max(1) as f64;
+                    let run_nis = fr.nis.sum / fr.nis.updates.max(1) as f64;
                     single.sum_run_nis = run_nis;
                     single.sum_run_nis_sq = run_nis * run_nis;
                     t.merge(&single);

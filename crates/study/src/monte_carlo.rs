@@ -44,8 +44,16 @@ pub struct Study {
     scaling: SigmaScaling,
 }
 
-/// An estimate at one time: `(t, x, sigma)`.
-pub type TracePoint = (f64, Vec<f64>, Vec<f64>);
+/// An estimate at one time, for the example run's plots.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TracePoint {
+    /// Time, s.
+    pub t: f64,
+    /// The state estimate.
+    pub estimate: Vec<f64>,
+    /// The one-sigma of each state the filter claims.
+    pub sigma: Vec<f64>,
+}
 
 /// NIS totals over one run.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -325,7 +333,11 @@ impl Study {
                 let p = v.filter.covariance();
                 if let Some(tr) = out.trace.as_mut() {
                     let sig = (0..n).map(|i| p[i + i * n].max(0.0).sqrt()).collect();
-                    tr.push((v.t, x.to_vec(), sig));
+                    tr.push(TracePoint {
+                        t: v.t,
+                        estimate: x.to_vec(),
+                        sigma: sig,
+                    });
                 }
                 if next < self.times.len() && v.t >= self.times[next] - 1e-9 {
                     let truth = self.truth_at(sim_run, v.t);
@@ -615,10 +627,10 @@ impl Study {
                 ..Default::default()
             };
             if let Some(trace) = &fr.trace {
-                for (t, x, s) in trace {
-                    ef.t.push(*t);
-                    ef.estimate.push(x.clone());
-                    ef.sigma.push(s.clone());
+                for point in trace {
+                    ef.t.push(point.t);
+                    ef.estimate.push(point.estimate.clone());
+                    ef.sigma.push(point.sigma.clone());
                 }
             }
             ex.filters.push(ef);

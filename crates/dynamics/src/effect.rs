@@ -162,7 +162,8 @@ pub trait Effect: Send + Sync + fmt::Debug + 'static {
     /// What the effect adds (required: the model calls only what is declared here).
     fn terms(&self) -> Terms;
     /// Adds the effect's terms to the navigation-state derivatives `[phi, v_x, v_y, L, lambda]`,
-    /// on one state (`T = f64`) or a batch of them ([`Lanes`]).
+    /// on one state (`T = f64`) or a batch of them ([`Lanes`]). Rates read the kinematics'
+    /// values, never their `d_` latitude derivatives (left zero in the batch).
     fn add_rates<T: Real>(&self, _k: &Kinematics<T>, _c: &[T], _rates: &mut [T; NAV_DIM]) {}
     /// Adds the partial derivatives of [`Effect::add_rates`] (rows: navigation states).
     fn add_rate_partials(&self, _k: &Kinematics, _c: &[f64], _offset: usize, _p: &mut Partials) {}

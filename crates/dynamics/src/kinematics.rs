@@ -37,7 +37,9 @@ pub struct Kinematics<T = f64> {
     pub inv_rm: T,
     /// 1 / RN.
     pub inv_rn: T,
-    /// d(1/RM)/dL.
+    /// d(1/RM)/dL. This and the other `d_` fields are for Jacobians only: the batched
+    /// propagation builds [`Kinematics::values`], which leaves them zero, so rates must not
+    /// read them.
     pub d_inv_rm: T,
     /// d(1/RN)/dL.
     pub d_inv_rn: T,

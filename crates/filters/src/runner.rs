@@ -1,6 +1,8 @@
 //! Drives a filter over recorded inputs and measurements: one prediction across the input
 //! samples between consecutive measurements (inputs linearly interpolated at the ends), one
-//! update per measurement, with `R` from the spec's noise model.
+//! update per measurement. What a record measures, and with which sigmas, is the
+//! [`MeasurementModel`]'s business (the platform's is its `NoiseConfig`): the runner does not
+//! know the platform.
 //!
 //! The runner owns its buffers and reuses them, so a run allocates nothing per step. What
 //! happens at each step goes to an observer closure (tallies, CSV rows, plots are the
@@ -9,9 +11,8 @@
 use crate::error::FilterError;
 use crate::filter::Filter;
 use crate::update::{Observation, UpdateReport};
-use navkf_dynamics::dataset::{InputSample, Measurement};
-use navkf_dynamics::state::MEAS_DIM;
-use navkf_dynamics::{Input, InputWindow, NoiseConfig};
+use navkf_dynamics::dataset::InputSample;
+use navkf_dynamics::{Input, InputWindow, MeasurementModel};
 use std::time::Instant;
 
 /// A filter failure during a run, with where it happened.
@@ -44,7 +45,15 @@ pub struct StepView<'a, F: ?Sized> {
 #[derive(Debug, Default)]
 pub struct Runner {
     window: InputWindow,
+    /// The observation's buffers, grown to the measurement dimension on the first run.
+    z: Vec<f64>,
+    sigma: Vec<f64>,
+    available: Vec<bool>,
 }
+
+/// Measurement channels a new runner has room for (the platform has 4); a model with more
+/// grows the buffers once, at the start of its first run.
+const OBSERVATION_ROOM: usize = 8;
 
 /// Times closer than this are the same instant (input and measurement clocks printed with
 /// finite digits).
@@ -63,63 +72,44 @@ fn lerp(a: &InputSample, b: &InputSample, t: f64) -> Input {
     ]
 }
 
-/// Builds the observation of `m`: `[v_e, v_n, L, lambda]` (rad), sigmas from `noise`, and
-/// which sensors are present. `fallback_lat` is used for the GPS sigma when GPS is absent.
-pub fn observation_of(
-    m: &Measurement,
-    noise: &NoiseConfig,
-    fallback_lat: f64,
-) -> ([f64; MEAS_DIM], [f64; MEAS_DIM], [bool; MEAS_DIM]) {
-    let mut z = [0.0; MEAS_DIM];
-    let mut avail = [false; MEAS_DIM];
-    let mut speed = 0.0;
-    let mut lat = fallback_lat;
-    if let Some(v) = m.velocity {
-        z[0] = v[0];
-        z[1] = v[1];
-        avail[0] = true;
-        avail[1] = true;
-        speed = v[0].hypot(v[1]);
-    }
-    if let Some(p) = m.gps_rad() {
-        z[2] = p[0];
-        z[3] = p[1];
-        avail[2] = true;
-        avail[3] = true;
-        lat = p[0];
-    }
-    (z, noise.measurement_sigmas(speed, lat), avail)
-}
-
 impl Runner {
     /// A runner with room for `knots` input knots per window (grows if needed, once).
     pub fn new(knots: usize) -> Self {
         Runner {
             window: InputWindow::with_capacity(knots),
+            z: Vec::with_capacity(OBSERVATION_ROOM),
+            sigma: Vec::with_capacity(OBSERVATION_ROOM),
+            available: Vec::with_capacity(OBSERVATION_ROOM),
         }
     }
 
     /// Runs `filter` from `start` (the time of its initial state) over `measurements`,
     /// calling `observe` after each update. Measurements at or before `start` are skipped.
     /// Stops at the first filter error.
-    pub fn run<F, O>(
+    pub fn run<F, O, S>(
         &mut self,
         filter: &mut F,
         start: f64,
         inputs: &[InputSample],
-        measurements: &[Measurement],
-        noise: &NoiseConfig,
+        measurements: &[S::Record],
+        sensors: &S,
         mut observe: O,
     ) -> Result<(), RunError>
     where
         F: Filter + ?Sized,
         O: FnMut(StepView<'_, F>),
+        S: MeasurementModel + ?Sized,
     {
+        let nz = sensors.dim();
+        self.z.resize(nz, 0.0);
+        self.sigma.resize(nz, 0.0);
+        self.available.resize(nz, false);
         let mut t_now = start;
         // cursor: first input sample with t > t_now.
         let mut cursor = inputs.partition_point(|s| s.t <= t_now + SAME_TIME);
         for (index, m) in measurements.iter().enumerate() {
-            if m.t <= t_now + SAME_TIME {
+            let t_m = sensors.time(m);
+            if t_m <= t_now + SAME_TIME {
                 continue;
             }
             let t0 = Instant::now();
@@ -137,46 +127,47 @@ impl Runner {
                 }
             };
             self.window.push_linear(t_now, at(t_now, cursor));
-            while cursor < inputs.len() && inputs[cursor].t < m.t - SAME_TIME {
+            while cursor < inputs.len() && inputs[cursor].t < t_m - SAME_TIME {
                 self.window.push_linear(inputs[cursor].t, inputs[cursor].f);
                 cursor += 1;
             }
-            let f_end = if cursor < inputs.len() && (inputs[cursor].t - m.t).abs() <= SAME_TIME {
+            let f_end = if cursor < inputs.len() && (inputs[cursor].t - t_m).abs() <= SAME_TIME {
                 inputs[cursor].f
             } else {
-                at(m.t, cursor)
+                at(t_m, cursor)
             };
-            self.window.push_linear(m.t, f_end);
+            self.window.push_linear(t_m, f_end);
             let wrap = |error| RunError {
                 index,
-                t: m.t,
+                t: t_m,
                 error,
             };
             filter.predict(&self.window).map_err(wrap)?;
-            let lat = filter
-                .state()
-                .get(navkf_dynamics::state::LAT)
-                .copied()
-                .unwrap_or(0.0);
-            let (z, sigma, available) = observation_of(m, noise, lat);
+            sensors.observe(
+                m,
+                filter.state(),
+                &mut self.z,
+                &mut self.sigma,
+                &mut self.available,
+            );
             let obs = Observation {
-                z: &z,
-                sigma: &sigma,
-                available: &available,
+                z: &self.z,
+                sigma: &self.sigma,
+                available: &self.available,
             };
             let step_ns = {
                 // Borrow dance: the report borrows the filter; time before handing it out.
                 filter.update(&obs).map_err(wrap)?;
                 t0.elapsed().as_nanos() as u64
             };
-            t_now = m.t;
+            t_now = t_m;
             while cursor < inputs.len() && inputs[cursor].t <= t_now + SAME_TIME {
                 cursor += 1;
             }
             let report = filter_report(filter);
             observe(StepView {
                 index,
-                t: m.t,
+                t: t_m,
                 filter: &*filter,
                 report,
                 step_ns,

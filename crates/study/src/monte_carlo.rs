@@ -430,7 +430,8 @@ impl Study {
             ekf.set_state(&sim_run.truth.states[k]);
             ekf.predict(&window).ok()?;
             ekf.set_state(&sim_run.truth.states[k + 1]);
-            let (z, sigma, avail) = navkf_filters::runner::observation_of(m, self.sim.noise(), 0.0);
+            let (z, sigma, avail) =
+                navkf_dynamics::sensors::observation_of(m, self.sim.noise(), 0.0);
             ekf.update(&navkf_filters::Observation {
                 z: &z,
                 sigma: &sigma,

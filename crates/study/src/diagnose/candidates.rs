@@ -392,10 +392,7 @@ fn confusion(f: &Fit, n_model: usize) -> Vec<Confusion> {
         let start = f
             .setup
             .priors
-            .stated
-            .get(&f.names[i])
-            .copied()
-            .unwrap_or(f.typical_sigma[i]);
+            .starting_sigma(&f.names[i], f.typical_sigma[i]);
         precision[(a, a)] += 1.0 / (start * start) - 1.0 / (f.prior_sigma[i] * f.prior_sigma[i]);
     }
     let Some(c) = precision.cholesky().map(|c| c.inverse()) else {

@@ -83,6 +83,11 @@ pub struct Priors {
 }
 
 impl Priors {
+    /// The sigma coefficient `name` started from: its stated one, else `typical`.
+    pub fn starting_sigma(&self, name: &str, typical: f64) -> f64 {
+        self.stated.get(name).copied().unwrap_or(typical)
+    }
+
     /// The priors the diagnosis started from: every widening undone.
     pub fn restarted(&self) -> Priors {
         Priors {
@@ -221,10 +226,7 @@ pub fn widenings(f: &Fit, refused: &[String]) -> Vec<Widening> {
         let start = f
             .setup
             .priors
-            .stated
-            .get(&f.names[i])
-            .copied()
-            .unwrap_or(f.typical_sigma[i]);
+            .starting_sigma(&f.names[i], f.typical_sigma[i]);
         let widest = start * widest_factor(&f.setup.priors, &f.names[i]);
         // Under the prior, c_ml ~ N(0, s^2 + var_ml): beyond WIDEN_Z of that, data and prior
         // disagree.

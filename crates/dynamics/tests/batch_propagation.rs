@@ -37,6 +37,28 @@ fn window() -> InputWindow {
     w
 }
 
+/// `start`'s points propagated one at a time by the generic RK4.
+fn one_by_one(
+    model: &PlatformModel,
+    start: &[f64],
+    noise: Option<&[f64]>,
+    w: &InputWindow,
+) -> Vec<f64> {
+    let (n, nw) = (model.dim(), model.noise_channels().len());
+    let mut out = start.to_vec();
+    let mut scratch = vec![0.0; model.scratch_len(1)];
+    for (i, x) in out.chunks_exact_mut(n).enumerate() {
+        propagate_generic(
+            model,
+            x,
+            noise.map(|v| &v[i * nw..(i + 1) * nw]),
+            w,
+            &mut scratch,
+        );
+    }
+    out
+}
+
 /// Largest difference relative to each state's own scale.
 fn max_scaled_difference(a: &[f64], b: &[f64]) -> f64 {
     let scale = [1e-3, 1e-3, 1e-3, 20.0, 20.0, 1.0, 1.0];
@@ -67,17 +89,7 @@ fn batched_equals_generic_to_rounding() {
         let noise = with_noise.then_some(&noise[..]);
         let mut batched = start.clone();
         model.propagate_points(&mut batched, noise, &w, &mut PropagationScratch::default());
-        let mut generic = start.clone();
-        let mut scratch = vec![0.0; model.scratch_len(1)];
-        for (i, x) in generic.chunks_exact_mut(BASE_DIM).enumerate() {
-            propagate_generic(
-                &model,
-                x,
-                noise.map(|n| &n[i * nw..(i + 1) * nw]),
-                &w,
-                &mut scratch,
-            );
-        }
+        let generic = one_by_one(&model, &start, noise, &w);
         // The states moved (the test is not comparing two no-ops)...
         assert!(max_scaled_difference(&batched, &start) > 1e-3);
         // ...and both paths agree to a few ulps of each state's scale.
@@ -106,12 +118,7 @@ fn far_apart_latitudes_take_the_generic_path_and_stay_exact() {
     let start = points(5, 0.1, &mut rng);
     let mut batched = start.clone();
     model.propagate_points(&mut batched, None, &w, &mut PropagationScratch::default());
-    let mut generic = start.clone();
-    let mut scratch = vec![0.0; model.scratch_len(1)];
-    for x in generic.chunks_exact_mut(BASE_DIM) {
-        propagate_generic(&model, x, None, &w, &mut scratch);
-    }
-    assert_eq!(batched, generic);
+    assert_eq!(batched, one_by_one(&model, &start, None, &w));
 }
 
 /// An effect written outside the crate, with rates, as a user would write it.
@@ -184,17 +191,7 @@ fn every_effect_and_a_users_own_run_batched_and_agree_with_the_generic_path() {
             &w,
             &mut PropagationScratch::default(),
         );
-        let mut generic = start.clone();
-        let mut scratch = vec![0.0; model.scratch_len(1)];
-        for (i, x) in generic.chunks_exact_mut(n).enumerate() {
-            propagate_generic(
-                &model,
-                x,
-                noise.map(|v| &v[i * nw..(i + 1) * nw]),
-                &w,
-                &mut scratch,
-            );
-        }
+        let generic = one_by_one(&model, &start, noise, &w);
         for (p, (a, b)) in batched
             .chunks_exact(n)
             .zip(generic.chunks_exact(n))

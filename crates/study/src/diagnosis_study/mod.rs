@@ -251,8 +251,14 @@ impl DiagnosisStudyConfig {
                     bounds(format!("content[{i}].sizes"), *sizes)?
                 }
                 ContentClass::Pair { effects, sizes, .. } => {
-                    for name in effects {
+                    for (j, name) in effects.iter().enumerate() {
                         catalogued(format!("content[{i}].effects"), name)?;
+                        if effects[..j].contains(name) {
+                            return Err(format!(
+                                "content[{i}].effects: `{name}` listed twice; a pair draws two \
+                                 different effects"
+                            ));
+                        }
                     }
                     if effects.len() == 1 {
                         return Err(format!(

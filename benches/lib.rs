@@ -106,6 +106,32 @@ impl Scenario {
     }
 }
 
+/// An effect that adds five coefficients and nothing else: what a larger state costs the
+/// filters without any physics (`step_timing --idle-coefficients`).
+#[derive(Debug)]
+pub struct IdleCoefficients;
+
+impl Effect for IdleCoefficients {
+    fn name(&self) -> &str {
+        "idle-coefficients"
+    }
+    fn description(&self) -> &str {
+        "five coefficients that enter nothing (a benchmark control)"
+    }
+    fn coefficient_names(&self) -> &[&str] {
+        &["idle1", "idle2", "idle3", "idle4", "idle5"]
+    }
+    fn coefficient_units(&self) -> &[&str] {
+        &["1"; 5]
+    }
+    fn coefficient_sigma(&self) -> &[f64] {
+        &[1e-4; 5]
+    }
+    fn terms(&self) -> Terms {
+        Terms::default()
+    }
+}
+
 /// Every filter the harness has ([`FilterKind::ALL`]), built for `model` with the paper's
 /// sigma-point scaling.
 pub fn all_filters(model: &Arc<PlatformModel>) -> Vec<Box<dyn Filter>> {

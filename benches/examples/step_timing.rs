@@ -5,7 +5,8 @@
 //! with FILTER a filter's name (`ekf`, `simplified_ukf`, `standard_ukf`, `standard_ukf_25`,
 //! `square_root_ukf`) or `all`. Prints the median over batches and, with `--dump`, the state
 //! and covariance after one step (to compare results between versions). `--rate-effects`
-//! switches on two effects that add rates (`accel-cross-axis`, `torquer-scale`: 25 states).
+//! switches on two effects that add rates (`accel-cross-axis`, `torquer-scale`: 25 states);
+//! `--idle-coefficients` adds five coefficients that enter nothing (25 states, no physics).
 
 use navkf_benches::{all_filters, Scenario};
 use navkf_filters::Observation;
@@ -15,10 +16,8 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let dump = args.iter().any(|a| a == "--dump");
     let effects = args.iter().any(|a| a == "--rate-effects");
-    let args: Vec<&String> = args
-        .iter()
-        .filter(|a| *a != "--dump" && *a != "--rate-effects")
-        .collect();
+    let idle = args.iter().any(|a| a == "--idle-coefficients");
+    let args: Vec<&String> = args.iter().filter(|a| !a.starts_with("--")).collect();
     let which = args.first().map_or("all", |s| s.as_str());
     let seconds: f64 = match args.get(1).map(|s| s.parse()) {
         None => 2.0,
@@ -30,6 +29,8 @@ fn main() {
     };
     let sc = if effects {
         Scenario::with_effects(&["accel-cross-axis", "torquer-scale"])
+    } else if idle {
+        Scenario::with_effect_objects(vec![Box::new(navkf_benches::IdleCoefficients)])
     } else {
         Scenario::new()
     };

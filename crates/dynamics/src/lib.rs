@@ -33,7 +33,7 @@ pub use effects::Registry;
 pub use error::DynamicsError;
 pub use integrate::{InputWindow, PropagationScratch};
 pub use kinematics::{Input, Kinematics};
-pub use model::{CoefficientTerms, PlatformModel};
+pub use model::PlatformModel;
 pub use noise::NoiseConfig;
 pub use prior::PlatformPrior;
 pub use real::{Lanes, Real};

@@ -27,35 +27,6 @@ use crate::state::*;
 use crate::system::SystemModel;
 use std::collections::HashSet;
 
-/// The base coefficients' terms in the rates at one input: the gyro drifts
-/// `eps = Kg0 + Kg11 fx + Kg12 fy` (eqs 6-8) and the accelerometer errors
-/// `nab = Ka0 + Ka1 f` (eqs 4-5).
-#[derive(Debug, Clone, Copy)]
-pub struct CoefficientTerms<T> {
-    /// `eps_x, eps_y, eps_z`, rad/s.
-    pub eps: [T; 3],
-    /// `nab_x, nab_y`, m/s^2.
-    pub nab: [T; 2],
-}
-
-impl<T: Real> CoefficientTerms<T> {
-    /// The terms of the full state `x` under input `f`.
-    #[inline(always)]
-    pub fn new(x: &[T], f: &[T; 3]) -> Self {
-        let [fx, fy, _] = *f;
-        // Written out rather than through a closure, which the batch path did not inline.
-        let c = &x[..BASE_DIM];
-        CoefficientTerms {
-            eps: [
-                c[KG0X] + c[KG11X] * fx + c[KG12X] * fy,
-                c[KG0Y] + c[KG11X + 3] * fx + c[KG12X + 3] * fy,
-                c[KG0Z] + c[KG11X + 6] * fx + c[KG12X + 6] * fy,
-            ],
-            nab: [c[KA0X] + c[KA1X] * fx, c[KA0Y] + c[KA1Y] * fy],
-        }
-    }
-}
-
 /// The base model plus switched-on effects.
 #[derive(Debug)]
 pub struct PlatformModel {
@@ -237,22 +208,17 @@ impl PlatformModel {
     /// batch: `x` is the full state, `k` its kinematics.
     #[inline(always)]
     pub fn base_rates<T: Real>(&self, x: &[T], k: &Kinematics<T>) -> [T; NAV_DIM] {
-        self.base_rates_with(k, &CoefficientTerms::new(x, &k.f))
-    }
-
-    /// [`PlatformModel::base_rates`] with the coefficients' terms already formed (a batch
-    /// forms them once per input rather than once per stage).
-    #[inline(always)]
-    pub fn base_rates_with<T: Real>(
-        &self,
-        k: &Kinematics<T>,
-        terms: &CoefficientTerms<T>,
-    ) -> [T; NAV_DIM] {
         let [fx, fy, fz] = k.f;
         let [px, py, pz] = k.phi;
         let [w1, w2, w3] = k.w_cmd;
-        let [eps_x, eps_y, eps_z] = terms.eps;
-        let [nab_x, nab_y] = terms.nab;
+        // Gyro drifts (eqs 6-8) and accelerometer errors (eqs 4-5), written out rather than
+        // through a closure, which the batch path did not inline.
+        let c = &x[..BASE_DIM];
+        let eps_x = c[KG0X] + c[KG11X] * fx + c[KG12X] * fy;
+        let eps_y = c[KG0Y] + c[KG11X + 3] * fx + c[KG12X + 3] * fy;
+        let eps_z = c[KG0Z] + c[KG11X + 6] * fx + c[KG12X + 6] * fy;
+        let nab_x = c[KA0X] + c[KA1X] * fx;
+        let nab_y = c[KA0Y] + c[KA1Y] * fy;
         let coriolis = k.sin_l * (2.0 * WIE) + k.v_x * k.tan_over_rn;
         [
             py * w3 - pz * w2 + eps_x,

@@ -33,6 +33,14 @@ fn a_pair_table_with_a_bad_effect_or_size_is_refused_by_key() {
     let e =
         parse("[[content]]\nkind = \"pair\"\ncount = 3\neffects = [\"gyro-fz\"]\n").unwrap_err();
     assert!(e.contains("content[0].effects") && e.contains("two"), "{e}");
+    let e = parse(
+        "[[content]]\nkind = \"pair\"\ncount = 3\neffects = [\"gyro-fz\", \"gps-latency\", \"gyro-fz\"]\n",
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("content[0].effects") && e.contains("listed twice"),
+        "{e}"
+    );
     let e =
         parse("[[content]]\nkind = \"pair\"\ncount = 3\nsizes = { gps-latency = [2.0, 1.0] }\n")
             .unwrap_err();

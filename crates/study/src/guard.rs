@@ -381,6 +381,7 @@ mod tests {
             runs_ok: runs,
             step_ns_median: 1.0,
             step_ns_p90: 1.0,
+            diverged_by_cause: Default::default(),
             diverged_examples: Vec::new(),
         }
     }

@@ -10,7 +10,9 @@
 
 use crate::config::StudyConfig;
 use crate::error::StudyError;
-use crate::tally::{cost_bin, Divergence, FilterTally, PairTally, Tally, BLOCK};
+use crate::tally::{
+    cost_bin, Divergence, DivergenceCause, FilterTally, PairTally, RunFailure, Tally, BLOCK,
+};
 use navkf_dynamics::effect_spec::EffectSpec;
 use navkf_dynamics::rng::{stream, Purpose};
 use navkf_dynamics::simulate::base_coefficient_sigma;
@@ -69,8 +71,8 @@ pub struct NisTotals {
 /// One filter's outcome on one run.
 #[derive(Debug, Clone)]
 pub struct FilterRun {
-    /// `Err(reason)` when the run is excluded.
-    pub outcome: Result<(), String>,
+    /// `Err(failure)` when the run is excluded.
+    pub outcome: Result<(), RunFailure>,
     /// Per stored time: errors `x_hat - x_true`.
     pub err: Vec<Vec<f64>>,
     /// Per stored time: claimed variances.
@@ -303,18 +305,24 @@ impl Study {
         {
             Ok(f) => f,
             Err(e) => {
-                out.outcome = Err(e.to_string());
+                out.outcome = Err(RunFailure {
+                    cause: DivergenceCause::Setup,
+                    reason: e.to_string(),
+                });
                 return out;
             }
         };
         if let Err(e) = filter.reset(x0, p0) {
-            out.outcome = Err(e.to_string());
+            out.outcome = Err(RunFailure {
+                cause: DivergenceCause::Setup,
+                reason: e.to_string(),
+            });
             return out;
         }
         let mut scratch = vec![0.0; n * n + n];
         let mut next = 0usize;
         let (mut win_sum, mut win_count) = (0.0, 0u64);
-        let mut failure: Option<String> = None;
+        let mut failure: Option<RunFailure> = None;
         let result = Runner::new(16).run(
             &mut *filter,
             0.0,
@@ -351,7 +359,10 @@ impl Study {
                     let e = match nees(&xt, x, p, &mut scratch) {
                         Ok(e) => e,
                         Err(e) => {
-                            failure.get_or_insert(format!("t = {} s: {e}", v.t));
+                            failure.get_or_insert(RunFailure {
+                                cause: DivergenceCause::of_filter_error(&e),
+                                reason: format!("t = {} s: {e}", v.t),
+                            });
                             f64::NAN
                         }
                     };
@@ -366,25 +377,34 @@ impl Study {
             },
         );
         if let Err(e) = result {
-            out.outcome = Err(e.to_string());
+            out.outcome = Err(RunFailure {
+                cause: DivergenceCause::of_filter_error(&e.error),
+                reason: e.to_string(),
+            });
         } else if let Some(f) = failure {
             out.outcome = Err(f);
         } else if out.err.len() != self.times.len() {
-            out.outcome = Err(format!(
-                "the run stopped after {} of {} stored times",
-                out.err.len(),
-                self.times.len()
-            ));
+            out.outcome = Err(RunFailure {
+                cause: DivergenceCause::Stopped,
+                reason: format!(
+                    "the run stopped after {} of {} stored times",
+                    out.err.len(),
+                    self.times.len()
+                ),
+            });
         } else {
             let bound = self.config.divergence.max_error_initial_sigmas;
             let last = out.err.last().expect("at least one stored time");
             for (i, e) in last.iter().enumerate().skip(NAV_DIM) {
                 let ratio = e.abs() / self.initial_sigma[i];
                 if !(ratio <= bound) {
-                    out.outcome = Err(format!(
-                        "final {} error is {ratio:.1} initial sigmas (bound {bound})",
-                        self.names[i]
-                    ));
+                    out.outcome = Err(RunFailure {
+                        cause: DivergenceCause::ErrorBound,
+                        reason: format!(
+                            "final {} error is {ratio:.1} initial sigmas (bound {bound})",
+                            self.names[i]
+                        ),
+                    });
                     break;
                 }
             }
@@ -551,9 +571,9 @@ impl Study {
                 *t.step_cost.entry(cost_bin(ns)).or_insert(0) += 1;
             }
             match &fr.outcome {
-                Err(reason) => t.diverged.push(Divergence {
+                Err(failure) => t.diverged.push(Divergence {
                     run: rec.run,
-                    reason: reason.clone(),
+                    failure: failure.clone(),
                 }),
                 Ok(()) => {
                     t.ok += 1;

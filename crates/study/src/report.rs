@@ -1,6 +1,8 @@
 //! Human-readable tables of a summary (terminal and report.md), and `report.md` itself.
 
+use crate::stats::Consistency;
 use crate::summary::Summary;
+use crate::tally::DivergenceCause;
 use std::fmt::Write as _;
 
 fn g(v: f64) -> String {
@@ -76,21 +78,6 @@ pub fn table(s: &Summary) -> String {
 /// Escapes text for a Markdown table cell.
 fn cell(s: &str) -> String {
     s.replace('|', "\\|").replace('\n', " ")
-}
-
-/// Where an average lies against its 95 % bounds, in words: `consistent` inside,
-/// `optimistic` above (errors larger than the filter's covariance claims), `pessimistic`
-/// below (the covariance larger than the errors).
-pub fn verdict(mean: f64, bounds: [f64; 2]) -> &'static str {
-    if !(mean.is_finite() && bounds[0].is_finite() && bounds[1].is_finite()) {
-        "no verdict"
-    } else if mean > bounds[1] {
-        "optimistic"
-    } else if mean < bounds[0] {
-        "pessimistic"
-    } else {
-        "consistent"
-    }
 }
 
 /// What a paired difference says: its 95 % interval above zero means `a` has the larger
@@ -174,8 +161,8 @@ pub fn consistency(s: &Summary) -> String {
             );
             continue;
         }
-        let nees = verdict(f.nees_mean, f.nees_bounds);
-        let nis = verdict(f.nis_mean, f.nis_bounds);
+        let nees = Consistency::of(f.nees_mean, f.nees_bounds);
+        let nis = Consistency::of(f.nis_mean, f.nis_bounds);
         let overall = if nees == nis {
             nees.to_string()
         } else {
@@ -276,14 +263,28 @@ fn diverged(study: &crate::monte_carlo::Study, tally: &crate::tally::Tally) -> S
             let _ = writeln!(out, "- **{name}**: none of {} runs.", tally.runs);
             continue;
         }
+        let by_cause: Vec<String> = DivergenceCause::ALL
+            .iter()
+            .filter_map(|&c| {
+                let count = f.diverged.iter().filter(|d| d.failure.cause == c).count();
+                (count > 0).then(|| format!("{count} {c}"))
+            })
+            .collect();
         let _ = writeln!(
             out,
-            "- **{name}**: {} of {} runs diverged:",
+            "- **{name}**: {} of {} runs diverged ({}):",
             f.diverged.len(),
-            tally.runs
+            tally.runs,
+            by_cause.join(", ")
         );
         for d in f.diverged.iter().take(SHOWN) {
-            let _ = writeln!(out, "  - run {}: {}", d.run, d.reason.replace('\n', " "));
+            let _ = writeln!(
+                out,
+                "  - run {} ({}): {}",
+                d.run,
+                d.failure.cause,
+                d.failure.reason.replace('\n', " ")
+            );
         }
         if f.diverged.len() > SHOWN {
             let _ = writeln!(out, "  - ... and {} more", f.diverged.len() - SHOWN);

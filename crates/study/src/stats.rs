@@ -69,6 +69,61 @@ pub fn mean_chi2_bounds(dof_total: f64, count: f64) -> [f64; 2] {
     ]
 }
 
+/// Where an average of chi-square variables (a mean NEES or NIS) lies against its 95 %
+/// bounds. The one consistency verdict of the crate: the study report, the diagnosis's NIS
+/// statistics and its fit summaries all say it with this type.
+///
+/// ```
+/// use navkf_study::stats::Consistency;
+/// assert_eq!(Consistency::of(30.0, [10.0, 20.0]), Consistency::Optimistic);
+/// assert_eq!(Consistency::of(15.0, [10.0, 20.0]), Consistency::Consistent);
+/// assert_eq!(Consistency::of(5.0, [10.0, 20.0]).to_string(), "pessimistic");
+/// assert_eq!(Consistency::of(f64::NAN, [10.0, 20.0]), Consistency::NoVerdict);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Consistency {
+    /// Inside the bounds.
+    Consistent,
+    /// Above: the errors (or innovations) are larger than the covariance claims.
+    Optimistic,
+    /// Below: the covariance claims more than the errors show (noise set too high?).
+    Pessimistic,
+    /// No finite mean or bounds (no data, or no run finished).
+    NoVerdict,
+}
+
+impl Consistency {
+    /// The verdict on `mean` against `bounds = [low, high]`.
+    pub fn of(mean: f64, bounds: [f64; 2]) -> Self {
+        if !(mean.is_finite() && bounds[0].is_finite() && bounds[1].is_finite()) {
+            Consistency::NoVerdict
+        } else if mean > bounds[1] {
+            Consistency::Optimistic
+        } else if mean < bounds[0] {
+            Consistency::Pessimistic
+        } else {
+            Consistency::Consistent
+        }
+    }
+
+    /// The verdict as one word (`consistent`, `optimistic`, `pessimistic`, `no verdict`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Consistency::Consistent => "consistent",
+            Consistency::Optimistic => "optimistic",
+            Consistency::Pessimistic => "pessimistic",
+            Consistency::NoVerdict => "no verdict",
+        }
+    }
+}
+
+impl std::fmt::Display for Consistency {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
 /// `ln Gamma(x)` for `x > 0` (Lanczos, g = 7, nine terms; relative error below 1e-14).
 #[allow(clippy::excessive_precision)] // the published coefficients, as printed
 pub fn ln_gamma(x: f64) -> f64 {

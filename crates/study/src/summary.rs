@@ -31,6 +31,10 @@ pub struct FilterSummary {
     pub nis_dof: f64,
     /// Runs excluded as diverged.
     pub diverged: u64,
+    /// Those runs counted by cause (causes with none left out). Absent from summaries
+    /// written before causes were typed.
+    #[serde(default)]
+    pub diverged_by_cause: BTreeMap<crate::tally::DivergenceCause, u64>,
     /// Runs included.
     pub runs_ok: u64,
     /// Median cost of one predict + update, ns (measured inside the runs).
@@ -105,6 +109,10 @@ pub fn summarize(study: &Study, tally: &Tally) -> Summary {
             nis_bounds: [f64::NAN; 2],
             nis_dof: f64::NAN,
             diverged: t.diverged.len() as u64,
+            diverged_by_cause: t.diverged.iter().fold(BTreeMap::new(), |mut m, d| {
+                *m.entry(d.failure.cause).or_insert(0) += 1;
+                m
+            }),
             runs_ok: t.ok,
             step_ns_median: quantile(&t.step_cost, 0.5),
             step_ns_p90: quantile(&t.step_cost, 0.9),

@@ -12,13 +12,90 @@ use std::collections::BTreeMap;
 /// Runs per block.
 pub const BLOCK: usize = 10;
 
-/// Why a run was excluded.
+/// What excluded a run: the class of failure, for counting. The detail (step, matrix,
+/// value) is in [`Divergence::reason`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DivergenceCause {
+    /// The filter refused its settings or its initial estimate.
+    Setup,
+    /// A covariance (`P`, the innovation covariance `S`, or a factor) lost positive
+    /// definiteness: in a filter step, or in the NEES at a stored time.
+    NotPositiveDefinite,
+    /// The state, the covariance or an innovation became NaN or infinite.
+    NonFinite,
+    /// The run stopped before the last stored time.
+    Stopped,
+    /// It finished, but a coefficient's final error exceeds the study's divergence bound
+    /// (`[divergence] max_error_initial_sigmas`).
+    ErrorBound,
+}
+
+impl DivergenceCause {
+    /// Every cause, in report order.
+    pub const ALL: [DivergenceCause; 5] = [
+        DivergenceCause::Setup,
+        DivergenceCause::NotPositiveDefinite,
+        DivergenceCause::NonFinite,
+        DivergenceCause::Stopped,
+        DivergenceCause::ErrorBound,
+    ];
+
+    /// The class of a filter's error.
+    pub fn of_filter_error(e: &navkf_filters::FilterError) -> Self {
+        use navkf_filters::FilterError as E;
+        match e {
+            E::NotPositiveDefinite { .. } => DivergenceCause::NotPositiveDefinite,
+            E::NonFinite { .. } => DivergenceCause::NonFinite,
+            E::Invalid(_) => DivergenceCause::Setup,
+        }
+    }
+
+    /// The cause in words, as in the report.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            DivergenceCause::Setup => "setup refused",
+            DivergenceCause::NotPositiveDefinite => "covariance not positive definite",
+            DivergenceCause::NonFinite => "non-finite value",
+            DivergenceCause::Stopped => "stopped early",
+            DivergenceCause::ErrorBound => "final error beyond the bound",
+        }
+    }
+}
+
+impl std::fmt::Display for DivergenceCause {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// Why a run was excluded: its class, and the detail in words.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunFailure {
+    /// The class, for counting.
+    pub cause: DivergenceCause,
+    /// What happened (the filter's error with its step, or the bound exceeded).
+    pub reason: String,
+}
+
+impl RunFailure {
+    /// A failure from a filter's error.
+    pub fn filter(e: &navkf_filters::FilterError) -> Self {
+        RunFailure {
+            cause: DivergenceCause::of_filter_error(e),
+            reason: e.to_string(),
+        }
+    }
+}
+
+/// A run excluded from one filter's statistics.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Divergence {
     /// Run index.
     pub run: usize,
-    /// What happened (typed filter error, non-finite value, or error bound).
-    pub reason: String,
+    /// What excluded it.
+    #[serde(flatten)]
+    pub failure: RunFailure,
 }
 
 /// Sums over runs of one filter's quantities at the stored times.

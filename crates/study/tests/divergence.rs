@@ -5,6 +5,7 @@ mod common;
 use common::short_config;
 use navkf_dynamics::state::NAV_DIM;
 use navkf_study::summary::summarize;
+use navkf_study::tally::DivergenceCause;
 use navkf_study::Study;
 
 const RUNS: usize = 20;
@@ -21,11 +22,19 @@ fn every_run_beyond_a_tiny_bound_is_counted_and_excluded() {
         assert_eq!(f.runs_ok, 0, "{name}");
         assert!(f.final_rms.is_empty() && f.final_sigma.is_empty(), "{name}");
         assert!(f.nees_mean.is_nan() && f.nis_mean.is_nan(), "{name}");
+        let first = &f.diverged_examples[0].failure;
+        assert_eq!(first.cause, DivergenceCause::ErrorBound, "{name}");
         assert!(
-            f.diverged_examples[0].reason.contains("initial sigmas"),
+            first.reason.contains("initial sigmas"),
             "{name}: {}",
-            f.diverged_examples[0].reason
+            first.reason
         );
+        assert_eq!(
+            f.diverged_by_cause.get(&DivergenceCause::ErrorBound),
+            Some(&(RUNS as u64)),
+            "{name}: counted by cause"
+        );
+        assert_eq!(f.diverged_by_cause.len(), 1, "{name}: one cause only");
     }
     assert!(s.paired.is_empty(), "no pair of finished runs to compare");
     // The summary still writes (NaN as null) and the time series skips the filters.

@@ -4,8 +4,9 @@
 
 use navkf_study::monte_carlo::ExampleRun;
 use navkf_study::output::{fold, write_results};
+use navkf_study::stats::Consistency;
 use navkf_study::summary::summarize;
-use navkf_study::tally::Divergence;
+use navkf_study::tally::{Divergence, DivergenceCause, RunFailure};
 use navkf_study::{plots, report, Study, StudyConfig, Tally};
 use std::path::{Path, PathBuf};
 
@@ -119,14 +120,17 @@ fn report_states_the_command_and_verdicts() {
     assert!(md.contains("navkf study studies/paper.toml --runs 2"));
     let s = summarize(&study, &tally);
     for (name, f) in &s.filters {
-        let v = report::verdict(f.nees_mean, f.nees_bounds);
+        let v = Consistency::of(f.nees_mean, f.nees_bounds).as_str();
         assert!(md.contains(&format!("**{name}**")), "{name}");
         assert!(["consistent", "optimistic", "pessimistic"].contains(&v));
     }
-    assert_eq!(report::verdict(30.0, [10.0, 20.0]), "optimistic");
-    assert_eq!(report::verdict(5.0, [10.0, 20.0]), "pessimistic");
-    assert_eq!(report::verdict(15.0, [10.0, 20.0]), "consistent");
-    assert_eq!(report::verdict(f64::NAN, [10.0, 20.0]), "no verdict");
+    assert_eq!(Consistency::of(30.0, [10.0, 20.0]).as_str(), "optimistic");
+    assert_eq!(Consistency::of(5.0, [10.0, 20.0]).as_str(), "pessimistic");
+    assert_eq!(Consistency::of(15.0, [10.0, 20.0]).as_str(), "consistent");
+    assert_eq!(
+        Consistency::of(f64::NAN, [10.0, 20.0]).as_str(),
+        "no verdict"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -140,7 +144,10 @@ fn a_filter_with_every_run_diverged_does_not_panic() {
     let diverged = (0..tally.runs)
         .map(|run| Divergence {
             run,
-            reason: "final Kg0x error is 99.0 initial sigmas (bound 50)".into(),
+            failure: RunFailure {
+                cause: DivergenceCause::ErrorBound,
+                reason: "final Kg0x error is 99.0 initial sigmas (bound 50)".into(),
+            },
         })
         .collect();
     *f = navkf_study::tally::FilterTally {
@@ -177,7 +184,12 @@ fn a_filter_with_every_run_diverged_does_not_panic() {
     assert!(figure(&dir, "estimates_Kg0x").contains("no estimates in this run"));
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(md.contains("no run finished, so no verdict"));
-    assert!(md.contains("run 1: final Kg0x error is 99.0 initial sigmas"));
+    assert!(md
+        .contains("run 1 (final error beyond the bound): final Kg0x error is 99.0 initial sigmas"));
+    assert!(
+        md.contains("diverged (2 final error beyond the bound)"),
+        "counted by cause"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -6,7 +6,7 @@
 //! at every lag. The Ljung-Box statistic `Q = N (N + 2) sum_l r_l^2 / (N - l)` over `L` lags is
 //! then chi-square with `L` degrees of freedom.
 
-use crate::stats::{chi2_quantile, mean_chi2_bounds, normal_quantile};
+use crate::stats::{chi2_quantile, mean_chi2_bounds, normal_quantile, Consistency};
 use navkf_dynamics::trajectory::Phase;
 use serde::{Deserialize, Serialize};
 
@@ -48,35 +48,7 @@ pub struct NisStat {
     /// 95 % bounds of the mean for a consistent model.
     pub bounds: [f64; 2],
     /// Where the mean lies against its bounds.
-    pub verdict: NisVerdict,
-}
-
-/// Where a mean NIS lies against its 95 % bounds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum NisVerdict {
-    /// Inside: consistent.
-    #[serde(rename = "inside")]
-    Inside,
-    /// Above: the innovations are larger than the model predicts.
-    #[serde(rename = "above")]
-    Above,
-    /// Below: smaller than predicted (noise set too high?).
-    #[serde(rename = "below")]
-    Below,
-    /// No updates.
-    #[serde(rename = "no data")]
-    NoData,
-}
-
-impl std::fmt::Display for NisVerdict {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            NisVerdict::Inside => "inside",
-            NisVerdict::Above => "above",
-            NisVerdict::Below => "below",
-            NisVerdict::NoData => "no data",
-        })
-    }
+    pub verdict: Consistency,
 }
 
 impl NisStat {
@@ -90,18 +62,12 @@ impl NisStat {
                 mean: f64::NAN,
                 dof: f64::NAN,
                 bounds: [f64::NAN; 2],
-                verdict: NisVerdict::NoData,
+                verdict: Consistency::NoVerdict,
             };
         }
         let mean = nis.iter().sum::<f64>() / count as f64;
         let bounds = mean_chi2_bounds(total_dof as f64, count as f64);
-        let verdict = if mean > bounds[1] {
-            NisVerdict::Above
-        } else if mean < bounds[0] {
-            NisVerdict::Below
-        } else {
-            NisVerdict::Inside
-        };
+        let verdict = Consistency::of(mean, bounds);
         NisStat {
             count,
             mean,

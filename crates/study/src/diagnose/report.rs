@@ -1,10 +1,10 @@
 //! The diagnosis in words and as `report.md`.
 
 use super::candidates::{Candidate, CandidateKind, Outcome, DECISIVE_BIC};
-use super::consistency::NisVerdict;
 use super::noise::{NoiseFit, NoiseVerdict};
 use super::{Diagnosis, FitSummary, RoundKind, Verdict};
 use crate::plots::FigureOutcome;
+use crate::stats::Consistency;
 use std::fmt::Write as _;
 
 fn fmt(v: f64) -> String {
@@ -87,11 +87,11 @@ fn consistency_findings(m: &FitSummary, out: &mut Vec<String>) {
         n.bounds[0],
         n.bounds[1],
         match n.verdict {
-            NisVerdict::Inside => "consistent",
-            NisVerdict::Above => "the innovations are larger than the model predicts",
-            NisVerdict::Below =>
+            Consistency::Consistent => "consistent",
+            Consistency::Optimistic => "the innovations are larger than the model predicts",
+            Consistency::Pessimistic =>
                 "the innovations are smaller than the model predicts (noise set too high?)",
-            NisVerdict::NoData => "no data",
+            Consistency::NoVerdict => "no data",
         }
     ));
     out.push(failing_channels_and_phases(m));
@@ -108,7 +108,7 @@ fn failing_channels_and_phases(m: &FitSummary) -> String {
     let phases: Vec<String> = m
         .nis_by_phase
         .iter()
-        .filter(|(_, s)| s.verdict != NisVerdict::Inside && s.count > 0)
+        .filter(|(_, s)| s.verdict != Consistency::Consistent && s.count > 0)
         .map(|(p, s)| {
             format!(
                 "{p} (NIS {:.2}, {} updates, {})",

@@ -10,6 +10,7 @@ use faer::linalg::matmul::triangular::BlockStructure;
 use faer::{Accum, Mat, Par};
 use nalgebra::{DMatrix, SMatrix};
 use navkf_filters::linalg::{cholesky_in_place, row_dots, weighted_outer_sum, DOT_BLOCK};
+use navkf_filters::view::RowMajor;
 use std::hint::black_box;
 
 /// A deterministic well-conditioned SPD matrix (column-major n x n).
@@ -109,7 +110,8 @@ fn rank_k(c: &mut Criterion) {
                 let dt = black_box(&dt);
                 for a0 in (0..rows).step_by(DOT_BLOCK) {
                     for b0 in (a0..rows).step_by(DOT_BLOCK) {
-                        let blk = row_dots(dt, a0, dt, b0, len);
+                        let dv = RowMajor::new(dt, rows, len);
+                        let blk = row_dots(dv, a0, dv, b0);
                         for (i, bi) in blk.iter().enumerate().take(n - a0.min(n)) {
                             for (j, v) in bi.iter().enumerate().take(n - b0.min(n)) {
                                 p[(a0 + i) + (b0 + j) * n] = *v;
@@ -188,7 +190,12 @@ fn product(c: &mut Criterion) {
             let (ar, br) = (black_box(&ar), black_box(&br));
             for a0 in (0..n).step_by(4) {
                 for b0 in (0..n).step_by(4) {
-                    let blk = row_dots(ar, a0, br, b0, len);
+                    let blk = row_dots(
+                        RowMajor::new(ar, ar.len() / len, len),
+                        a0,
+                        RowMajor::new(br, br.len() / len, len),
+                        b0,
+                    );
                     for (i, bi) in blk.iter().enumerate() {
                         for (j, v) in bi.iter().enumerate() {
                             cm[(a0 + i) + (b0 + j) * n] = *v;

@@ -13,8 +13,10 @@
 
 use crate::error::FilterError;
 use crate::filter::{add_process_noise, Estimate, Filter};
+use crate::kernels::sparse_row_product;
 use crate::tangent::{rows_times_matrix, ChunkBuf, Stage, LANES};
 use crate::update::{GainWorkspace, MeasurementMoments, Observation, UpdateReport};
+use crate::view::{ColMajor, RowMajor};
 use navkf_dynamics::integrate::{rk4_step, RK4};
 use navkf_dynamics::{InputWindow, SystemModel};
 use std::sync::Arc;
@@ -233,18 +235,13 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
             }
         }
         // th = T H^T (n x k), reusing pxz.
+        let hsel = RowMajor::new(&self.hsel, k, n);
         for a in 0..k {
-            let ha = &self.hsel[a * n..(a + 1) * n];
-            let col = &mut self.mom.pxz[a * n..(a + 1) * n];
-            col.fill(0.0);
-            for (m, &hm) in ha.iter().enumerate() {
-                if hm != 0.0 {
-                    // Column m of T (T is column-major like P).
-                    for (ci, ti) in col.iter_mut().zip(&p[m * n..(m + 1) * n]) {
-                        *ci += hm * ti;
-                    }
-                }
-            }
+            sparse_row_product(
+                ColMajor::new(p, n, n),
+                hsel.row(a),
+                &mut self.mom.pxz[a * n..(a + 1) * n],
+            );
         }
         // P+ = T - th K^T + K R K^T, column j: P[:, j] += K[j, a] (R_a K[:, a] - th[:, a]).
         for a in 0..k {

@@ -9,6 +9,7 @@
 pub mod ekf;
 pub mod error;
 pub mod filter;
+pub mod kernels;
 pub mod kind;
 pub mod linalg;
 pub mod runner;
@@ -18,6 +19,7 @@ mod tangent;
 pub mod triangular;
 pub mod ukf;
 pub mod update;
+pub mod view;
 
 pub use ekf::Ekf;
 pub use error::FilterError;

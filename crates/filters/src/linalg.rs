@@ -5,6 +5,8 @@
 //! hands large products to a packing kernel) or carry dispatch overhead that dominates at
 //! these sizes; the README records the comparison.
 
+use crate::view::RowMajor;
+
 /// `a * b + c`, fused (one rounding) when the target has FMA, else multiply then add. Which
 /// one is fixed at compile time, so a given binary is deterministic.
 #[inline(always)]
@@ -117,21 +119,25 @@ pub fn weighted_outer_sum(c: &mut [f64], n: usize, d: &[f64], w: &[f64]) {
 pub const DOT_BLOCK: usize = 4;
 const DOT_LANES: usize = 8;
 
-/// Dot products of rows `a0..a0 + 4` of `x` with rows `b0..b0 + 4` of `y`, both row-major
-/// with rows `len` long (`len` a multiple of 8): `out[i][j] = x[a0 + i] . y[b0 + j]`.
-/// Sixteen independent SIMD accumulators.
+/// Dot products of rows `a0..a0 + 4` of `x` with rows `b0..b0 + 4` of `y`, rows as long in
+/// both (a multiple of 8): `out[i][j] = x[a0 + i] . y[b0 + j]`. Sixteen independent SIMD
+/// accumulators. Hand-written because it wins: the UKF covariance from it costs less than
+/// nalgebra's or faer's product at n = 20-40 (`cargo bench -p navkf-benches --bench linalg`).
 #[inline(always)]
-pub fn row_dots(x: &[f64], a0: usize, y: &[f64], b0: usize, len: usize) -> [[f64; 4]; 4] {
+pub fn row_dots(x: RowMajor, a0: usize, y: RowMajor, b0: usize) -> [[f64; 4]; 4] {
+    let len = x.cols();
     debug_assert_eq!(len % DOT_LANES, 0);
+    debug_assert_eq!(len, y.cols());
     type Chunk = [f64; DOT_LANES];
-    let chunk = |m: &[f64], row: usize, c: usize| -> Chunk {
-        let at = row * len + c * DOT_LANES;
-        m[at..at + DOT_LANES].try_into().unwrap()
+    let chunk = |m: &RowMajor, row: usize, c: usize| -> Chunk {
+        m.row(row)[c * DOT_LANES..(c + 1) * DOT_LANES]
+            .try_into()
+            .unwrap()
     };
     let mut acc = [[[0.0; DOT_LANES]; 4]; 4];
     for c in 0..len / DOT_LANES {
-        let xs: [Chunk; 4] = std::array::from_fn(|i| chunk(x, a0 + i, c));
-        let ys: [Chunk; 4] = std::array::from_fn(|j| chunk(y, b0 + j, c));
+        let xs: [Chunk; 4] = std::array::from_fn(|i| chunk(&x, a0 + i, c));
+        let ys: [Chunk; 4] = std::array::from_fn(|j| chunk(&y, b0 + j, c));
         for (acc_i, xi) in acc.iter_mut().zip(&xs) {
             for (acc_ij, yj) in acc_i.iter_mut().zip(&ys) {
                 for ((a, xv), yv) in acc_ij.iter_mut().zip(xi).zip(yj) {

@@ -20,10 +20,14 @@
 
 use crate::error::FilterError;
 use crate::filter::{Estimate, Filter};
-use crate::linalg::{cholesky_in_place, forward_substitute};
+use crate::kernels::{
+    draw_sigma_points, h_dot, innovation_statistics, solve_lower_transposed_right, weighted_mean,
+};
+use crate::linalg::cholesky_in_place;
 use crate::sigma_points::{SigmaPoints, SigmaScaling};
 use crate::triangular::{householder_r, outer_of_lower, rank_one_update};
 use crate::update::{GainWorkspace, Observation, UpdateReport};
+use crate::view::{ColMajor, ColMajorMut};
 use navkf_dynamics::{InputWindow, PropagationScratch, SystemModel};
 use std::sync::Arc;
 
@@ -122,20 +126,12 @@ impl<M: SystemModel + ?Sized> SquareRootUkf<M> {
     /// Sigma points `x`, `x +- gamma S_j` into `points`.
     fn draw_points(&mut self) {
         let n = self.est.n;
-        let g = self.sp.gamma;
-        let x = &self.est.x;
-        self.points[..n].copy_from_slice(x);
-        for j in 0..n {
-            let col = &self.s[j * n..(j + 1) * n];
-            let (head, tail) = self.points.split_at_mut((2 + 2 * j) * n);
-            let pp = &mut head[(1 + 2 * j) * n..];
-            let pm = &mut tail[..n];
-            for i in 0..n {
-                let d = g * col[i];
-                pp[i] = x[i] + d;
-                pm[i] = x[i] - d;
-            }
-        }
+        draw_sigma_points(
+            &self.est.x,
+            ColMajor::new(&self.s, n, n),
+            self.sp.gamma,
+            &mut ColMajorMut::new(&mut self.points, n, 2 * n + 1),
+        );
     }
 
     /// Lower factor from the top of `tall` after [`householder_r`] (`rows x cols`) into `out`
@@ -167,12 +163,8 @@ impl<M: SystemModel + ?Sized> SquareRootUkf<M> {
                 r.innovation_cov.push(v);
             }
         }
-        let w = &mut self.w[..k];
-        w.copy_from_slice(&r.innovation);
-        forward_substitute(l, k, w);
-        r.nis = w.iter().map(|v| v * v).sum();
-        let log_det: f64 = (0..k).map(|i| 2.0 * l[i + i * k].abs().ln()).sum();
-        r.log_likelihood = -0.5 * (r.nis + log_det + k as f64 * (2.0 * std::f64::consts::PI).ln());
+        (r.nis, r.log_likelihood) =
+            innovation_statistics(ColMajor::new(l, k, k), &r.innovation, &mut self.w);
         Ok(())
     }
 
@@ -209,8 +201,7 @@ impl<M: SystemModel + ?Sized> SquareRootUkf<M> {
             // (H S)[a, i] = sum_m H[a, m] S[m, i], S lower: m >= i.
             for i in 0..n {
                 let col = &self.s[i * n..(i + 1) * n];
-                let v: f64 = (i..n).map(|m| ha[m] * col[m]).sum();
-                t[(k + i) + a * big] = v;
+                t[(k + i) + a * big] = h_dot(&ha[i..], &col[i..]);
             }
         }
         for i in 0..n {
@@ -255,13 +246,11 @@ impl<M: SystemModel + ?Sized> SquareRootUkf<M> {
                 &mut self.z_pts[i * nz..(i + 1) * nz],
             );
         }
-        self.z_hat.fill(0.0);
-        for i in 0..count {
-            let w = sp.wm(i);
-            for (zh, zi) in self.z_hat.iter_mut().zip(&self.z_pts[i * nz..(i + 1) * nz]) {
-                *zh += w * zi;
-            }
-        }
+        weighted_mean(
+            ColMajor::new(&self.z_pts, nz, count),
+            (0..count).map(|i| sp.wm(i)),
+            &mut self.z_hat,
+        );
         let chans = &self.gain.report.channels;
         // [sqrt(Wi) (Z_i - z^-) ; sqrt(R)] over the selected channels, (2n + k) x k.
         let rows = 2 * n + k;
@@ -296,22 +285,11 @@ impl<M: SystemModel + ?Sized> SquareRootUkf<M> {
                 }
             }
         }
-        // U = Pxz S_zz^-T: row i of U solves S_zz u = pxz_i (forward, column by column).
-        let l = &self.szz[..k * k];
-        for a in 0..k {
-            let (done, rest) = self.u.split_at_mut(a * n);
-            let ua = &mut rest[..n];
-            for b in 0..a {
-                let lab = l[a + b * k];
-                for (x, y) in ua.iter_mut().zip(&done[b * n..(b + 1) * n]) {
-                    *x -= lab * y;
-                }
-            }
-            let inv = 1.0 / l[a + a * k];
-            for x in ua.iter_mut() {
-                *x *= inv;
-            }
-        }
+        // U = Pxz S_zz^-T.
+        solve_lower_transposed_right(
+            ColMajor::new(&self.szz, k, k),
+            &mut ColMajorMut::new(&mut self.u, n, k),
+        );
         self.apply_innovation(obs, k)?;
         // S+ S+^T = S S^T - U U^T: one downdate per column of U.
         for b in 0..k {
@@ -350,14 +328,12 @@ impl<M: SystemModel + ?Sized> Filter for SquareRootUkf<M> {
             window,
             &mut self.scratch,
         );
-        let x = &mut self.est.x;
-        x.fill(0.0);
-        for i in 0..count {
-            let w = sp.wm(i);
-            for (xi, pi) in x.iter_mut().zip(&self.points[i * n..(i + 1) * n]) {
-                *xi += w * pi;
-            }
-        }
+        weighted_mean(
+            ColMajor::new(&self.points, n, count),
+            (0..count).map(|i| sp.wm(i)),
+            &mut self.est.x,
+        );
+        let x = &self.est.x;
         // [sqrt(Wi) (X_i - x^-) ; sqrt(Q_k)] as a (2n + q) x n column-major matrix.
         let channels = self.model.noise_channels();
         let rows = 2 * n + channels.len();

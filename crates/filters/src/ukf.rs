@@ -16,9 +16,11 @@
 
 use crate::error::FilterError;
 use crate::filter::{add_process_noise, Estimate, Filter};
+use crate::kernels::{draw_sigma_points, weighted_mean};
 use crate::linalg::{cholesky_in_place, row_dots, DOT_BLOCK};
 use crate::sigma_points::{SigmaPoints, SigmaScaling};
 use crate::update::{GainWorkspace, MeasurementMoments, Observation, UpdateReport};
+use crate::view::{ColMajor, ColMajorMut, RowMajor};
 use navkf_dynamics::{InputWindow, PropagationScratch, SystemModel};
 use std::sync::Arc;
 
@@ -230,38 +232,23 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
                 value,
             }
         })?;
-        let x = &self.est.x;
-        self.points[..n].copy_from_slice(x);
-        for j in 0..na {
-            let (plus, minus) = (1 + 2 * j, 2 + 2 * j);
-            let (head, tail) = self.points.split_at_mut(minus * n);
-            let pp = &mut head[plus * n..(plus + 1) * n];
-            let pm = &mut tail[..n];
-            pp.copy_from_slice(x);
-            pm.copy_from_slice(x);
-            if j < n {
-                let col = &self.chol[j * n..(j + 1) * n];
-                for i in j..n {
-                    let s = gamma * col[i];
-                    pp[i] += s;
-                    pm[i] -= s;
-                }
-            }
-        }
+        draw_sigma_points(
+            &self.est.x,
+            ColMajor::new(&self.chol, n, n),
+            gamma,
+            &mut ColMajorMut::new(&mut self.points, n, 2 * na + 1),
+        );
         Ok(())
     }
 
     /// Weighted mean of the first `count` points into `x`.
     fn weighted_mean(&mut self, count: usize) {
         let n = self.est.n;
-        let x = &mut self.est.x;
-        x.fill(0.0);
-        for i in 0..count {
-            let w = self.weights_m[i];
-            for (xi, pi) in x.iter_mut().zip(&self.points[i * n..(i + 1) * n]) {
-                *xi += w * pi;
-            }
-        }
+        weighted_mean(
+            ColMajor::new(&self.points, n, count),
+            self.weights_m[..count].iter().copied(),
+            &mut self.est.x,
+        );
     }
 
     /// Deviations `chi_i - x_bar` of the first `count` points into `dev` (state-major). The
@@ -288,11 +275,12 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
         let len = self.dev_len;
         let rows = n.div_ceil(DOT_BLOCK) * DOT_BLOCK;
         let dev = &self.dev;
+        let rows_of = RowMajor::new(dev, rows, len);
         let p = &mut self.est.p;
         let dc = wc0 - wi;
         for a0 in (0..rows).step_by(DOT_BLOCK) {
             for b0 in (a0..rows).step_by(DOT_BLOCK) {
-                let g = row_dots(dev, a0, dev, b0, len);
+                let g = row_dots(rows_of, a0, rows_of, b0);
                 for (i, gi) in g.iter().enumerate() {
                     let a = a0 + i;
                     if a >= n {
@@ -351,18 +339,11 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
                 self.z_pts[(2 + 2 * (first + j)) * nz + j] -= s;
             }
         }
-        self.mom.z_hat.fill(0.0);
-        for i in 0..count {
-            let w = sp.wm(i);
-            for (zh, zi) in self
-                .mom
-                .z_hat
-                .iter_mut()
-                .zip(&self.z_pts[i * nz..(i + 1) * nz])
-            {
-                *zh += w * zi;
-            }
-        }
+        weighted_mean(
+            ColMajor::new(&self.z_pts, nz, count),
+            (0..count).map(|i| sp.wm(i)),
+            &mut self.mom.z_hat,
+        );
         // Measurement deviations of the selected channels, state-major like `dev`.
         let len = self.dev_len;
         let chans = &self.gain.report.channels;
@@ -386,9 +367,11 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
         let rows_x = n.div_ceil(DOT_BLOCK) * DOT_BLOCK;
         let rows_z = k.div_ceil(DOT_BLOCK) * DOT_BLOCK;
         let (dev, dz) = (&self.dev, &self.dz);
+        let dev_rows = RowMajor::new(dev, rows_x, len);
+        let dz_rows = RowMajor::new(dz, rows_z, len);
         for b0 in (0..rows_z).step_by(DOT_BLOCK) {
             for a0 in (0..rows_z).step_by(DOT_BLOCK) {
-                let g = row_dots(dz, a0, dz, b0, len);
+                let g = row_dots(dz_rows, a0, dz_rows, b0);
                 for (i, gi) in g.iter().enumerate().take(k.saturating_sub(a0)) {
                     for (j, gij) in gi.iter().enumerate().take(k.saturating_sub(b0)) {
                         let (a, b) = (a0 + i, b0 + j);
@@ -397,7 +380,7 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
                 }
             }
             for s0 in (0..rows_x).step_by(DOT_BLOCK) {
-                let g = row_dots(dev, s0, dz, b0, len);
+                let g = row_dots(dev_rows, s0, dz_rows, b0);
                 for (i, gi) in g.iter().enumerate().take(n.saturating_sub(s0)) {
                     for (j, gij) in gi.iter().enumerate().take(k.saturating_sub(b0)) {
                         let (s, b) = (s0 + i, b0 + j);

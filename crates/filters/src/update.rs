@@ -8,7 +8,12 @@
 
 use crate::error::FilterError;
 use crate::filter::Estimate;
-use crate::linalg::{cholesky_in_place, forward_substitute};
+use crate::kernels::{
+    h_dot, innovation_statistics, solve_lower_right, solve_lower_transposed_right,
+    sparse_row_product,
+};
+use crate::linalg::cholesky_in_place;
+use crate::view::{ColMajor, ColMajorMut, RowMajor};
 use navkf_dynamics::SystemModel;
 
 /// One measurement: values, one-sigma of each channel (diagonal `R`), and which channels are
@@ -161,53 +166,15 @@ impl GainWorkspace {
             dim: k,
             value,
         })?;
-        // NIS and log det S through the factor.
-        let w = &mut self.tmp[..k];
-        w.copy_from_slice(&r.innovation);
-        forward_substitute(l, k, w);
-        r.nis = w.iter().map(|v| v * v).sum();
-        let log_det: f64 = (0..k).map(|i| 2.0 * l[i + i * k].ln()).sum();
-        r.log_likelihood = -0.5 * (r.nis + log_det + k as f64 * (2.0 * std::f64::consts::PI).ln());
-        // U = Pxz L^-T (row i of U solves L u_i = pxz_i), solved for all rows at once, column
-        // by column: U[:, a] = (Pxz[:, a] - sum_{b<a} L[a, b] U[:, b]) / L[a, a].
-        for a in 0..k {
-            self.tmp[a] = 1.0 / l[a + a * k];
-        }
-        let inv_diag = &self.tmp[..k];
+        (r.nis, r.log_likelihood) =
+            innovation_statistics(ColMajor::new(l, k, k), &r.innovation, &mut self.tmp);
+        // U = Pxz L^-T, then K = U L^-1 = Pxz S^-1.
         let u = &mut self.u[..n * k];
         u.copy_from_slice(&pxz[..n * k]);
-        for a in 0..k {
-            let (done, rest) = u.split_at_mut(a * n);
-            let ua = &mut rest[..n];
-            for b in 0..a {
-                let lab = l[a + b * k];
-                for (x, y) in ua.iter_mut().zip(&done[b * n..(b + 1) * n]) {
-                    *x -= lab * y;
-                }
-            }
-            let inv = inv_diag[a];
-            for x in ua.iter_mut() {
-                *x *= inv;
-            }
-        }
-        // K = U L^-1 (row i of K solves L^T k_i = u_i), columns last first:
-        // K[:, a] = (U[:, a] - sum_{b>a} L[b, a] K[:, b]) / L[a, a].
+        solve_lower_transposed_right(ColMajor::new(l, k, k), &mut ColMajorMut::new(u, n, k));
         let g = &mut self.gain[..n * k];
         g.copy_from_slice(u);
-        for a in (0..k).rev() {
-            let (head, done) = g.split_at_mut((a + 1) * n);
-            let ga = &mut head[a * n..];
-            for b in a + 1..k {
-                let lba = l[b + a * k];
-                for (x, y) in ga.iter_mut().zip(&done[(b - a - 1) * n..(b - a) * n]) {
-                    *x -= lba * y;
-                }
-            }
-            let inv = inv_diag[a];
-            for x in ga.iter_mut() {
-                *x *= inv;
-            }
-        }
+        solve_lower_right(ColMajor::new(l, k, k), &mut ColMajorMut::new(g, n, k));
         for a in 0..k {
             let nu = r.innovation[a];
             for (xi, gi) in x.iter_mut().zip(&g[a * n..(a + 1) * n]) {
@@ -272,10 +239,10 @@ impl MeasurementMoments {
     ) -> Result<(), FilterError> {
         model.measure(&est.x, &mut self.z_hat);
         model.measurement_jacobian(&est.x, &mut self.h);
+        let nz = self.z_hat.len();
         linear_moments(
-            &est.p,
-            est.n,
-            &self.h,
+            ColMajor::new(&est.p, est.n, est.n),
+            RowMajor::new(&self.h, nz, est.n),
             &gain.report.channels,
             &mut self.pxz,
             &mut self.pzz,
@@ -296,34 +263,16 @@ impl MeasurementMoments {
 }
 
 /// The moments of a linear measurement `z = H x`: `Pxz = P H^T` (n x k, column-major) and
-/// `Pzz = H P H^T` (k x k), for the rows `channels` of `h` (row-major `nz x n`), skipping
-/// the zeros of `H` (a measurement reads few states).
-fn linear_moments(
-    p: &[f64],
-    n: usize,
-    h: &[f64],
-    channels: &[usize],
-    pxz: &mut [f64],
-    pzz: &mut [f64],
-) {
-    let k = channels.len();
+/// `Pzz = H P H^T` (k x k), for the rows `channels` of `H`, skipping the zeros of `H` (a
+/// measurement reads few states).
+fn linear_moments(p: ColMajor, h: RowMajor, channels: &[usize], pxz: &mut [f64], pzz: &mut [f64]) {
+    let (n, k) = (p.rows(), channels.len());
     for (a, &ch) in channels.iter().enumerate() {
-        let ha = &h[ch * n..(ch + 1) * n];
-        let col = &mut pxz[a * n..(a + 1) * n];
-        col.fill(0.0);
-        for (m, &hm) in ha.iter().enumerate() {
-            if hm != 0.0 {
-                for (ci, pi) in col.iter_mut().zip(&p[m * n..(m + 1) * n]) {
-                    *ci += hm * pi;
-                }
-            }
-        }
+        sparse_row_product(p, h.row(ch), &mut pxz[a * n..(a + 1) * n]);
     }
     for (a, &ca) in channels.iter().enumerate() {
-        let ha = &h[ca * n..(ca + 1) * n];
         for b in 0..k {
-            let col = &pxz[b * n..(b + 1) * n];
-            pzz[a + b * k] = ha.iter().zip(col).map(|(x, y)| x * y).sum();
+            pzz[a + b * k] = h_dot(h.row(ca), &pxz[b * n..(b + 1) * n]);
         }
     }
 }

@@ -78,10 +78,11 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
     ///
     /// ```
     /// use navkf_dynamics::{NoiseConfig, PlatformModel};
-    /// use navkf_filters::{SigmaScaling, Ukf};
+    /// use navkf_filters::{NoiseHandling, SigmaScaling, Ukf};
     /// use std::sync::Arc;
     /// let model = Arc::new(PlatformModel::base(&NoiseConfig::default()));
     /// let ukf = Ukf::standard(model, SigmaScaling::default()).unwrap();
+    /// assert_eq!(ukf.noise_handling(), NoiseHandling::AugmentProcessAndMeasurement);
     /// assert_eq!(ukf.sigma_dim(), 29);
     /// // The 8 measurement-noise points share the centre's propagation.
     /// assert_eq!(ukf.propagated_points(), 2 * 25 + 1);

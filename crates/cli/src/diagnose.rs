@@ -131,9 +131,14 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         max_rounds: a.max_rounds,
         ..Default::default()
     };
-    let out = a
-        .out
-        .unwrap_or_else(|| PathBuf::from("results/diagnose").join(&ds.name));
+    let out = match a.out {
+        Some(out) => out,
+        None => {
+            navkf_study::output::plain_name("the dataset's name", &ds.name)?;
+            PathBuf::from("results/diagnose").join(&ds.name)
+        }
+    };
+    navkf_study::output::check_output_dir(&out)?;
     let started = std::time::Instant::now();
     let (d, fits) = diagnose(&ds, &registry, &opts)?;
     let figures = navkf_study::diagnose::plots::draw(&d, &fits, &out);
@@ -142,7 +147,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             eprintln!("warning: figure {} not drawn: {e}", f.name);
         }
     }
-    let command = std::env::args().collect::<Vec<_>>().join(" ");
+    let command = navkf_study::output::command_line();
     write_atomic(
         &out.join("diagnosis.json"),
         serde_json::to_string_pretty(&d)?.as_bytes(),

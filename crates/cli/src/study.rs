@@ -116,6 +116,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
+    navkf_study::output::check_output_dir(&out)?;
     let study = Study::new(config)?;
     let blocks = match shard {
         Some((i, n)) => shard_blocks(study.block_count(), i, n),
@@ -208,6 +209,7 @@ pub fn merge(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
+    navkf_study::output::check_output_dir(&out)?;
     let study = Study::new(config)?;
     let blocks: Vec<_> = parts
         .iter()
@@ -255,7 +257,7 @@ fn run_diagnosis_study(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
-    std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+    navkf_study::output::check_output_dir(&out)?;
     let bar = if a.quiet {
         ProgressBar::hidden()
     } else {
@@ -275,7 +277,7 @@ fn run_diagnosis_study(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         wall_s: started.elapsed().as_secs_f64(),
         threads: rayon::current_num_threads(),
     };
-    let command = std::env::args().collect::<Vec<_>>().join(" ");
+    let command = navkf_study::output::command_line();
     let summary = report::write(&config, records, &out, &command, Some(timing))?;
     eprintln!(
         "diagnosed {} datasets in {:.0} s, wrote {}",

@@ -23,7 +23,9 @@ pub struct StudySection {
     /// Filters to compare, by [`navkf_filters::FilterKind`] name: `ekf`, `standard_ukf`,
     /// `standard_ukf_25`, `simplified_ukf`, `square_root_ukf`.
     pub filters: Vec<String>,
-    /// Spacing of the stored time series, s.
+    /// Spacing of the stored time series, s. Values are stored at measurement times: each at
+    /// the first measurement at or after a multiple of the spacing, so a spacing below the
+    /// measurement interval stores every measurement.
     #[serde(default = "default_series_every")]
     pub series_every_s: f64,
     /// Run whose estimates are plotted against the truth.
@@ -214,15 +216,23 @@ impl StudyConfig {
         Ok(cfg)
     }
 
-    fn validate(&self) -> Result<(), String> {
+    /// Checks every setting; the message names the key. [`StudyConfig::parse`] calls it; a
+    /// configuration read another way (a shard's file, for `merge`) must call it too.
+    pub fn validate(&self) -> Result<(), String> {
         let s = &self.study;
+        crate::output::plain_name("study.name", &s.name)?;
         if s.runs == 0 {
             return Err("study.runs = 0: expected at least one run".into());
         }
         if s.filters.is_empty() {
             return Err("study.filters is empty: expected at least one filter".into());
         }
-        for f in &s.filters {
+        for (i, f) in s.filters.iter().enumerate() {
+            if s.filters[..i].contains(f) {
+                return Err(format!(
+                    "study.filters[{i}]: `{f}` is listed twice; expected each filter once"
+                ));
+            }
             if !crate::filters::is_known(f) {
                 return Err(format!(
                     "study.filters: unknown filter `{f}`; expected one of {}",

@@ -68,6 +68,28 @@ pub struct NisTotals {
     pub dof: u64,
 }
 
+/// The stored times: the first measurement time at or after each multiple of `every` below
+/// `duration`, then the last measurement time, without repeats (measurements fall at multiples
+/// of `dt_meas`; a run stores at most one value per measurement).
+fn stored_times(every: f64, duration: f64, dt_meas: f64) -> Vec<f64> {
+    let last = (duration / dt_meas).floor() * dt_meas;
+    let mut times: Vec<f64> = Vec::new();
+    let mut i = 1.0;
+    loop {
+        let t = i * every;
+        if t >= duration - 1e-9 {
+            break;
+        }
+        let on_grid = (t / dt_meas - 1e-9).ceil() * dt_meas;
+        if on_grid < last - 1e-9 && times.last().is_none_or(|&p| on_grid > p + 1e-9) {
+            times.push(on_grid);
+        }
+        i += 1.0;
+    }
+    times.push(last);
+    times
+}
+
 /// One filter's outcome on one run.
 #[derive(Debug, Clone)]
 pub struct FilterRun {
@@ -210,13 +232,7 @@ impl Study {
         let every = config.study.series_every_s;
         let duration = config.trajectory.duration_s;
         let dt_meas = 1.0 / config.truth.measurement_rate_hz;
-        let mut times = Vec::new();
-        let mut t = every;
-        while t < duration - 1e-9 {
-            times.push(t);
-            t += every;
-        }
-        times.push((duration / dt_meas).floor() * dt_meas);
+        let times = stored_times(every, duration, dt_meas);
         let scaling = SigmaScaling {
             alpha: config.filter.alpha,
             beta: config.filter.beta,

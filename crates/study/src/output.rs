@@ -10,6 +10,67 @@ use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+/// Checks that `name` (a study's or dataset's name, the last part of its default results
+/// folder) is a plain name: 1 to 100 ASCII letters, digits, `-`, `_` or `.`, not starting
+/// with `.`. Anything else (`../x`, `/tmp/x`, `""`, a control character) would write outside
+/// `results/`. `key` names the setting in the message.
+///
+/// ```
+/// use navkf_study::output::plain_name;
+/// assert!(plain_name("study.name", "paper-2009_v1.2").is_ok());
+/// for bad in ["", "../x", "/tmp/x", "a/b", ".hidden", "a\u{1b}[31m"] {
+///     assert!(plain_name("study.name", bad).is_err(), "{bad:?}");
+/// }
+/// ```
+pub fn plain_name(key: &str, name: &str) -> Result<(), String> {
+    let ok_char = |c: char| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.');
+    if name.is_empty() || name.len() > 100 || name.starts_with('.') || !name.chars().all(ok_char) {
+        return Err(format!(
+            "{key} = {}: expected a plain name (1 to 100 letters, digits, '-', '_' or '.', not starting with '.'); it names the folder under results/",
+            crate::output::shown(name)
+        ));
+    }
+    Ok(())
+}
+
+/// `text` quoted for a message: control characters escaped, and cut after 40 characters
+/// with its length shown.
+pub fn shown(text: &str) -> String {
+    const MAX: usize = 40;
+    let count = text.chars().count();
+    let head: String = text.chars().take(MAX).collect();
+    let escaped = format!("{head:?}");
+    if count > MAX {
+        format!("{escaped}... ({count} characters)")
+    } else {
+        escaped
+    }
+}
+
+/// Makes sure `dir` can take a run's outputs before the run starts: it is a folder, or can be
+/// created as one, and a file can be written in it. A study that would fail only when writing
+/// its results fails here instead, before any computing.
+pub fn check_output_dir(dir: &Path) -> Result<(), StudyError> {
+    let io = |source| StudyError::Io {
+        path: dir.to_path_buf(),
+        source,
+    };
+    if dir.exists() && !dir.is_dir() {
+        return Err(StudyError::Other(format!(
+            "{}: exists and is not a folder; expected a folder for the results (or a path that does not exist yet)",
+            dir.display()
+        )));
+    }
+    std::fs::create_dir_all(dir).map_err(io)?;
+    let probe = dir.join(format!(".navkf-write-check{}", std::process::id()));
+    std::fs::write(&probe, b"").map_err(|source| StudyError::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let _ = std::fs::remove_file(&probe);
+    Ok(())
+}
+
 /// Writes `bytes` to `path` atomically.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), StudyError> {
     let io = |source| StudyError::Io {
@@ -77,14 +138,17 @@ pub fn write_results(
     if let Some(ex) = example {
         write_atomic(&dir.join("example_run.csv"), example_csv(ex).as_bytes())?;
     }
-    crate::report::write_report(
-        study,
-        tally,
-        example,
-        dir,
-        &std::env::args().collect::<Vec<_>>().join(" "),
-    )?;
+    crate::report::write_report(study, tally, example, dir, &command_line())?;
     Ok(summary)
+}
+
+/// This process's command line, for the reports' "Command:" line. Arguments that are not
+/// UTF-8 are shown with U+FFFD in place of the bad bytes (`std::env::args` would panic).
+pub fn command_line() -> String {
+    std::env::args_os()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// `t, filter, then rms_<state>, sigma_<state> for every state, nees, nis, bound_<coef>`.
@@ -173,6 +237,14 @@ pub fn read_partials(paths: &[PathBuf]) -> Result<Vec<Partial>, StudyError> {
             path: p.clone(),
             message: format!("not a shard file: {e}"),
         })?;
+        // A shard file is data: its settings are checked as a study file's are (an edited
+        // `name` must not send the results outside results/).
+        part.config
+            .validate()
+            .map_err(|message| StudyError::Config {
+                path: p.clone(),
+                message: format!("config.{message}"),
+            })?;
         if let Some(first) = out.first() {
             if first.config != part.config {
                 return Err(StudyError::Config {

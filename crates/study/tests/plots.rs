@@ -222,3 +222,29 @@ fn one_stored_time_and_an_empty_tally_do_not_panic() {
     std::fs::remove_dir_all(&dir).unwrap();
     std::fs::remove_dir_all(&dir2).unwrap();
 }
+
+#[test]
+fn a_spacing_below_the_measurement_interval_stores_every_measurement() {
+    // 0.3 s with 1 Hz measurements: every measurement time once, and no run counted as
+    // stopped early (it used to index past the bound's series after all the runs).
+    let (study, tally, example) = tiny(0.3);
+    let dt = 1.0 / study.config.truth.measurement_rate_hz;
+    assert_eq!(study.times.len(), 600);
+    for (i, t) in study.times.iter().enumerate() {
+        assert!(
+            (t - (i + 1) as f64 * dt).abs() < 1e-9,
+            "stored time {i} is {t}"
+        );
+    }
+    // A spacing off the grid lands on the next measurement: 2.5 s stores 3, 5, 8, 10, ...
+    let (coarse, _, _) = tiny(2.5);
+    assert_eq!(&coarse.times[..4], &[3.0, 5.0, 8.0, 10.0]);
+    let s = summarize(&study, &tally);
+    for (name, f) in &s.filters {
+        assert_eq!(f.diverged, 0, "{name}: {:?}", f.diverged_examples);
+        assert_eq!(f.runs_ok, 2, "{name}");
+    }
+    let dir = scratch("fine");
+    report::write_report(&study, &tally, example.as_ref(), &dir, "test").unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -216,6 +216,7 @@ impl DiagnosisStudyConfig {
                 self.study.kind
             ));
         }
+        crate::output::plain_name("study.name", &self.study.name)?;
         if self.content.is_empty() {
             return Err("content: no [[content]] table; expected at least one".into());
         }

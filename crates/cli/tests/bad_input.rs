@@ -1,0 +1,181 @@
+//! Bad input to the CLI: refused before any computing, with a message naming the key or the
+//! path, a non-zero exit and no panic; nothing written outside the places asked for.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+/// studies/paper.toml with 2 runs and the given replacements of whole `key = value` lines.
+fn study_file(dir: &Path, file: &str, replace: &[(&str, &str)]) -> PathBuf {
+    let text = include_str!("../../../studies/paper.toml");
+    let mut replace: Vec<(&str, &str)> = replace.to_vec();
+    replace.push(("runs", "2"));
+    let edited: String = text
+        .lines()
+        .map(|l| {
+            for (key, value) in &replace {
+                if l.starts_with(&format!("{key} =")) {
+                    return format!("{key} = {value}\n");
+                }
+            }
+            format!("{l}\n")
+        })
+        .collect();
+    let path = dir.join(file);
+    std::fs::write(&path, edited).unwrap();
+    path
+}
+
+fn navkf<I, S>(args: I) -> Output
+where
+    I: IntoIterator<Item = S>,
+    S: AsRef<std::ffi::OsStr>,
+{
+    Command::new(env!("CARGO_BIN_EXE_navkf"))
+        .args(args)
+        .output()
+        .expect("navkf runs")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("navkf-bad-input-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Fails with exit 1 within a second (refused before the runs), stderr containing `needle`.
+fn refused_at_once(o: &Output, took: Duration, needle: &str) {
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains(needle), "stderr lacks {needle:?}: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(took < Duration::from_secs(2), "took {took:?}: refused late");
+}
+
+#[test]
+fn a_study_name_that_is_not_a_plain_name_is_refused() {
+    let dir = scratch("names");
+    for (i, name) in ["\"../../escaped\"", "\"/tmp/escaped\"", "\"\"", "\"a/b\""]
+        .iter()
+        .enumerate()
+    {
+        let study = study_file(&dir, &format!("s{i}.toml"), &[("name", name)]);
+        let t = Instant::now();
+        let o = navkf([Path::new("study"), &study, Path::new("--quiet")]);
+        refused_at_once(&o, t.elapsed(), "study.name");
+    }
+    assert!(!Path::new("../escaped").exists() && !Path::new("/tmp/escaped").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_occupied_or_unwritable_out_fails_before_the_runs() {
+    let dir = scratch("out");
+    let study = study_file(&dir, "s.toml", &[]);
+    let file = dir.join("a-file");
+    std::fs::write(&file, "x").unwrap();
+    let t = Instant::now();
+    let o = navkf([
+        Path::new("study"),
+        &study,
+        Path::new("--out"),
+        &file,
+        Path::new("--quiet"),
+    ]);
+    refused_at_once(&o, t.elapsed(), "exists and is not a folder");
+    let t = Instant::now();
+    let o = navkf([
+        Path::new("study"),
+        &study,
+        Path::new("--out"),
+        &file.join("below"),
+        Path::new("--quiet"),
+    ]);
+    refused_at_once(&o, t.elapsed(), "a-file");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_filter_listed_twice_is_refused_with_its_index() {
+    let dir = scratch("twice");
+    let study = study_file(&dir, "s.toml", &[("filters", "[\"ekf\", \"ekf\"]")]);
+    let t = Instant::now();
+    let o = navkf([Path::new("study"), &study, Path::new("--quiet")]);
+    refused_at_once(&o, t.elapsed(), "study.filters[1]: `ekf` is listed twice");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_edited_shard_cannot_write_outside_results() {
+    let dir = scratch("shard");
+    let study = study_file(&dir, "s.toml", &[]);
+    let shards = dir.join("shards");
+    let o = navkf([
+        Path::new("study"),
+        &study,
+        Path::new("--shard"),
+        Path::new("0/1"),
+        Path::new("--out"),
+        &shards,
+        Path::new("--quiet"),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let partial = std::fs::read_dir(&shards)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|e| e == "json"))
+        .expect("a shard file");
+    let json = std::fs::read_to_string(&partial).unwrap();
+    let edited = json.replacen("\"name\":\"paper\"", "\"name\":\"../../escaped\"", 1);
+    assert!(json != edited, "the shard file holds the study's name");
+    std::fs::write(&partial, edited).unwrap();
+    let o = navkf([Path::new("merge"), &partial]);
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("config.study.name"), "{err}");
+    assert!(!Path::new("../escaped").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[cfg(unix)]
+#[test]
+fn arguments_that_are_not_utf8_work_as_paths_or_are_refused_cleanly() {
+    use std::ffi::OsStr;
+    use std::os::unix::ffi::OsStrExt;
+    let dir = scratch("utf8");
+    let study = study_file(&dir, "s.toml", &[]);
+    // A study file and an output folder whose names are not UTF-8: they work.
+    let odd_study = dir.join(OsStr::from_bytes(b"s\xff.toml"));
+    std::fs::copy(&study, &odd_study).unwrap();
+    let odd_out = dir.join(OsStr::from_bytes(b"out\xfe"));
+    let o = navkf([
+        OsStr::new("study"),
+        odd_study.as_os_str(),
+        OsStr::new("--out"),
+        odd_out.as_os_str(),
+        OsStr::new("--quiet"),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let report = std::fs::read_to_string(odd_out.join("report.md")).unwrap();
+    assert!(
+        report.contains("s\u{fffd}.toml"),
+        "the command line, shown lossily"
+    );
+    // A number that is not UTF-8: a clean usage error.
+    let o = navkf([
+        OsStr::new("study"),
+        study.as_os_str(),
+        OsStr::new("--runs"),
+        OsStr::from_bytes(b"\xff"),
+    ]);
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("invalid UTF-8"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -179,3 +179,32 @@ fn arguments_that_are_not_utf8_work_as_paths_or_are_refused_cleanly() {
     assert!(!err.contains("panicked"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_bad_or_repeated_effect_is_refused_with_its_index() {
+    let dir = scratch("effects");
+    for (list, needle) in [
+        (
+            "[\"gyro-fz\", \"gyro-fzz\"]",
+            "truth.effects[1]: effect: `gyro-fzz` is neither",
+        ),
+        ("[\"gyro-fz\", \"gyro-fz\"]", "truth.effects[1]"),
+        ("[\"kod=0.002\", \"odometer-scale=0.003\"]", "given twice"),
+    ] {
+        let study = study_file(&dir, "s.toml", &[("effects", list)]);
+        let t = Instant::now();
+        let o = navkf([Path::new("study"), &study, Path::new("--quiet")]);
+        refused_at_once(&o, t.elapsed(), needle);
+    }
+    let t = Instant::now();
+    let o = navkf([
+        Path::new("simulate"),
+        Path::new("--out"),
+        &dir.join("sim"),
+        Path::new("--effects"),
+        Path::new("gyro-fz,gyro-fz"),
+    ]);
+    refused_at_once(&o, t.elapsed(), "effect `gyro-fz` is given twice");
+    assert!(!dir.join("sim").exists(), "nothing written");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -34,9 +34,18 @@ impl EffectSpec {
     /// assert_eq!(names, ["gyro-fz", "odometer-scale"]);
     /// assert_eq!(s.fixed["kod"].mean, 0.002);
     /// assert!(EffectSpec::parse("gyro-fzz", &Registry::catalogue()).is_err());
+    /// // Saying one thing twice is an error, not a silent overwrite.
+    /// assert!(EffectSpec::parse("gyro-fz, gyro-fz", &Registry::catalogue()).is_err());
+    /// assert!(EffectSpec::parse("kod=0.002, odometer-scale=0.003", &Registry::catalogue()).is_err());
     /// ```
     pub fn parse(list: &str, registry: &Registry) -> Result<Self, DynamicsError> {
         let mut spec = EffectSpec::default();
+        let mut listed: Vec<&str> = Vec::new();
+        let twice = |item: &str, what: &str| {
+            DynamicsError::Effect(format!(
+                "`{item}`: {what} is given twice; expected each effect and coefficient once"
+            ))
+        };
         for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
             let (name, value) = match item.split_once('=') {
                 Some((n, v)) => {
@@ -56,6 +65,10 @@ impl EffectSpec {
                 None => (item, None),
             };
             if registry.names().iter().any(|n| n == name) {
+                if listed.contains(&name) {
+                    return Err(twice(item, &format!("effect `{name}`")));
+                }
+                listed.push(name);
                 let idx = spec.ensure(name, registry)?;
                 if let Some(v) = value {
                     let e = &mut spec.effects[idx];
@@ -64,6 +77,9 @@ impl EffectSpec {
                             .map_err(|m| DynamicsError::Effect(format!("`{item}`: {m}")))?;
                     } else {
                         for c in e.coefficient_names() {
+                            if spec.fixed.contains_key(*c) {
+                                return Err(twice(item, &format!("coefficient `{c}`")));
+                            }
                             spec.fixed.insert(c.to_string(), Prior::fixed(v));
                         }
                     }
@@ -79,6 +95,9 @@ impl EffectSpec {
                         "`{item}`: a base coefficient needs a value ({name}=...)"
                     ))
                 })?;
+                if spec.fixed.contains_key(name) {
+                    return Err(twice(item, &format!("coefficient `{name}`")));
+                }
                 spec.fixed.insert(name.to_string(), Prior::fixed(v));
             } else if let Some(owner) = registry.owner_of(name) {
                 spec.ensure(&owner, registry)?;
@@ -87,6 +106,9 @@ impl EffectSpec {
                         "`{item}`: a coefficient needs a value ({name}=...)"
                     ))
                 })?;
+                if spec.fixed.contains_key(name) {
+                    return Err(twice(item, &format!("coefficient `{name}`")));
+                }
                 spec.fixed.insert(name.to_string(), Prior::fixed(v));
             } else {
                 return Err(DynamicsError::Effect(format!(

@@ -152,7 +152,10 @@ pub struct ExampleFilter {
     pub sigma: Vec<Vec<f64>>,
 }
 
+/// The model of the effect list at study key `key` (`truth.effects`), with the coefficients
+/// it fixes. A bad entry is refused with its index: `truth.effects[1]: ...`.
 fn build_model(
+    key: &str,
     effects: &[String],
     noise: &NoiseConfig,
 ) -> Result<
@@ -162,8 +165,15 @@ fn build_model(
     ),
     StudyError,
 > {
+    let registry = Registry::catalogue();
     let EffectSpec { effects, fixed } =
-        EffectSpec::parse(&effects.join(","), &Registry::catalogue())?;
+        EffectSpec::parse(&effects.join(","), &registry).map_err(|e| {
+            // The first entry whose addition makes the list fail is the one to name.
+            let bad = (0..effects.len())
+                .find(|&i| EffectSpec::parse(&effects[..=i].join(","), &registry).is_err())
+                .unwrap_or(0);
+            StudyError::Other(format!("{key}[{bad}]: {e}"))
+        })?;
     Ok((Arc::new(PlatformModel::new(effects, noise)?), fixed))
 }
 
@@ -171,13 +181,15 @@ impl Study {
     /// Prepares a study from its configuration.
     pub fn new(config: StudyConfig) -> Result<Self, StudyError> {
         let noise = config.noise;
-        let (truth_model, truth_fixed) = build_model(&config.truth.effects, &noise)?;
+        let (truth_model, truth_fixed) =
+            build_model("truth.effects", &config.truth.effects, &noise)?;
         let filter_noise = NoiseConfig {
             gyro_psd: noise.gyro_psd * config.filter.process_noise_scale,
             accel_psd: noise.accel_psd * config.filter.process_noise_scale,
             ..noise
         };
-        let (filter_model, _) = build_model(&config.filter.effects, &filter_noise)?;
+        let (filter_model, _) =
+            build_model("filter.effects", &config.filter.effects, &filter_noise)?;
         let trajectory = Arc::new(Trajectory::build(&config.trajectory)?);
         let mut sim_cfg = config.truth.sim_config();
         // Typical sigmas scaled, then the effect list's fixed values, then explicit priors.

@@ -74,17 +74,16 @@ pub struct NisTotals {
 fn stored_times(every: f64, duration: f64, dt_meas: f64) -> Vec<f64> {
     let last = (duration / dt_meas).floor() * dt_meas;
     let mut times: Vec<f64> = Vec::new();
-    let mut i = 1.0;
-    loop {
-        let t = i * every;
-        if t >= duration - 1e-9 {
+    let mut target = every;
+    while target < duration - 1e-9 {
+        let on_grid = (target / dt_meas - 1e-9).ceil() * dt_meas;
+        if on_grid >= last - 1e-9 {
             break;
         }
-        let on_grid = (t / dt_meas - 1e-9).ceil() * dt_meas;
-        if on_grid < last - 1e-9 && times.last().is_none_or(|&p| on_grid > p + 1e-9) {
-            times.push(on_grid);
-        }
-        i += 1.0;
+        times.push(on_grid);
+        // Every multiple up to `on_grid` lands on it: jump to the first one beyond, so the
+        // loop runs once per stored time however small `every` is.
+        target = ((on_grid / every + 1e-9).floor() + 1.0) * every;
     }
     times.push(last);
     times
@@ -165,15 +164,8 @@ fn build_model(
     ),
     StudyError,
 > {
-    let registry = Registry::catalogue();
-    let EffectSpec { effects, fixed } =
-        EffectSpec::parse(&effects.join(","), &registry).map_err(|e| {
-            // The first entry whose addition makes the list fail is the one to name.
-            let bad = (0..effects.len())
-                .find(|&i| EffectSpec::parse(&effects[..=i].join(","), &registry).is_err())
-                .unwrap_or(0);
-            StudyError::Other(format!("{key}[{bad}]: {e}"))
-        })?;
+    let EffectSpec { effects, fixed } = EffectSpec::parse_entries(effects, &Registry::catalogue())
+        .map_err(|(i, e)| StudyError::Other(format!("{key}[{i}]: {e}")))?;
     Ok((Arc::new(PlatformModel::new(effects, noise)?), fixed))
 }
 
@@ -333,18 +325,12 @@ impl Study {
         {
             Ok(f) => f,
             Err(e) => {
-                out.outcome = Err(RunFailure {
-                    cause: DivergenceCause::Setup,
-                    reason: e.to_string(),
-                });
+                out.outcome = Err(RunFailure::new(DivergenceCause::Setup, e.to_string()));
                 return out;
             }
         };
         if let Err(e) = filter.reset(x0, p0) {
-            out.outcome = Err(RunFailure {
-                cause: DivergenceCause::Setup,
-                reason: e.to_string(),
-            });
+            out.outcome = Err(RunFailure::new(DivergenceCause::Setup, e.to_string()));
             return out;
         }
         let mut scratch = vec![0.0; n * n + n];
@@ -387,10 +373,10 @@ impl Study {
                     let e = match nees(&xt, x, p, &mut scratch) {
                         Ok(e) => e,
                         Err(e) => {
-                            failure.get_or_insert(RunFailure {
-                                cause: DivergenceCause::of_filter_error(&e),
-                                reason: format!("t = {} s: {e}", v.t),
-                            });
+                            failure.get_or_insert(RunFailure::of_filter(
+                                &e,
+                                format!("t = {} s: {e}", v.t),
+                            ));
                             f64::NAN
                         }
                     };
@@ -405,34 +391,31 @@ impl Study {
             },
         );
         if let Err(e) = result {
-            out.outcome = Err(RunFailure {
-                cause: DivergenceCause::of_filter_error(&e.error),
-                reason: e.to_string(),
-            });
+            out.outcome = Err(RunFailure::of_filter(&e.error, e.to_string()));
         } else if let Some(f) = failure {
             out.outcome = Err(f);
         } else if out.err.len() != self.times.len() {
-            out.outcome = Err(RunFailure {
-                cause: DivergenceCause::Stopped,
-                reason: format!(
+            out.outcome = Err(RunFailure::new(
+                DivergenceCause::Stopped,
+                format!(
                     "the run stopped after {} of {} stored times",
                     out.err.len(),
                     self.times.len()
                 ),
-            });
+            ));
         } else {
             let bound = self.config.divergence.max_error_initial_sigmas;
             let last = out.err.last().expect("at least one stored time");
             for (i, e) in last.iter().enumerate().skip(NAV_DIM) {
                 let ratio = e.abs() / self.initial_sigma[i];
                 if !(ratio <= bound) {
-                    out.outcome = Err(RunFailure {
-                        cause: DivergenceCause::ErrorBound,
-                        reason: format!(
+                    out.outcome = Err(RunFailure::new(
+                        DivergenceCause::ErrorBound,
+                        format!(
                             "final {} error is {ratio:.1} initial sigmas (bound {bound})",
                             self.names[i]
                         ),
-                    });
+                    ));
                     break;
                 }
             }

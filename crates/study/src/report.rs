@@ -2,7 +2,6 @@
 
 use crate::stats::Consistency;
 use crate::summary::Summary;
-use crate::tally::DivergenceCause;
 use std::fmt::Write as _;
 
 fn g(v: f64) -> String {
@@ -263,12 +262,10 @@ fn diverged(study: &crate::monte_carlo::Study, tally: &crate::tally::Tally) -> S
             let _ = writeln!(out, "- **{name}**: none of {} runs.", tally.runs);
             continue;
         }
-        let by_cause: Vec<String> = DivergenceCause::ALL
+        let by_cause: Vec<String> = f
+            .diverged_by_cause()
             .iter()
-            .filter_map(|&c| {
-                let count = f.diverged.iter().filter(|d| d.failure.cause == c).count();
-                (count > 0).then(|| format!("{count} {c}"))
-            })
+            .map(|(cause, count)| format!("{count} {cause}"))
             .collect();
         let _ = writeln!(
             out,

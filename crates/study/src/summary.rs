@@ -109,10 +109,7 @@ pub fn summarize(study: &Study, tally: &Tally) -> Summary {
             nis_bounds: [f64::NAN; 2],
             nis_dof: f64::NAN,
             diverged: t.diverged.len() as u64,
-            diverged_by_cause: t.diverged.iter().fold(BTreeMap::new(), |mut m, d| {
-                *m.entry(d.failure.cause).or_insert(0) += 1;
-                m
-            }),
+            diverged_by_cause: t.diverged_by_cause(),
             runs_ok: t.ok,
             step_ns_median: quantile(&t.step_cost, 0.5),
             step_ns_p90: quantile(&t.step_cost, 0.9),

@@ -32,15 +32,6 @@ pub enum DivergenceCause {
 }
 
 impl DivergenceCause {
-    /// Every cause, in report order.
-    pub const ALL: [DivergenceCause; 5] = [
-        DivergenceCause::Setup,
-        DivergenceCause::NotPositiveDefinite,
-        DivergenceCause::NonFinite,
-        DivergenceCause::Stopped,
-        DivergenceCause::ErrorBound,
-    ];
-
     /// The class of a filter's error.
     pub fn of_filter_error(e: &navkf_filters::FilterError) -> Self {
         use navkf_filters::FilterError as E;
@@ -79,12 +70,18 @@ pub struct RunFailure {
 }
 
 impl RunFailure {
-    /// A failure from a filter's error.
-    pub fn filter(e: &navkf_filters::FilterError) -> Self {
+    /// A failure of class `cause`.
+    pub fn new(cause: DivergenceCause, reason: impl Into<String>) -> Self {
         RunFailure {
-            cause: DivergenceCause::of_filter_error(e),
-            reason: e.to_string(),
+            cause,
+            reason: reason.into(),
         }
+    }
+
+    /// A filter's error, classed by [`DivergenceCause::of_filter_error`]; `reason` says it
+    /// in words with its context (the time, the measurement).
+    pub fn of_filter(e: &navkf_filters::FilterError, reason: impl Into<String>) -> Self {
+        Self::new(DivergenceCause::of_filter_error(e), reason)
     }
 }
 
@@ -222,6 +219,15 @@ fn add_mat(a: &mut Vec<Vec<f64>>, b: &[Vec<f64>]) {
 }
 
 impl FilterTally {
+    /// The excluded runs counted by cause (causes with none left out), in the causes' order.
+    pub fn diverged_by_cause(&self) -> BTreeMap<DivergenceCause, u64> {
+        let mut counts = BTreeMap::new();
+        for d in &self.diverged {
+            *counts.entry(d.failure.cause).or_insert(0) += 1;
+        }
+        counts
+    }
+
     /// Adds another tally (a later block) to this one.
     pub fn merge(&mut self, o: &FilterTally) {
         self.ok += o.ok;

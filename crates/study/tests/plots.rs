@@ -236,6 +236,10 @@ fn a_spacing_below_the_measurement_interval_stores_every_measurement() {
             "stored time {i} is {t}"
         );
     }
+    // However small the spacing, the same times, found in one step per stored time (a loop
+    // over the multiples of 1e-9 s would not finish).
+    let (finest, _, _) = tiny(1e-9);
+    assert_eq!(finest.times, study.times);
     // A spacing off the grid lands on the next measurement: 2.5 s stores 3, 5, 8, 10, ...
     let (coarse, _, _) = tiny(2.5);
     assert_eq!(&coarse.times[..4], &[3.0, 5.0, 8.0, 10.0]);

@@ -39,85 +39,117 @@ impl EffectSpec {
     /// assert!(EffectSpec::parse("kod=0.002, odometer-scale=0.003", &Registry::catalogue()).is_err());
     /// ```
     pub fn parse(list: &str, registry: &Registry) -> Result<Self, DynamicsError> {
+        Self::parse_entries(&[list], registry).map_err(|(_, e)| e)
+    }
+
+    /// Parses a list given as separate entries (a study file's `effects = [...]`), each as
+    /// [`EffectSpec::parse`] reads a list; a failure comes with the index of its entry.
+    ///
+    /// ```
+    /// use navkf_dynamics::effect_spec::EffectSpec;
+    /// use navkf_dynamics::Registry;
+    /// let err = EffectSpec::parse_entries(&["gyro-fz", "gyro-fzz"], &Registry::catalogue());
+    /// assert_eq!(err.unwrap_err().0, 1);
+    /// ```
+    pub fn parse_entries<S: AsRef<str>>(
+        entries: &[S],
+        registry: &Registry,
+    ) -> Result<Self, (usize, DynamicsError)> {
         let mut spec = EffectSpec::default();
-        let mut listed: Vec<&str> = Vec::new();
-        let twice = |item: &str, what: &str| {
-            DynamicsError::Effect(format!(
-                "`{item}`: {what} is given twice; expected each effect and coefficient once"
-            ))
-        };
-        for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-            let (name, value) = match item.split_once('=') {
-                Some((n, v)) => {
-                    let v: f64 = v.trim().parse().map_err(|_| {
-                        DynamicsError::Effect(format!(
-                            "`{item}`: `{}` is not a number (expected name=value, e.g. odometer-scale=0.002)",
-                            v.trim()
-                        ))
-                    })?;
-                    if !v.is_finite() {
-                        return Err(DynamicsError::Effect(format!(
-                            "`{item}`: value must be finite"
-                        )));
-                    }
-                    (n.trim(), Some(v))
+        let mut listed = Vec::new();
+        for (i, entry) in entries.iter().enumerate() {
+            for item in entry.as_ref().split(',').map(str::trim) {
+                if !item.is_empty() {
+                    spec.add_item(item, &mut listed, registry)
+                        .map_err(|e| (i, e))?;
                 }
-                None => (item, None),
-            };
-            if registry.names().iter().any(|n| n == name) {
-                if listed.contains(&name) {
-                    return Err(twice(item, &format!("effect `{name}`")));
-                }
-                listed.push(name);
-                let idx = spec.ensure(name, registry)?;
-                if let Some(v) = value {
-                    let e = &mut spec.effects[idx];
-                    if e.coefficient_names().is_empty() {
-                        e.set_parameter(v)
-                            .map_err(|m| DynamicsError::Effect(format!("`{item}`: {m}")))?;
-                    } else {
-                        for c in e.coefficient_names() {
-                            if spec.fixed.contains_key(*c) {
-                                return Err(twice(item, &format!("coefficient `{c}`")));
-                            }
-                            spec.fixed.insert(c.to_string(), Prior::fixed(v));
-                        }
-                    }
-                }
-            } else if let Some(pos) = BASE_NAMES.iter().position(|n| *n == name) {
-                if pos < NAV_DIM {
-                    return Err(DynamicsError::Effect(format!(
-                        "`{item}`: `{name}` is a navigation state, not a coefficient"
-                    )));
-                }
-                let v = value.ok_or_else(|| {
-                    DynamicsError::Effect(format!(
-                        "`{item}`: a base coefficient needs a value ({name}=...)"
-                    ))
-                })?;
-                if spec.fixed.contains_key(name) {
-                    return Err(twice(item, &format!("coefficient `{name}`")));
-                }
-                spec.fixed.insert(name.to_string(), Prior::fixed(v));
-            } else if let Some(owner) = registry.owner_of(name) {
-                spec.ensure(&owner, registry)?;
-                let v = value.ok_or_else(|| {
-                    DynamicsError::Effect(format!(
-                        "`{item}`: a coefficient needs a value ({name}=...)"
-                    ))
-                })?;
-                if spec.fixed.contains_key(name) {
-                    return Err(twice(item, &format!("coefficient `{name}`")));
-                }
-                spec.fixed.insert(name.to_string(), Prior::fixed(v));
-            } else {
-                return Err(DynamicsError::Effect(format!(
-                    "`{name}` is neither an effect nor a coefficient; effects: {}",
-                    registry.names().join(", ")
-                )));
             }
         }
         Ok(spec)
+    }
+
+    /// Adds one item; `listed` holds the effects named so far (naming one twice is an error).
+    fn add_item(
+        &mut self,
+        item: &str,
+        listed: &mut Vec<String>,
+        registry: &Registry,
+    ) -> Result<(), DynamicsError> {
+        let (name, value) = match item.split_once('=') {
+            Some((n, v)) => {
+                let v: f64 = v.trim().parse().map_err(|_| {
+                    DynamicsError::Effect(format!(
+                        "`{item}`: `{}` is not a number (expected name=value, e.g. odometer-scale=0.002)",
+                        v.trim()
+                    ))
+                })?;
+                if !v.is_finite() {
+                    return Err(DynamicsError::Effect(format!(
+                        "`{item}`: value must be finite"
+                    )));
+                }
+                (n.trim(), Some(v))
+            }
+            None => (item, None),
+        };
+        if registry.names().iter().any(|n| n == name) {
+            if listed.iter().any(|l| l == name) {
+                return Err(given_twice(item, &format!("effect `{name}`")));
+            }
+            listed.push(name.to_string());
+            let idx = self.ensure(name, registry)?;
+            if let Some(v) = value {
+                let e = &mut self.effects[idx];
+                if e.coefficient_names().is_empty() {
+                    e.set_parameter(v)
+                        .map_err(|m| DynamicsError::Effect(format!("`{item}`: {m}")))?;
+                } else {
+                    let names: Vec<String> = e
+                        .coefficient_names()
+                        .iter()
+                        .map(|c| c.to_string())
+                        .collect();
+                    for c in &names {
+                        self.fix(item, c, v)?;
+                    }
+                }
+            }
+            Ok(())
+        } else if let Some(pos) = BASE_NAMES.iter().position(|n| *n == name) {
+            if pos < NAV_DIM {
+                return Err(DynamicsError::Effect(format!(
+                    "`{item}`: `{name}` is a navigation state, not a coefficient"
+                )));
+            }
+            let v = value.ok_or_else(|| {
+                DynamicsError::Effect(format!(
+                    "`{item}`: a base coefficient needs a value ({name}=...)"
+                ))
+            })?;
+            self.fix(item, name, v)
+        } else if let Some(owner) = registry.owner_of(name) {
+            self.ensure(&owner, registry)?;
+            let v = value.ok_or_else(|| {
+                DynamicsError::Effect(format!(
+                    "`{item}`: a coefficient needs a value ({name}=...)"
+                ))
+            })?;
+            self.fix(item, name, v)
+        } else {
+            Err(DynamicsError::Effect(format!(
+                "`{name}` is neither an effect nor a coefficient; effects: {}",
+                registry.names().join(", ")
+            )))
+        }
+    }
+
+    /// Fixes `coefficient` at `v` (fixing it twice is an error).
+    fn fix(&mut self, item: &str, coefficient: &str, v: f64) -> Result<(), DynamicsError> {
+        if self.fixed.contains_key(coefficient) {
+            return Err(given_twice(item, &format!("coefficient `{coefficient}`")));
+        }
+        self.fixed.insert(coefficient.to_string(), Prior::fixed(v));
+        Ok(())
     }
 
     fn ensure(&mut self, name: &str, registry: &Registry) -> Result<usize, DynamicsError> {
@@ -132,4 +164,10 @@ impl EffectSpec {
     pub fn names(&self) -> Vec<String> {
         self.effects.iter().map(|e| e.name().to_string()).collect()
     }
+}
+
+fn given_twice(item: &str, what: &str) -> DynamicsError {
+    DynamicsError::Effect(format!(
+        "`{item}`: {what} is given twice; expected each effect and coefficient once"
+    ))
 }

@@ -27,7 +27,7 @@ pub fn plain_name(key: &str, name: &str) -> Result<(), String> {
     if name.is_empty() || name.len() > 100 || name.starts_with('.') || !name.chars().all(ok_char) {
         return Err(format!(
             "{key} = {}: expected a plain name (1 to 100 letters, digits, '-', '_' or '.', not starting with '.'); it names the folder under results/",
-            crate::output::shown(name)
+            shown(name)
         ));
     }
     Ok(())
@@ -63,10 +63,7 @@ pub fn check_output_dir(dir: &Path) -> Result<(), StudyError> {
     }
     std::fs::create_dir_all(dir).map_err(io)?;
     let probe = dir.join(format!(".navkf-write-check{}", std::process::id()));
-    std::fs::write(&probe, b"").map_err(|source| StudyError::Io {
-        path: dir.to_path_buf(),
-        source,
-    })?;
+    std::fs::write(&probe, b"").map_err(io)?;
     let _ = std::fs::remove_file(&probe);
     Ok(())
 }

@@ -1,8 +1,11 @@
 //! Bad input to the CLI: refused before any computing, with a message naming the key or the
 //! path, a non-zero exit and no panic; nothing written outside the places asked for.
 
+mod common;
+
+use common::{navkf, text};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 use std::time::{Duration, Instant};
 
 /// studies/paper.toml with 2 runs and the given replacements of whole `key = value` lines.
@@ -24,21 +27,6 @@ fn study_file(dir: &Path, file: &str, replace: &[(&str, &str)]) -> PathBuf {
     let path = dir.join(file);
     std::fs::write(&path, edited).unwrap();
     path
-}
-
-fn navkf<I, S>(args: I) -> Output
-where
-    I: IntoIterator<Item = S>,
-    S: AsRef<std::ffi::OsStr>,
-{
-    Command::new(env!("CARGO_BIN_EXE_navkf"))
-        .args(args)
-        .output()
-        .expect("navkf runs")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
 }
 
 fn scratch(name: &str) -> PathBuf {

@@ -1,8 +1,10 @@
 //! `navkf study --baseline`: passes against its own baseline, fails with a table and a
 //! non-zero exit when results got worse, and refuses a baseline made with other settings.
 
+mod common;
+
+use common::{navkf, text};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 /// studies/paper.toml on a 600 s trajectory with 10 runs.
 fn short_study(dir: &Path) -> PathBuf {
@@ -29,17 +31,6 @@ fn short_study(dir: &Path) -> PathBuf {
     path
 }
 
-fn navkf(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_navkf"))
-        .args(args)
-        .output()
-        .expect("navkf runs")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
 #[test]
 fn the_guard_passes_fails_with_a_table_and_refuses_other_settings() {
     let dir = std::env::temp_dir().join(format!("navkf-cli-baseline-{}", std::process::id()));
@@ -49,11 +40,11 @@ fn the_guard_passes_fails_with_a_table_and_refuses_other_settings() {
     let study = study.to_str().unwrap();
     let out = |name: &str| dir.join(name).to_str().unwrap().to_string();
 
-    let o = navkf(&["study", study, "--out", &out("base"), "--quiet"]);
+    let o = navkf(["study", study, "--out", &out("base"), "--quiet"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let baseline = out("base/summary.json");
 
-    let o = navkf(&[
+    let o = navkf([
         "study",
         study,
         "--baseline",
@@ -76,7 +67,7 @@ fn the_guard_passes_fails_with_a_table_and_refuses_other_settings() {
     *rms = serde_json::json!(rms.as_f64().unwrap() / 10.0);
     let better = out("better.json");
     std::fs::write(&better, v.to_string()).unwrap();
-    let o = navkf(&[
+    let o = navkf([
         "study",
         study,
         "--baseline",
@@ -96,7 +87,7 @@ fn the_guard_passes_fails_with_a_table_and_refuses_other_settings() {
     );
 
     // Another run count: not the baseline's study.
-    let o = navkf(&[
+    let o = navkf([
         "study",
         study,
         "--runs",
@@ -114,7 +105,7 @@ fn the_guard_passes_fails_with_a_table_and_refuses_other_settings() {
         text(&o.stderr)
     );
     // Not with a shard.
-    let o = navkf(&[
+    let o = navkf([
         "study",
         study,
         "--shard",

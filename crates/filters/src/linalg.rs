@@ -1,9 +1,12 @@
 //! Small dense kernels on column-major slices, written for the sizes of this problem
 //! (n = 20 to 40, measurement size up to 4) and for not allocating.
 //!
-//! The library routines either allocate (nalgebra's `cholesky` consumes a copy; its `gemm`
-//! hands large products to a packing kernel) or carry dispatch overhead that dominates at
-//! these sizes; the README records the comparison.
+//! They are not the fastest code for these sizes on every CPU: on the AMD Zen 4 of README's
+//! Speed section, nalgebra's Cholesky (0.73 us at n = 20, a copy included) and faer's
+//! product for the UKF covariance (0.85 us for 41 points) beat [`cholesky_in_place`]
+//! (1.02 us) and [`row_dots`] (1.45 us) (`cargo bench -p navkf-benches --bench linalg`).
+//! They are kept because they allocate nothing and work on the filters' flat buffers; moving
+//! to a library call that does neither is an open lead (README, Speed).
 
 use crate::view::RowMajor;
 
@@ -121,8 +124,8 @@ const DOT_LANES: usize = 8;
 
 /// Dot products of rows `a0..a0 + 4` of `x` with rows `b0..b0 + 4` of `y`, rows as long in
 /// both (a multiple of 8): `out[i][j] = x[a0 + i] . y[b0 + j]`. Sixteen independent SIMD
-/// accumulators. Hand-written because it wins: the UKF covariance from it costs less than
-/// nalgebra's or faer's product at n = 20-40 (`cargo bench -p navkf-benches --bench linalg`).
+/// accumulators. Faster than nalgebra's `gemm_tr` for the UKF covariance, slower than faer's
+/// product (see the module documentation).
 #[inline(always)]
 pub fn row_dots(x: RowMajor, a0: usize, y: RowMajor, b0: usize) -> [[f64; 4]; 4] {
     let len = x.cols();

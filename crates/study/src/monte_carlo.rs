@@ -69,23 +69,23 @@ pub struct NisTotals {
 }
 
 /// The stored times: the first measurement time at or after each multiple of `every` below
-/// `duration`, then the last measurement time, without repeats (measurements fall at multiples
-/// of `dt_meas`; a run stores at most one value per measurement).
+/// `duration`, then the last measurement time, without repeats (measurements fall at
+/// multiples of `dt_meas` from `dt_meas` on; a run stores at most one value per measurement).
 fn stored_times(every: f64, duration: f64, dt_meas: f64) -> Vec<f64> {
-    let last = (duration / dt_meas).floor() * dt_meas;
+    // Work in measurement indices: multiple j of `every` lands on index ceil(j every / dt).
+    let last = (duration / dt_meas).floor();
+    let index_of = |j: f64| (j * every / dt_meas - 1e-9).ceil();
     let mut times: Vec<f64> = Vec::new();
-    let mut target = every;
-    while target < duration - 1e-9 {
-        let on_grid = (target / dt_meas - 1e-9).ceil() * dt_meas;
-        if on_grid >= last - 1e-9 {
-            break;
-        }
-        times.push(on_grid);
-        // Every multiple up to `on_grid` lands on it: jump to the first one beyond, so the
-        // loop runs once per stored time however small `every` is.
-        target = ((on_grid / every + 1e-9).floor() + 1.0) * every;
+    // Measurements start one interval in: index 1 at the earliest.
+    let mut m = index_of(1.0).max(1.0);
+    while m < last && m * dt_meas < duration - 1e-9 {
+        times.push(m * dt_meas);
+        // The first multiple beyond index m, and at least the next index: one step per
+        // stored time however small `every` is.
+        let j = ((m + 1e-9) * dt_meas / every).floor() + 1.0;
+        m = index_of(j).max(m + 1.0);
     }
-    times.push(last);
+    times.push(last * dt_meas);
     times
 }
 

@@ -14,6 +14,7 @@
 //! [`crate::integrate::propagate_generic`] does, operation for operation, including noise held over the window and coefficients that a noise channel
 //! drives moving linearly.
 
+use crate::attitude::{exact_rates, Attitude};
 use crate::integrate::{rk4_step, InputWindow, PropagationScratch, RK4};
 use crate::kinematics::Kinematics;
 use crate::model::PlatformModel;
@@ -46,9 +47,10 @@ fn small_sin_cos(d: f64) -> (f64, f64) {
 
 /// Navigation-state derivatives of a block at states `x` (all `n` states, as lanes).
 /// `EFFECTS` says whether the model has effects with rates: without, nothing takes the
-/// kinematics' address, and they stay in registers.
+/// kinematics' address, and they stay in registers. `EXACT` selects the exact-attitude
+/// variant ([`crate::attitude`]).
 #[inline(always)]
-fn rates<const EFFECTS: bool>(
+fn rates<const EFFECTS: bool, const EXACT: bool>(
     model: &PlatformModel,
     x: &[Lanes],
     f: &crate::kinematics::Input,
@@ -63,6 +65,13 @@ fn rates<const EFFECTS: bool>(
         cos_l.0[l] = c0 * cd - s0 * sd;
     }
     let k = Kinematics::values(x, f, sin_l, cos_l);
+    if EXACT {
+        let mut terms = model.base_terms(x, &k);
+        if EFFECTS {
+            model.add_effect_rates(x, &k, &mut terms);
+        }
+        return exact_rates(&k, &terms);
+    }
     let mut r = model.base_rates(x, &k);
     if EFFECTS {
         model.add_effect_rates(x, &k, &mut r);
@@ -99,15 +108,17 @@ pub fn propagate(
     window: &InputWindow,
     scratch: &mut PropagationScratch,
 ) {
-    if model.has_rate_effects() {
-        propagate_blocks::<true>(model, points, noise, window, scratch)
-    } else {
-        propagate_blocks::<false>(model, points, noise, window, scratch)
+    let exact = model.attitude() == Attitude::Exact;
+    match (model.has_rate_effects(), exact) {
+        (true, false) => propagate_blocks::<true, false>(model, points, noise, window, scratch),
+        (false, false) => propagate_blocks::<false, false>(model, points, noise, window, scratch),
+        (true, true) => propagate_blocks::<true, true>(model, points, noise, window, scratch),
+        (false, true) => propagate_blocks::<false, true>(model, points, noise, window, scratch),
     }
 }
 
-/// [`propagate`], compiled with and without effects' rates.
-fn propagate_blocks<const EFFECTS: bool>(
+/// [`propagate`], compiled with and without effects' rates, for each attitude variant.
+fn propagate_blocks<const EFFECTS: bool, const EXACT: bool>(
     model: &PlatformModel,
     points: &mut [f64],
     noise: Option<&[f64]>,
@@ -168,14 +179,14 @@ fn propagate_blocks<const EFFECTS: bool>(
             for (s, st) in RK4.iter().enumerate() {
                 let u = st.input(window, j);
                 k[s] = if s == 0 {
-                    rates::<EFFECTS>(model, x, u, reference)
+                    rates::<EFFECTS, EXACT>(model, x, u, reference)
                 } else {
                     let c = st.offset(h);
                     stage(tmp, x, c, &k[s - 1]);
                     if drifting {
                         drift(tmp, x, w, c);
                     }
-                    rates::<EFFECTS>(model, tmp, u, reference)
+                    rates::<EFFECTS, EXACT>(model, tmp, u, reference)
                 };
                 add_noise(&mut k[s], w);
             }

@@ -164,6 +164,11 @@ pub trait Effect: Send + Sync + fmt::Debug + 'static {
     /// Adds the effect's terms to the navigation-state derivatives `[phi, v_x, v_y, L, lambda]`,
     /// on one state (`T = f64`) or a batch of them ([`Lanes`]). Rates read the kinematics'
     /// values, never their `d_` latitude derivatives (left zero in the batch).
+    ///
+    /// The `phi` rows are platform-axis gyro errors (they join `eps`) and the `v` rows
+    /// platform-axis accelerometer errors (they join `nab`): the small-angle model adds them to
+    /// the derivatives as they are, the exact-attitude variant maps them through the rotation
+    /// ([`crate::attitude`]), so an effect is written once for both.
     fn add_rates<T: Real>(&self, _k: &Kinematics<T>, _c: &[T], _rates: &mut [T; NAV_DIM]) {}
     /// Adds the partial derivatives of [`Effect::add_rates`] (rows: navigation states).
     fn add_rate_partials(&self, _k: &Kinematics, _c: &[f64], _offset: usize, _p: &mut Partials) {}

@@ -6,6 +6,7 @@
 //! Effects ([`Effect`]) add coefficients and terms at run time: the state dimension is 20
 //! plus what they add.
 
+pub mod attitude;
 pub mod batch_propagation;
 pub mod dataset;
 pub mod earth;
@@ -28,6 +29,7 @@ pub mod system;
 pub mod trajectory;
 pub mod trig;
 
+pub use attitude::Attitude;
 pub use effect::{DynEffect, Effect, MeasurementTerm, NoiseChannel, Partials, Terms};
 pub use effects::Registry;
 pub use error::DynamicsError;

@@ -15,6 +15,7 @@
 //!
 //! One implementation serves the truth simulator and every filter.
 
+use crate::attitude::{exact_jacobian, exact_rates, Attitude};
 use crate::batch_propagation;
 use crate::earth::WIE;
 use crate::effect::{DynEffect, EffectNumber, MeasurementTerm, NoiseChannel, Partials};
@@ -41,6 +42,7 @@ pub struct PlatformModel {
     noise: Vec<NoiseChannel>,
     linear_measurement: bool,
     dim: usize,
+    attitude: Attitude,
 }
 
 impl PlatformModel {
@@ -139,7 +141,19 @@ impl PlatformModel {
             noise: channels,
             linear_measurement,
             dim,
+            attitude: Attitude::SmallAngle,
         })
+    }
+
+    /// The same model with the attitude equations `attitude` (the small-angle form unless
+    /// set).
+    pub fn with_attitude(mut self, attitude: Attitude) -> Self {
+        self.attitude = attitude;
+        self
+    }
+    /// Which attitude equations the model uses.
+    pub fn attitude(&self) -> Attitude {
+        self.attitude
     }
 
     /// State dimension: 20 plus the effects' coefficients.
@@ -186,6 +200,9 @@ impl PlatformModel {
     // seven scalar stores were read back as vectors, a store-forwarding stall per call.
     #[inline(always)]
     pub fn nav_rates(&self, x: &[f64], k: &Kinematics) -> [f64; NAV_DIM] {
+        if self.attitude == Attitude::Exact {
+            return exact_rates(k, &self.platform_terms(x, k));
+        }
         let mut r = self.base_rates(x, k);
         if self.has_rate_effects() {
             // Through copies: were `r` or `k` passed by address, neither could stay in
@@ -204,21 +221,43 @@ impl PlatformModel {
         !self.rate_effects.is_empty()
     }
 
-    /// The base model's navigation-state derivatives (model.md eqs 1-12), on one state or a
-    /// batch: `x` is the full state, `k` its kinematics.
+    /// The base model's platform terms, in the rate rows' places:
+    /// `[eps_x, eps_y, eps_z, nab_x, nab_y, L', lambda']` (the gyro drifts of eqs 6-8, the
+    /// accelerometer errors of eqs 4-5, and the position rates of eqs 11-12). Effects add to
+    /// these; the attitude variant maps them to the state ([`crate::attitude`]).
+    #[inline(always)]
+    pub fn base_terms<T: Real>(&self, x: &[T], k: &Kinematics<T>) -> [T; NAV_DIM] {
+        let [fx, fy, _] = k.f;
+        // Written out rather than through a closure, which the batch path did not inline.
+        let c = &x[..BASE_DIM];
+        [
+            c[KG0X] + c[KG11X] * fx + c[KG12X] * fy,
+            c[KG0Y] + c[KG11X + 3] * fx + c[KG12X + 3] * fy,
+            c[KG0Z] + c[KG11X + 6] * fx + c[KG12X + 6] * fy,
+            c[KA0X] + c[KA1X] * fx,
+            c[KA0Y] + c[KA1Y] * fy,
+            k.v_y * k.inv_rm,
+            k.v_x * k.inv_rn * k.inv_cos,
+        ]
+    }
+
+    /// The platform terms of the whole model: [`PlatformModel::base_terms`] plus every
+    /// effect's, on one state or a batch.
+    #[inline(always)]
+    pub fn platform_terms<T: EffectNumber>(&self, x: &[T], k: &Kinematics<T>) -> [T; NAV_DIM] {
+        let mut t = self.base_terms(x, k);
+        self.add_effect_rates(x, k, &mut t);
+        t
+    }
+
+    /// The base model's navigation-state derivatives in the small-angle form (model.md eqs
+    /// 1-12), on one state or a batch: `x` is the full state, `k` its kinematics.
     #[inline(always)]
     pub fn base_rates<T: Real>(&self, x: &[T], k: &Kinematics<T>) -> [T; NAV_DIM] {
         let [fx, fy, fz] = k.f;
         let [px, py, pz] = k.phi;
         let [w1, w2, w3] = k.w_cmd;
-        // Gyro drifts (eqs 6-8) and accelerometer errors (eqs 4-5), written out rather than
-        // through a closure, which the batch path did not inline.
-        let c = &x[..BASE_DIM];
-        let eps_x = c[KG0X] + c[KG11X] * fx + c[KG12X] * fy;
-        let eps_y = c[KG0Y] + c[KG11X + 3] * fx + c[KG12X + 3] * fy;
-        let eps_z = c[KG0Z] + c[KG11X + 6] * fx + c[KG12X + 6] * fy;
-        let nab_x = c[KA0X] + c[KA1X] * fx;
-        let nab_y = c[KA0Y] + c[KA1Y] * fy;
+        let [eps_x, eps_y, eps_z, nab_x, nab_y, lat_rate, lon_rate] = self.base_terms(x, k);
         let coriolis = k.sin_l * (2.0 * WIE) + k.v_x * k.tan_over_rn;
         [
             py * w3 - pz * w2 + eps_x,
@@ -226,8 +265,8 @@ impl PlatformModel {
             px * w2 - py * w1 + eps_z,
             coriolis * k.v_y + nab_x + fx + fy * pz - fz * py,
             -coriolis * k.v_x + nab_y + fy + fz * px - fx * pz,
-            k.v_y * k.inv_rm,
-            k.v_x * k.inv_rn * k.inv_cos,
+            lat_rate,
+            lon_rate,
         ]
     }
 
@@ -256,16 +295,21 @@ impl PlatformModel {
         assert!(stride >= self.dim);
         let n = stride;
         jac[..NAV_DIM * n].fill(0.0);
+        if self.attitude == Attitude::Exact {
+            // The effects' partials of the platform terms first: the variant maps them.
+            self.add_effect_rate_partials(x, k, jac, n);
+            let terms = self.platform_terms(x, k);
+            let transport = transport_partials(k);
+            exact_jacobian(k, &terms, &transport, self.has_rate_effects(), jac, n);
+            return;
+        }
         let [fx, fy, fz] = k.f;
         let [px, py, pz] = k.phi;
         let [w1, w2, w3] = k.w_cmd;
-        let (vx, vy) = (k.v_x, k.v_y);
-        // d(w_cmd)/dL and d(w_cmd)/dv.
-        let dw1_dl = -vy * k.d_inv_rm;
-        let dw2_dl = -WIE * k.sin_l + vx * k.d_inv_rn;
-        let dw3_dl = WIE * k.cos_l + vx * k.d_tan_over_rn;
-        let coriolis = 2.0 * WIE * k.sin_l + vx * k.tan_over_rn;
-        let dcor_dl = 2.0 * WIE * k.cos_l + vx * k.d_tan_over_rn;
+        // d(w_cmd)/dL.
+        let dw1_dl = -k.v_y * k.d_inv_rm;
+        let dw2_dl = -WIE * k.sin_l + k.v_x * k.d_inv_rn;
+        let dw3_dl = WIE * k.cos_l + k.v_x * k.d_tan_over_rn;
         // Each base partial is written once onto the zeros, through row slices at least
         // BASE_DIM long (so with no bounds checks left).
         assert!(n >= BASE_DIM);
@@ -296,29 +340,26 @@ impl PlatformModel {
                 row[PHI_X + a][KG12X + 3 * a] = fy;
             }
             // v_x' = coriolis v_y + Ka0x + Ka1x fx + fx + fy pz - fz py
-            row[V_X][V_X] = k.tan_over_rn * vy;
-            row[V_X][V_Y] = coriolis;
-            row[V_X][LAT] = dcor_dl * vy;
             row[V_X][PHI_Z] = fy;
             row[V_X][PHI_Y] = -fz;
             row[V_X][KA0X] = 1.0;
             row[V_X][KA1X] = fx;
             // v_y' = -coriolis v_x + Ka0y + Ka1y fy + fy + fz px - fx pz
-            row[V_Y][V_X] = -coriolis - k.tan_over_rn * vx;
-            row[V_Y][LAT] = -dcor_dl * vx;
             row[V_Y][PHI_X] = fz;
             row[V_Y][PHI_Z] = -fx;
             row[V_Y][KA0Y] = 1.0;
             row[V_Y][KA1Y] = fy;
-            // L' = v_y / RM
-            row[LAT][V_Y] = k.inv_rm;
-            row[LAT][LAT] = vy * k.d_inv_rm;
-            // lambda' = v_x / (RN cosL);
-            // d/dL (1/(RN cosL)) = d_inv_rn / cosL + tanL / (RN cosL)
-            let sec = k.inv_cos;
-            row[LON][V_X] = k.inv_rn * sec;
-            row[LON][LAT] = vx * sec * (k.d_inv_rn + k.inv_rn * k.tan_l);
+            for (r, col, v) in transport_partials(k) {
+                row[r][col] = v;
+            }
         }
+        self.add_effect_rate_partials(x, k, jac, n);
+    }
+
+    /// Adds the rate effects' partials (of their platform terms) to the `NAV_DIM` rows `n`
+    /// apart in `jac`.
+    #[inline(always)]
+    fn add_effect_rate_partials(&self, x: &[f64], k: &Kinematics, jac: &mut [f64], n: usize) {
         if !self.rate_effects.is_empty() {
             let mut p = Partials::new(&mut jac[..NAV_DIM * n], n);
             let k = *k; // a copy, as in `nav_rates`
@@ -328,6 +369,29 @@ impl PlatformModel {
             }
         }
     }
+}
+
+/// The partials both attitude variants share, as `(row, column, value)`: the Coriolis and
+/// transport terms of the velocity rows (`+-(2 wie sinL + v_x tanL/RN) v`) and the position
+/// rows (`L' = v_y/RM`, `lambda' = v_x/(RN cosL)`), model.md eqs 9-12.
+#[inline(always)]
+fn transport_partials(k: &Kinematics) -> [(usize, usize, f64); 9] {
+    let (vx, vy) = (k.v_x, k.v_y);
+    let coriolis = 2.0 * WIE * k.sin_l + vx * k.tan_over_rn;
+    let dcor_dl = 2.0 * WIE * k.cos_l + vx * k.d_tan_over_rn;
+    // d/dL (1/(RN cosL)) = d_inv_rn / cosL + tanL / (RN cosL)
+    let sec = k.inv_cos;
+    [
+        (V_X, V_X, k.tan_over_rn * vy),
+        (V_X, V_Y, coriolis),
+        (V_X, LAT, dcor_dl * vy),
+        (V_Y, V_X, -coriolis - k.tan_over_rn * vx),
+        (V_Y, LAT, -dcor_dl * vx),
+        (LAT, V_Y, k.inv_rm),
+        (LAT, LAT, vy * k.d_inv_rm),
+        (LON, V_X, k.inv_rn * sec),
+        (LON, LAT, vx * sec * (k.d_inv_rn + k.inv_rn * k.tan_l)),
+    ]
 }
 
 fn channel(name: &str, state: usize, psd: f64) -> NoiseChannel {

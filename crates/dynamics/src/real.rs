@@ -50,6 +50,9 @@ pub trait Real:
     /// (a vector division costs about ten multiplications), which rounds differently in the
     /// last bits.
     fn reciprocals(a: Self, b: Self, c: Self) -> [Self; 3];
+    /// `(sin self, cos self)` of any angle ([`crate::trig::sin_cos_angle`]; a batch agrees with
+    /// one number bit for bit).
+    fn sin_cos(self) -> (Self, Self);
 }
 
 impl Real for f64 {
@@ -60,6 +63,10 @@ impl Real for f64 {
     #[inline(always)]
     fn reciprocals(a: f64, b: f64, c: f64) -> [f64; 3] {
         [1.0 / a, 1.0 / b, 1.0 / c]
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (f64, f64) {
+        crate::trig::sin_cos_angle(self)
     }
 }
 
@@ -95,6 +102,24 @@ impl Real for Lanes {
         let bc = b * c;
         let inv = Lanes::splat(1.0) / (a * bc);
         [bc * inv, a * c * inv, a * b * inv]
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Lanes, Lanes) {
+        let mut s = Lanes::default();
+        let mut c = Lanes::default();
+        let mut wild = false;
+        // Branch-free per lane, so the loop vectorises; the rare lane beyond the reduction's
+        // range (or NaN) is redone by libm after it, as one f64 would be.
+        for l in 0..LANES {
+            (s.0[l], c.0[l]) = crate::trig::sin_cos_quadrant(self.0[l]);
+            wild |= !(self.0[l].abs() <= crate::trig::ANGLE_LIMIT);
+        }
+        if wild {
+            for l in 0..LANES {
+                (s.0[l], c.0[l]) = crate::trig::sin_cos_angle(self.0[l]);
+            }
+        }
+        (s, c)
     }
 }
 

@@ -44,6 +44,53 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     (k * c, -k * s)
 }
 
+/// Largest `|x|` [`sin_cos_angle`] reduces itself; beyond it libm answers.
+pub const ANGLE_LIMIT: f64 = 1.0e5;
+
+/// `(sin x, cos x)` of any angle, without branches for `|x| <= ANGLE_LIMIT` (libm beyond, and
+/// for NaN): the attitude angles of the exact-attitude model, which may be anything. The
+/// angle is reduced by the nearest multiple `k` of pi/2 (Cody-Waite, pi/2 in two parts whose
+/// first has 33 significant bits, so `k PIO2_1` is exact for `|k| < 2^20`) to `|r| <= pi/4`,
+/// and the quadrant picks the signs by selects, so that eight lanes of it vectorise
+/// ([`crate::Real::sin_cos`] on [`crate::Lanes`] runs this per lane, and bit for bit agrees
+/// with one `f64`).
+///
+/// ```
+/// use navkf_dynamics::trig::sin_cos_angle;
+/// for x in [-3.0, -0.3, 0.0, 0.9, 2.0, 40.0] {
+///     let (s, c) = sin_cos_angle(x);
+///     assert!((s - x.sin()).abs() < 4e-16 && (c - x.cos()).abs() < 4e-16, "{x}");
+/// }
+/// ```
+#[inline(always)]
+pub fn sin_cos_angle(x: f64) -> (f64, f64) {
+    if !(x.abs() <= ANGLE_LIMIT) {
+        return x.sin_cos();
+    }
+    sin_cos_quadrant(x)
+}
+
+/// [`sin_cos_angle`] without the libm fallback: valid for `|x| <= ANGLE_LIMIT` only.
+#[inline(always)]
+pub(crate) fn sin_cos_quadrant(x: f64) -> (f64, f64) {
+    // fdlibm's split of pi/2: the first 33 bits, and the rest.
+    const PIO2_1: f64 = 1.570_796_326_734_125_614_17e+00;
+    const PIO2_1T: f64 = 6.077_100_506_506_192_249_32e-11;
+    let k = (x * std::f64::consts::FRAC_2_PI).round_ties_even();
+    let r = (x - k * PIO2_1) - k * PIO2_1T;
+    let (s, c) = sin_cos_reduced(r);
+    // The quadrant k mod 4, in floating point (exact: k is an integer below 2^20).
+    let m = k - 4.0 * (k * 0.25).floor();
+    let odd = m == 1.0 || m == 3.0;
+    // sin(r + pi/2) = cos r, cos(r + pi/2) = -sin r; two quarter turns negate both.
+    let (s1, c1) = if odd { (c, -s) } else { (s, c) };
+    if m >= 2.0 {
+        (-s1, -c1)
+    } else {
+        (s1, c1)
+    }
+}
+
 /// Taylor series of sin and cos for `|r| <= 1`, in Estrin's scheme.
 #[inline(always)]
 fn sin_cos_reduced(r: f64) -> (f64, f64) {
@@ -111,6 +158,33 @@ mod tests {
         // Both reach 1 where they differ from libm by one bit just above a power of two.
         assert!(worst_sin.0 <= 1.0, "sin: {worst_sin:?}");
         assert!(worst_cos.0 <= 1.0, "cos: {worst_cos:?}");
+    }
+
+    #[test]
+    fn any_angle_agrees_with_libm() {
+        let mut worst: f64 = 0.0;
+        let steps = 200_000;
+        for i in 0..=steps {
+            // -20 .. 20 rad: every quadrant several times over, both signs.
+            let x = -20.0 + 40.0 * i as f64 / steps as f64;
+            let (s, c) = sin_cos_angle(x);
+            let (s0, c0) = x.sin_cos();
+            // Absolute error: near the zeros of sin and cos the reduction's rounding shows.
+            worst = worst.max((s - s0).abs()).max((c - c0).abs());
+        }
+        assert!(worst <= 2.0 * f64::EPSILON, "worst {worst:e}");
+        // Multiples of pi/2 land on the right quadrant, and large or odd inputs go to libm.
+        for k in -8..=8 {
+            let x = k as f64 * std::f64::consts::FRAC_PI_2;
+            let (s, c) = sin_cos_angle(x);
+            let (s0, c0) = x.sin_cos();
+            assert!((s - s0).abs() < 1e-15 && (c - c0).abs() < 1e-15, "{k}");
+        }
+        for x in [2.0e5, -3.0e7] {
+            assert_eq!(sin_cos_angle(x), x.sin_cos());
+        }
+        let (s, c) = sin_cos_angle(f64::NAN);
+        assert!(s.is_nan() && c.is_nan());
     }
 
     #[test]

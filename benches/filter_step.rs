@@ -1,6 +1,7 @@
 //! Cost of one filter step (predict over 1 s with 10 input sub-steps, then update) for the
 //! 20-state base model and for the model with two effects that add rates
-//! ([`WITH_EFFECTS`], 25 states), per filter; and the model evaluation on its own.
+//! ([`WITH_EFFECTS`], 25 states), and for the exact-attitude variant of the base model, per
+//! filter; and the model evaluation on its own.
 //!
 //! `cargo bench -p navkf-benches` (add `-- --quick` for a short run).
 
@@ -18,6 +19,7 @@ fn filter_steps(c: &mut Criterion) {
     for (label, sc) in [
         ("base", Scenario::new()),
         ("with_rate_effects", Scenario::with_effects(&WITH_EFFECTS)),
+        ("exact_attitude", Scenario::exact_attitude()),
     ] {
         let (window, z, sigma, avail) = sc.window_at(300.0);
         let obs = Observation {

@@ -36,8 +36,22 @@ impl Scenario {
 
     /// The scenario with these effects switched on (see [`Scenario::with_effects`]).
     pub fn with_effect_objects(effects: Vec<Box<dyn DynEffect>>) -> Self {
+        Self::with_model(effects, Attitude::SmallAngle)
+    }
+
+    /// The base model in the exact-attitude variant, in the truth and in the filters.
+    pub fn exact_attitude() -> Self {
+        Self::with_model(Vec::new(), Attitude::Exact)
+    }
+
+    /// The scenario with these effects and attitude equations.
+    pub fn with_model(effects: Vec<Box<dyn DynEffect>>, attitude: Attitude) -> Self {
         let noise = NoiseConfig::default();
-        let model = Arc::new(PlatformModel::new(effects, &noise).unwrap());
+        let model = Arc::new(
+            PlatformModel::new(effects, &noise)
+                .unwrap()
+                .with_attitude(attitude),
+        );
         let traj = Arc::new(Trajectory::build(&TrajectoryConfig::default()).unwrap());
         let sim = Simulator::new(model.clone(), traj, TruthConfig::default(), noise).unwrap();
         let run = sim.run(1, 0);

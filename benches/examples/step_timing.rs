@@ -6,7 +6,8 @@
 //! `square_root_ukf`) or `all`. Prints the median over batches and, with `--dump`, the state
 //! and covariance after one step (to compare results between versions). `--rate-effects`
 //! switches on two effects that add rates (`accel-cross-axis`, `torquer-scale`: 25 states);
-//! `--idle-coefficients` adds five coefficients that enter nothing (25 states, no physics).
+//! `--idle-coefficients` adds five coefficients that enter nothing (25 states, no physics);
+//! `--exact` takes the base model's exact-attitude variant.
 
 use navkf_benches::{all_filters, Scenario};
 use navkf_filters::Observation;
@@ -17,6 +18,7 @@ fn main() {
     let dump = args.iter().any(|a| a == "--dump");
     let effects = args.iter().any(|a| a == "--rate-effects");
     let idle = args.iter().any(|a| a == "--idle-coefficients");
+    let exact = args.iter().any(|a| a == "--exact");
     let args: Vec<&String> = args.iter().filter(|a| !a.starts_with("--")).collect();
     let which = args.first().map_or("all", |s| s.as_str());
     let seconds: f64 = match args.get(1).map(|s| s.parse()) {
@@ -27,7 +29,9 @@ fn main() {
             std::process::exit(2);
         }
     };
-    let sc = if effects {
+    let sc = if exact {
+        Scenario::exact_attitude()
+    } else if effects {
         Scenario::with_effects(&["accel-cross-axis", "torquer-scale"])
     } else if idle {
         Scenario::with_effect_objects(vec![Box::new(navkf_benches::IdleCoefficients)])

@@ -101,9 +101,17 @@ impl<T: Real> Rotation<T> {
         // Rx Rz = [[cz, -sz, 0], [cx sz, cx cz, -sx], [sx sz, sx cz, cx]], then Ry on the left.
         let (sxsz, sxcz) = (sx * sz, sx * cz);
         let c = [
-            [cy * cz + sy * sxsz, sy * sxcz - cy * sz, sy * cx],
+            [
+                cy.mul_add(cz, sy * sxsz),
+                sy.mul_add(sxcz, -(cy * sz)),
+                sy * cx,
+            ],
             [cx * sz, cx * cz, -sx],
-            [cy * sxsz - sy * cz, sy * sz + cy * sxcz, cy * cx],
+            [
+                cy.mul_add(sxsz, -(sy * cz)),
+                sy.mul_add(sz, cy * sxcz),
+                cy * cx,
+            ],
         ];
         Rotation {
             c,
@@ -119,22 +127,22 @@ impl<T: Real> Rotation<T> {
     #[inline(always)]
     pub fn to_platform(&self, v: [T; 3]) -> [T; 3] {
         let c = &self.c;
-        std::array::from_fn(|i| c[i][0] * v[0] + c[i][1] * v[1] + c[i][2] * v[2])
+        std::array::from_fn(|i| c[i][0].mul_add(v[0], c[i][1].mul_add(v[1], c[i][2] * v[2])))
     }
 
     /// `C_p^n a = (C_n^p)^T a`: a platform-axis vector in navigation axes.
     #[inline(always)]
     pub fn to_navigation(&self, a: [T; 3]) -> [T; 3] {
         let c = &self.c;
-        std::array::from_fn(|j| c[0][j] * a[0] + c[1][j] * a[1] + c[2][j] * a[2])
+        std::array::from_fn(|j| c[0][j].mul_add(a[0], c[1][j].mul_add(a[1], c[2][j] * a[2])))
     }
 
     /// The Euler-angle rates `(phi_x', phi_y', phi_z')` for the rate `Om` (model.md).
     #[inline(always)]
     pub fn euler_rates(&self, om: [T; 3]) -> [T; 3] {
-        let dx = om[0] * self.cy - om[2] * self.sy;
-        let dz = (om[0] * self.sy + om[2] * self.cy) * self.inv_cx;
-        let dy = om[1] + dz * self.sx;
+        let dx = om[0].mul_add(self.cy, -(om[2] * self.sy));
+        let dz = om[0].mul_add(self.sy, om[2] * self.cy) * self.inv_cx;
+        let dy = dz.mul_add(self.sx, om[1]);
         [dx, dy, dz]
     }
 }
@@ -144,7 +152,17 @@ impl<T: Real> Rotation<T> {
 /// coefficients' plus every effect's; see the module documentation).
 #[inline(always)]
 pub fn exact_rates<T: Real>(k: &Kinematics<T>, terms: &[T; NAV_DIM]) -> [T; NAV_DIM] {
-    let rot = Rotation::new(k.phi);
+    exact_rates_with(k, terms, &Rotation::new(k.phi))
+}
+
+/// [`exact_rates`] with the rotation at `k.phi` already built (the EKF shares it with the
+/// Jacobian).
+#[inline(always)]
+pub fn exact_rates_with<T: Real>(
+    k: &Kinematics<T>,
+    terms: &[T; NAV_DIM],
+    rot: &Rotation<T>,
+) -> [T; NAV_DIM] {
     let w = k.w_cmd;
     let cw = rot.to_platform(w);
     let om = std::array::from_fn(|i| (cw[i] - w[i]) + terms[PHI_X + i]);
@@ -176,7 +194,8 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 /// The exact variant's rate Jacobian: `NAV_DIM` rows `n` apart in `jac`, the first
 /// `n` columns of each written. On entry the rows hold the effects' partials of the platform
 /// terms (zeros without rate effects; `mapped_effects` says whether to map them), and
-/// `terms` their values (as for [`exact_rates`]); `transport` the partials the variants share
+/// `terms` their values (as for [`exact_rates`]), `rot` the rotation at `k.phi`;
+/// `transport` the partials the variants share
 /// ([`crate::model`]'s Coriolis, transport and position terms), added as they are.
 ///
 /// With `E` the Euler map (`phi' = E Om`) and `u_j` the axis of Euler angle j
@@ -189,13 +208,13 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 pub fn exact_jacobian(
     k: &Kinematics,
     terms: &[f64; NAV_DIM],
+    rot: &Rotation<f64>,
     transport: &[(usize, usize, f64)],
     mapped_effects: bool,
     jac: &mut [f64],
     n: usize,
 ) {
     assert!(n >= BASE_DIM && jac.len() >= NAV_DIM * n);
-    let rot = Rotation::new(k.phi);
     let c = rot.c;
     let (sx, sy, cy, inv_cx) = (rot.sx, rot.sy, rot.cy, rot.inv_cx);
     // E, rows phi_x', phi_y', phi_z'.
@@ -266,8 +285,16 @@ pub fn exact_jacobian(
     // The Euler angles: through E, through C w and through C^T a.
     let tx = sx * inv_cx;
     let t = om[0] * sy + om[2] * cy;
-    let de_om = [[0.0, dz * inv_cx, dz * tx], [-t, dx * tx, dx * inv_cx], [0.0; 3]];
-    let u = [[cy, 0.0, -sy], [0.0, 1.0, 0.0], [sy * rot.cx, -sx, cy * rot.cx]];
+    let de_om = [
+        [0.0, dz * inv_cx, dz * tx],
+        [-t, dx * tx, dx * inv_cx],
+        [0.0; 3],
+    ];
+    let u = [
+        [cy, 0.0, -sy],
+        [0.0, 1.0, 0.0],
+        [sy * rot.cx, -sx, cy * rot.cx],
+    ];
     for j in 0..3 {
         let m = e_times(cross(u[j], cw));
         for i in 0..3 {

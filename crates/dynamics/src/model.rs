@@ -15,7 +15,7 @@
 //!
 //! One implementation serves the truth simulator and every filter.
 
-use crate::attitude::{exact_jacobian, exact_rates, Attitude};
+use crate::attitude::{exact_jacobian, exact_rates, exact_rates_with, Attitude, Rotation};
 use crate::batch_propagation;
 use crate::earth::WIE;
 use crate::effect::{DynEffect, EffectNumber, MeasurementTerm, NoiseChannel, Partials};
@@ -292,17 +292,14 @@ impl PlatformModel {
     // Inlined for the same reason as `nav_rates`: `k` then stays in registers.
     #[inline(always)]
     fn jacobian_with(&self, x: &[f64], k: &Kinematics, jac: &mut [f64], stride: usize) {
+        if self.attitude == Attitude::Exact {
+            let terms = self.platform_terms(x, k);
+            self.exact_jacobian_with(x, k, &terms, &Rotation::new(k.phi), jac, stride);
+            return;
+        }
         assert!(stride >= self.dim);
         let n = stride;
         jac[..NAV_DIM * n].fill(0.0);
-        if self.attitude == Attitude::Exact {
-            // The effects' partials of the platform terms first: the variant maps them.
-            self.add_effect_rate_partials(x, k, jac, n);
-            let terms = self.platform_terms(x, k);
-            let transport = transport_partials(k);
-            exact_jacobian(k, &terms, &transport, self.has_rate_effects(), jac, n);
-            return;
-        }
         let [fx, fy, fz] = k.f;
         let [px, py, pz] = k.phi;
         let [w1, w2, w3] = k.w_cmd;
@@ -354,6 +351,26 @@ impl PlatformModel {
             }
         }
         self.add_effect_rate_partials(x, k, jac, n);
+    }
+
+    /// The exact variant's rate Jacobian, given the platform terms and the rotation at `x`.
+    #[inline(always)]
+    fn exact_jacobian_with(
+        &self,
+        x: &[f64],
+        k: &Kinematics,
+        terms: &[f64; NAV_DIM],
+        rot: &Rotation<f64>,
+        jac: &mut [f64],
+        stride: usize,
+    ) {
+        assert!(stride >= self.dim);
+        let n = stride;
+        jac[..NAV_DIM * n].fill(0.0);
+        // The effects' partials of the platform terms first: the variant maps them.
+        self.add_effect_rate_partials(x, k, jac, n);
+        let transport = transport_partials(k);
+        exact_jacobian(k, terms, rot, &transport, self.has_rate_effects(), jac, n);
     }
 
     /// Adds the rate effects' partials (of their platform terms) to the `NAV_DIM` rows `n`
@@ -430,8 +447,16 @@ impl SystemModel for PlatformModel {
         jac: &mut [f64],
         stride: usize,
     ) {
-        // One evaluation of the kinematics (a sin_cos and three divisions) for both.
+        // One evaluation of the kinematics (a sin_cos and three divisions) for both, and in
+        // the exact variant of the platform terms and the rotation.
         let k = Kinematics::new(x, u);
+        if self.attitude == Attitude::Exact {
+            let terms = self.platform_terms(x, &k);
+            let rot = Rotation::new(k.phi);
+            dx[..NAV_DIM].copy_from_slice(&exact_rates_with(&k, &terms, &rot));
+            self.exact_jacobian_with(x, &k, &terms, &rot, jac, stride);
+            return;
+        }
         dx[..NAV_DIM].copy_from_slice(&self.nav_rates(x, &k));
         self.jacobian_with(x, &k, jac, stride);
     }

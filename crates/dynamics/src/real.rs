@@ -53,6 +53,8 @@ pub trait Real:
     /// `(sin self, cos self)` of any angle ([`crate::trig::sin_cos_angle`]; a batch agrees with
     /// one number bit for bit).
     fn sin_cos(self) -> (Self, Self);
+    /// `self * a + b` with one rounding (a fused multiply-add instruction).
+    fn mul_add(self, a: Self, b: Self) -> Self;
 }
 
 impl Real for f64 {
@@ -67,6 +69,10 @@ impl Real for f64 {
     #[inline(always)]
     fn sin_cos(self) -> (f64, f64) {
         crate::trig::sin_cos_angle(self)
+    }
+    #[inline(always)]
+    fn mul_add(self, a: f64, b: f64) -> f64 {
+        f64::mul_add(self, a, b)
     }
 }
 
@@ -120,6 +126,10 @@ impl Real for Lanes {
             }
         }
         (s, c)
+    }
+    #[inline(always)]
+    fn mul_add(self, a: Lanes, b: Lanes) -> Lanes {
+        Lanes(std::array::from_fn(|l| self.0[l].mul_add(a.0[l], b.0[l])))
     }
 }
 

@@ -9,8 +9,7 @@ use navkf_dynamics::attitude::{Attitude, Rotation};
 use navkf_dynamics::integrate::propagate_generic;
 use navkf_dynamics::state::*;
 use navkf_dynamics::{
-    InputWindow, Kinematics, NoiseConfig, PlatformModel, PropagationScratch, Registry,
-    SystemModel,
+    InputWindow, Kinematics, NoiseConfig, PlatformModel, PropagationScratch, Registry, SystemModel,
 };
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -130,7 +129,10 @@ fn a_pure_azimuth_error_rotates_the_horizontal_specific_force_exactly() {
         let (s, c) = psi.sin_cos();
         let want = [c * u[0] + s * u[1], -s * u[0] + c * u[1]];
         for (got, want) in [r[V_X], r[V_Y]].into_iter().zip(want) {
-            assert!((got - want).abs() <= 4.0 * f64::EPSILON * 3.0, "{got} vs {want}");
+            assert!(
+                (got - want).abs() <= 4.0 * f64::EPSILON * 3.0,
+                "{got} vs {want}"
+            );
         }
     }
 }

@@ -2,7 +2,7 @@
 //! fail, and which catalogued effects are missing.
 
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::{PlatformPrior, Registry};
+use navkf_dynamics::{Attitude, PlatformPrior, Registry};
 use navkf_study::diagnose::{diagnose, report, FilterChoice, Options, RoundKind};
 use navkf_study::output::write_atomic;
 use std::path::PathBuf;
@@ -40,9 +40,18 @@ pub struct Args {
     /// The filter of every fit.
     #[arg(long, default_value = "ekf", value_parser = filter_names())]
     filter: String,
+    /// The attitude equations of the fits' model: `small-angle` (the paper's) or `exact`
+    /// (Euler angles; for a platform that may be misaligned by degrees).
+    #[arg(long, default_value = "small-angle", value_parser = attitude_names())]
+    attitude: String,
     /// Most automatic rounds of the forward selection.
     #[arg(long, default_value_t = Options::default().max_rounds)]
     max_rounds: usize,
+}
+
+/// The attitude variants' names, for `--attitude`.
+fn attitude_names() -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(Attitude::ALL.map(Attitude::name))
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -126,6 +135,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         fit_noise: matches!(a.noise, NoiseMode::Fit),
         filter: FilterChoice {
             name: a.filter.clone(),
+            attitude: a.attitude.parse()?,
             ..Default::default()
         },
         max_rounds: a.max_rounds,

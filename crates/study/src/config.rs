@@ -1,11 +1,16 @@
 //! A study file (`studies/*.toml`): every choice of a Monte Carlo comparison, in one place.
 //!
 //! The truth's effects and the filters' model effects are set separately, so a study can run
-//! filters whose model lacks an effect the truth carries. Unknown keys are errors.
+//! filters whose model lacks an effect the truth carries; so are their attitude equations
+//! (`attitude = "small-angle" | "exact"`). A filter listed in `study.filters` is either a
+//! filter kind (`ekf`) or a variant defined under `[filter.variants.<label>]`: a kind with its
+//! own attitude equations or sigma-point scaling, compared under its label. Unknown keys are
+//! errors.
 
 use crate::error::StudyError;
 use navkf_dynamics::simulate::InitialTilt;
-use navkf_dynamics::{NoiseConfig, TrajectoryConfig, TruthConfig};
+use navkf_dynamics::{Attitude, NoiseConfig, TrajectoryConfig, TruthConfig};
+use navkf_filters::{FilterKind, SigmaScaling};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -20,8 +25,9 @@ pub struct StudySection {
     pub runs: usize,
     /// Seed of every random stream.
     pub seed: u64,
-    /// Filters to compare, by [`navkf_filters::FilterKind`] name: `ekf`, `standard_ukf`,
-    /// `standard_ukf_25`, `simplified_ukf`, `square_root_ukf`.
+    /// Filters to compare, by [`navkf_filters::FilterKind`] name (`ekf`, `standard_ukf`,
+    /// `standard_ukf_25`, `simplified_ukf`, `square_root_ukf`) or by the label of a
+    /// `[filter.variants.<label>]` table.
     pub filters: Vec<String>,
     /// Spacing of the stored time series, s. Values are stored at measurement times: each at
     /// the first measurement at or after a multiple of the spacing, so a spacing below the
@@ -43,6 +49,8 @@ fn default_series_every() -> f64 {
 pub struct TruthSection {
     /// Effects the truth carries (`name`, `name=value`, `coefficient=value`).
     pub effects: Vec<String>,
+    /// The truth's attitude equations.
+    pub attitude: Attitude,
     /// RK4 rate of the truth integration, Hz.
     pub rate_hz: f64,
     /// Rate at which the input is recorded, Hz (the filters' sub-step rate).
@@ -63,6 +71,7 @@ impl Default for TruthSection {
         let d = TruthConfig::default();
         TruthSection {
             effects: Vec::new(),
+            attitude: Attitude::SmallAngle,
             rate_hz: d.rate_hz,
             input_rate_hz: d.input_rate_hz,
             measurement_rate_hz: d.measurement_rate_hz,
@@ -119,6 +128,9 @@ pub struct FilterSection {
     /// Effects in the filters' model.
     #[serde(default)]
     pub effects: Vec<String>,
+    /// The filters' attitude equations (a variant may set its own).
+    #[serde(default)]
+    pub attitude: Attitude,
     /// Sigma-point alpha.
     #[serde(default = "one")]
     pub alpha: f64,
@@ -135,6 +147,80 @@ pub struct FilterSection {
     /// other than 1 mis-tunes the filters on purpose (used to test the CI guard).
     #[serde(default = "one")]
     pub process_noise_scale: f64,
+    /// Filter variants by label: a kind with its own attitude equations or scaling.
+    #[serde(default)]
+    pub variants: BTreeMap<String, FilterVariant>,
+}
+
+/// A `[filter.variants.<label>]` table: a filter kind built with settings of its own; what
+/// it leaves out comes from `[filter]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilterVariant {
+    /// The filter kind (`ekf`, `simplified_ukf`, ...).
+    pub kind: String,
+    /// Its attitude equations.
+    pub attitude: Option<Attitude>,
+    /// Sigma-point alpha.
+    pub alpha: Option<f64>,
+    /// Sigma-point beta.
+    pub beta: Option<f64>,
+    /// Sigma-point kappa.
+    pub kappa: Option<f64>,
+}
+
+/// One compared filter, resolved: its label (the name results are keyed by), kind, attitude
+/// equations and sigma-point scaling.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FilterPlan<'a> {
+    /// The name in `study.filters`.
+    pub label: &'a str,
+    /// What is built.
+    pub kind: FilterKind,
+    /// The model's attitude equations.
+    pub attitude: Attitude,
+    /// Sigma-point scaling (UKFs only).
+    pub scaling: SigmaScaling,
+}
+
+impl FilterSection {
+    /// The filter listed as `label` in `study.filters`; the message names the key.
+    pub fn plan<'a>(&self, label: &'a str) -> Result<FilterPlan<'a>, String> {
+        let defaults = SigmaScaling {
+            alpha: self.alpha,
+            beta: self.beta,
+            kappa: self.kappa,
+        };
+        if let Ok(kind) = label.parse::<FilterKind>() {
+            return Ok(FilterPlan {
+                label,
+                kind,
+                attitude: self.attitude,
+                scaling: defaults,
+            });
+        }
+        let Some(v) = self.variants.get(label) else {
+            return Err(format!(
+                "unknown filter `{label}`; expected one of {} or a label defined under \
+                 [filter.variants]",
+                FilterKind::names()
+            ));
+        };
+        let kind = v
+            .kind
+            .parse::<FilterKind>()
+            .map_err(|e| format!("filter.variants.{label}.kind: {e}"))?;
+        Ok(FilterPlan {
+            label,
+            kind,
+            attitude: v.attitude.unwrap_or(self.attitude),
+            scaling: SigmaScaling {
+                alpha: v.alpha.unwrap_or(defaults.alpha),
+                beta: v.beta.unwrap_or(defaults.beta),
+                kappa: v.kappa.unwrap_or(defaults.kappa),
+            },
+        })
+    }
 }
 
 fn one() -> f64 {
@@ -151,8 +237,10 @@ impl Default for FilterSection {
             alpha: 1.0,
             beta: 2.0,
             kappa: 1.0,
+            attitude: Attitude::SmallAngle,
             initial: InitialSection::default(),
             process_noise_scale: 1.0,
+            variants: BTreeMap::new(),
         }
     }
 }
@@ -233,11 +321,30 @@ impl StudyConfig {
                     "study.filters[{i}]: `{f}` is listed twice; expected each filter once"
                 ));
             }
-            if !crate::filters::is_known(f) {
+            self.filter
+                .plan(f)
+                .map_err(|e| format!("study.filters[{i}]: {e}"))?;
+        }
+        for (label, v) in &self.filter.variants {
+            if label.parse::<FilterKind>().is_ok() {
                 return Err(format!(
-                    "study.filters: unknown filter `{f}`; expected one of {}",
-                    crate::filters::names()
+                    "filter.variants.{label}: a variant cannot take a filter kind's name; \
+                     expected a label of its own"
                 ));
+            }
+            if !s.filters.contains(label) {
+                return Err(format!(
+                    "filter.variants.{label} is defined but not listed in study.filters; list \
+                     it there or remove it"
+                ));
+            }
+            for (key, v) in [("alpha", v.alpha), ("beta", v.beta), ("kappa", v.kappa)] {
+                if v.is_some_and(|v| !v.is_finite()) {
+                    return Err(format!(
+                        "filter.variants.{label}.{key} = {}: expected a finite number",
+                        v.unwrap_or_default()
+                    ));
+                }
             }
         }
         if !(s.series_every_s.is_finite() && s.series_every_s > 0.0) {

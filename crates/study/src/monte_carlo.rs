@@ -18,9 +18,10 @@ use navkf_dynamics::rng::{stream, Purpose};
 use navkf_dynamics::simulate::base_coefficient_sigma;
 use navkf_dynamics::state::*;
 use navkf_dynamics::{
-    NoiseConfig, PlatformModel, Registry, SimulatedRun, Simulator, SystemModel, Trajectory,
+    Attitude, NoiseConfig, PlatformModel, Registry, SimulatedRun, Simulator, SystemModel,
+    Trajectory,
 };
-use navkf_filters::{nees, Ekf, Filter, Runner, SigmaScaling};
+use navkf_filters::{nees, Ekf, Filter, FilterKind, Runner, SigmaScaling};
 use rand::Rng;
 use rand_distr::StandardNormal;
 use rayon::prelude::*;
@@ -43,6 +44,15 @@ pub struct Study {
     pub names: Vec<String>,
     /// Stored times, s.
     pub times: Vec<f64>,
+    /// What each compared filter is built from, in the study's order.
+    filters: Vec<FilterSetup>,
+}
+
+/// One compared filter's kind, model (the filters' model in its attitude equations) and
+/// sigma-point scaling.
+struct FilterSetup {
+    kind: FilterKind,
+    model: Arc<PlatformModel>,
     scaling: SigmaScaling,
 }
 
@@ -157,6 +167,7 @@ fn build_model(
     key: &str,
     effects: &[String],
     noise: &NoiseConfig,
+    attitude: Attitude,
 ) -> Result<
     (
         Arc<PlatformModel>,
@@ -166,22 +177,54 @@ fn build_model(
 > {
     let EffectSpec { effects, fixed } = EffectSpec::parse_entries(effects, &Registry::catalogue())
         .map_err(|(i, e)| StudyError::Other(format!("{key}[{i}]: {e}")))?;
-    Ok((Arc::new(PlatformModel::new(effects, noise)?), fixed))
+    Ok((
+        Arc::new(PlatformModel::new(effects, noise)?.with_attitude(attitude)),
+        fixed,
+    ))
 }
 
 impl Study {
     /// Prepares a study from its configuration.
     pub fn new(config: StudyConfig) -> Result<Self, StudyError> {
         let noise = config.noise;
-        let (truth_model, truth_fixed) =
-            build_model("truth.effects", &config.truth.effects, &noise)?;
+        let (truth_model, truth_fixed) = build_model(
+            "truth.effects",
+            &config.truth.effects,
+            &noise,
+            config.truth.attitude,
+        )?;
         let filter_noise = NoiseConfig {
             gyro_psd: noise.gyro_psd * config.filter.process_noise_scale,
             accel_psd: noise.accel_psd * config.filter.process_noise_scale,
             ..noise
         };
-        let (filter_model, _) =
-            build_model("filter.effects", &config.filter.effects, &filter_noise)?;
+        let filter_model_in = |attitude| {
+            build_model(
+                "filter.effects",
+                &config.filter.effects,
+                &filter_noise,
+                attitude,
+            )
+            .map(|(m, _)| m)
+        };
+        let filter_model = filter_model_in(config.filter.attitude)?;
+        let mut filters = Vec::new();
+        for label in &config.study.filters {
+            let plan = config.filter.plan(label).map_err(StudyError::Other)?;
+            let model = if plan.attitude == filter_model.attitude() {
+                filter_model.clone()
+            } else {
+                filter_model_in(plan.attitude)?
+            };
+            navkf_filters::SigmaPoints::new(model.dim(), plan.scaling).map_err(|e| {
+                StudyError::Other(format!("the sigma-point scaling of `{label}`: {e}"))
+            })?;
+            filters.push(FilterSetup {
+                kind: plan.kind,
+                model,
+                scaling: plan.scaling,
+            });
+        }
         let trajectory = Arc::new(Trajectory::build(&config.trajectory)?);
         let mut sim_cfg = config.truth.sim_config();
         // Typical sigmas scaled, then the effect list's fixed values, then explicit priors.
@@ -237,12 +280,6 @@ impl Study {
         let duration = config.trajectory.duration_s;
         let dt_meas = 1.0 / config.truth.measurement_rate_hz;
         let times = stored_times(every, duration, dt_meas);
-        let scaling = SigmaScaling {
-            alpha: config.filter.alpha,
-            beta: config.filter.beta,
-            kappa: config.filter.kappa,
-        };
-        navkf_filters::SigmaPoints::new(filter_model.dim(), scaling)?;
         Ok(Study {
             config,
             sim,
@@ -251,7 +288,7 @@ impl Study {
             initial_sigma,
             names,
             times,
-            scaling,
+            filters,
         })
     }
 
@@ -285,9 +322,9 @@ impl Study {
             p0[i + i * n] = self.initial_sigma[i] * self.initial_sigma[i];
         }
         let filters = self
-            .filter_names()
+            .filters
             .iter()
-            .map(|name| self.run_filter(name, &sim_run, &x0, &p0, example))
+            .map(|setup| self.run_filter(setup, &sim_run, &x0, &p0, example))
             .collect();
         RunRecord {
             run,
@@ -304,7 +341,7 @@ impl Study {
 
     fn run_filter(
         &self,
-        name: &str,
+        setup: &FilterSetup,
         sim_run: &SimulatedRun,
         x0: &[f64],
         p0: &[f64],
@@ -321,8 +358,7 @@ impl Study {
             step_ns: Vec::with_capacity(sim_run.measurements.len()),
             trace: example.then(Vec::new),
         };
-        let mut filter = match crate::filters::build(name, self.filter_model.clone(), self.scaling)
-        {
+        let mut filter = match setup.kind.build(setup.model.clone(), setup.scaling) {
             Ok(f) => f,
             Err(e) => {
                 out.outcome = Err(RunFailure::new(DivergenceCause::Setup, e.to_string()));

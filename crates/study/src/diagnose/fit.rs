@@ -26,7 +26,7 @@ use crate::monte_carlo::typical_sigma;
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::state::*;
 use navkf_dynamics::trajectory::Phase;
-use navkf_dynamics::{NoiseConfig, PlatformModel, Registry, SystemModel};
+use navkf_dynamics::{Attitude, NoiseConfig, PlatformModel, Registry, SystemModel};
 use navkf_filters::{Filter, Runner, SigmaScaling};
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -68,13 +68,16 @@ impl FitSetup {
 }
 
 /// The filter a diagnosis runs, by name (see [`navkf_filters::FilterKind`]), with its sigma-point
-/// scaling.
+/// scaling and the attitude equations of its model.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FilterChoice {
     /// Filter name.
     pub name: String,
     /// Sigma-point scaling (UKFs only).
     pub scaling: SigmaScaling,
+    /// The model's attitude equations (the exact variant for a platform with a large
+    /// misalignment).
+    pub attitude: Attitude,
 }
 
 impl Default for FilterChoice {
@@ -85,6 +88,7 @@ impl Default for FilterChoice {
         FilterChoice {
             name: "ekf".into(),
             scaling: SigmaScaling::default(),
+            attitude: Attitude::SmallAngle,
         }
     }
 }
@@ -213,7 +217,7 @@ pub fn fit(
     registry: &Registry,
     filter: &FilterChoice,
 ) -> Result<Fit, DiagnoseError> {
-    let model = Arc::new(setup.model(registry)?);
+    let model = Arc::new(setup.model(registry)?.with_attitude(filter.attitude));
     let n = model.dim();
     let (m0, v0, p0) = first_full_measurement(ds)?;
     let mut x0 = vec![0.0; n];

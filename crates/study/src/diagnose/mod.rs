@@ -327,6 +327,9 @@ pub struct Withdrawn {
 pub struct Diagnosis {
     /// Dataset name.
     pub dataset: String,
+    /// The attitude equations of every fit's model.
+    #[serde(default)]
+    pub attitude: navkf_dynamics::Attitude,
     /// The verdict.
     pub verdict: Verdict,
     /// The first named effect; null when none.
@@ -496,6 +499,7 @@ pub fn diagnose(
     };
     let mut d = Diagnosis {
         dataset: ds.name.clone(),
+        attitude: opts.filter.attitude,
         verdict,
         best: named.first().cloned(),
         effects: named,

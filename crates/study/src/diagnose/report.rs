@@ -642,6 +642,9 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
     let mut out = String::new();
     let _ = writeln!(out, "# Diagnosis of `{}`\n", d.dataset);
     let _ = writeln!(out, "Command: `{command}`\n");
+    if d.attitude != navkf_dynamics::Attitude::SmallAngle {
+        let _ = writeln!(out, "Attitude equations of every fit: {}.\n", d.attitude);
+    }
     let _ = writeln!(
         out,
         "**Verdict: {}**{}\n",

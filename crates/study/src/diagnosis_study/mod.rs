@@ -75,6 +75,8 @@ impl Default for TruthSection {
 pub struct DiagnosisSection {
     /// The filter of the fits.
     pub filter: String,
+    /// The attitude equations of the fits' model.
+    pub attitude: navkf_dynamics::Attitude,
     /// Most automatic rounds.
     pub max_rounds: usize,
 }
@@ -83,6 +85,7 @@ impl Default for DiagnosisSection {
     fn default() -> Self {
         DiagnosisSection {
             filter: "ekf".into(),
+            attitude: navkf_dynamics::Attitude::SmallAngle,
             max_rounds: Options::default().max_rounds,
         }
     }
@@ -289,6 +292,7 @@ impl DiagnosisStudyConfig {
         Options {
             filter: FilterChoice {
                 name: self.diagnosis.filter.clone(),
+                attitude: self.diagnosis.attitude,
                 ..Default::default()
             },
             max_rounds: self.diagnosis.max_rounds,

@@ -89,6 +89,9 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         config.study.runs = r;
         config.study.example_run = config.study.example_run.min(r - 1);
     }
+    if config.sweep.is_some() {
+        return run_sweep(a, config);
+    }
     let shard = a.shard.as_deref().map(parse_shard).transpose()?;
     let baseline = match &a.baseline {
         Some(_) if shard.is_some() => {
@@ -294,5 +297,104 @@ fn run_diagnosis_study(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             t.target
         );
     }
+    Ok(())
+}
+
+/// `navkf study` on a study with a `[sweep]`: every point run as a study of its own into
+/// `point-NN/` of the results folder, then `sweep.json`, `sweep.md` and the sweep's figures.
+fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Error>> {
+    use navkf_study::sweep;
+    for (flag, given) in [
+        ("--shard", a.shard.is_some()),
+        ("--baseline", a.baseline.is_some()),
+    ] {
+        if given {
+            return Err(format!(
+                "{flag} applies to a single study; this one sweeps `{}` (run each point's \
+                 study file on its own to shard or guard it)",
+                config.sweep.as_ref().map_or("", |s| s.key.as_str())
+            )
+            .into());
+        }
+    }
+    if let Some(t) = a.threads {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build_global()?;
+    }
+    let key = config.sweep.as_ref().expect("a sweep").key.clone();
+    let values = config.sweep.as_ref().expect("a sweep").values.clone();
+    let out = a
+        .out
+        .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
+    navkf_study::output::check_output_dir(&out)?;
+    // Every point is built (and so checked) before the first run.
+    let studies = sweep::points(&config)?
+        .into_iter()
+        .enumerate()
+        .map(|(i, p)| {
+            Study::new(p).map_err(|e| format!("sweep point {i} ({key} = {}): {e}", values[i]))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let total: usize = studies.iter().map(|s| s.config.study.runs).sum();
+    let bar = if a.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(total as u64)
+    };
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{prefix} [{bar:40}] {pos}/{len} runs, {elapsed} elapsed, ETA {eta}",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
+    );
+    let started = std::time::Instant::now();
+    let mut points = Vec::new();
+    let mut done_before = 0;
+    for (i, study) in studies.iter().enumerate() {
+        bar.set_prefix(format!("{} {key} = {}", config.study.name, values[i]));
+        let example = Mutex::new(None);
+        let progress = |done| bar.set_position((done_before + done) as u64);
+        let keep_example = |rec: &navkf_study::monte_carlo::RunRecord| {
+            *example.lock().expect("no panics while holding it") = Some(study.example_of(rec))
+        };
+        let tally = study.run_folded(0..study.block_count(), &progress, keep_example);
+        done_before += study.config.study.runs;
+        let example = example.into_inner().expect("not poisoned");
+        let dir = out.join(sweep::point_folder(i));
+        let summary = write_results(study, &tally, example.as_ref(), &dir)?;
+        points.push(sweep::point(i, values[i], study, &tally, &summary));
+    }
+    bar.finish_and_clear();
+    let summary = sweep::SweepSummary {
+        study: config.study.name.clone(),
+        key: key.clone(),
+        runs: config.study.runs,
+        filters: config.study.filters.clone(),
+        points,
+    };
+    let figures = navkf_study::plots::sweep::draw(&summary, studies[0].names.len(), &out);
+    for f in &figures {
+        if let Err(e) = &f.result {
+            eprintln!("warning: figure {} not drawn: {e}", f.name);
+        }
+    }
+    write_atomic(
+        &out.join("sweep.json"),
+        serde_json::to_string_pretty(&summary)?.as_bytes(),
+    )?;
+    let command = navkf_study::output::command_line();
+    write_atomic(
+        &out.join("sweep.md"),
+        sweep::markdown(&summary, &command, &figures).as_bytes(),
+    )?;
+    eprintln!(
+        "{} points x {} runs in {:.1} s, wrote {}",
+        summary.points.len(),
+        summary.runs,
+        started.elapsed().as_secs_f64(),
+        out.display()
+    );
     Ok(())
 }

@@ -282,6 +282,21 @@ pub struct StudyConfig {
     /// `[divergence]`.
     #[serde(default)]
     pub divergence: DivergenceSection,
+    /// `[sweep]`: one setting varied over a list of values, each a full Monte Carlo
+    /// ([`crate::sweep`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sweep: Option<SweepSection>,
+}
+
+/// The `[sweep]` table: the dotted key of one numeric setting (`truth.initial_tilt.azimuth_rad`)
+/// and the values it takes, every other setting fixed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepSection {
+    /// The setting, as a dotted path of study-file keys.
+    pub key: String,
+    /// Its values, one Monte Carlo each, in order.
+    pub values: Vec<f64>,
 }
 
 impl StudyConfig {
@@ -307,6 +322,10 @@ impl StudyConfig {
     /// Checks every setting; the message names the key. [`StudyConfig::parse`] calls it; a
     /// configuration read another way (a shard's file, for `merge`) must call it too.
     pub fn validate(&self) -> Result<(), String> {
+        if self.sweep.is_some() {
+            // Every point is checked as the study it is.
+            return crate::sweep::points(self).map(|_| ());
+        }
         let s = &self.study;
         crate::output::plain_name("study.name", &s.name)?;
         if s.runs == 0 {

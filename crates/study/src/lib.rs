@@ -14,6 +14,7 @@ pub mod plots;
 pub mod report;
 pub mod stats;
 pub mod summary;
+pub mod sweep;
 pub mod tally;
 
 pub use config::StudyConfig;

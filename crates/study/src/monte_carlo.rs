@@ -99,6 +99,16 @@ fn stored_times(every: f64, duration: f64, dt_meas: f64) -> Vec<f64> {
     times
 }
 
+/// `a` taken into `[-pi, pi)`; NaN stays NaN.
+fn wrap_angle(a: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    if (-PI..PI).contains(&a) {
+        a
+    } else {
+        a - TAU * ((a + PI) / TAU).floor()
+    }
+}
+
 /// One filter's outcome on one run.
 #[derive(Debug, Clone)]
 pub struct FilterRun {
@@ -186,6 +196,13 @@ fn build_model(
 impl Study {
     /// Prepares a study from its configuration.
     pub fn new(config: StudyConfig) -> Result<Self, StudyError> {
+        if let Some(sweep) = &config.sweep {
+            return Err(StudyError::Other(format!(
+                "the study sweeps `{}`: each of its points is a study of its own \
+                 (navkf_study::sweep::points)",
+                sweep.key
+            )));
+        }
         let noise = config.noise;
         let (truth_model, truth_fixed) = build_model(
             "truth.effects",
@@ -404,6 +421,17 @@ impl Study {
                     for i in 0..n {
                         xt[i] = self.to_truth[i].map_or(0.0, |j| truth[j]);
                         err[i] = x[i] - xt[i];
+                    }
+                    // The attitude errors are angles: an estimate a full turn from the truth
+                    // is the same attitude (the exact-attitude model's Euler angles are
+                    // periodic). The error, and the truth the NEES sees, are taken within
+                    // half a turn; in the small-angle regime this never applies.
+                    for i in PHI_X..=PHI_Z {
+                        let e = wrap_angle(err[i]);
+                        if e != err[i] {
+                            err[i] = e;
+                            xt[i] = x[i] - e;
+                        }
                     }
                     let var: Vec<f64> = (0..n).map(|i| p[i + i * n]).collect();
                     let e = match nees(&xt, x, p, &mut scratch) {

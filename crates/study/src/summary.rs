@@ -149,23 +149,8 @@ pub fn summarize(study: &Study, tally: &Tally) -> Summary {
         if p.n < 2 {
             continue;
         }
-        let ib = study.filter_names().iter().position(|f| *f == p.b).unwrap();
-        let tb = &tally.filters[ib];
-        let nn = p.n as f64;
         for i in NAV_DIM..n {
-            let mean = p.sum_d[i] / nn;
-            let var = ((p.sum_d2[i] - nn * mean * mean) / (nn - 1.0)).max(0.0);
-            let se = (var / nn).sqrt();
-            let msb = tb.sum_sq_err[last][i] / tb.ok.max(1) as f64;
-            paired.push(PairedDifference {
-                a: p.a.clone(),
-                b: p.b.clone(),
-                coefficient: names[i].clone(),
-                n: p.n,
-                mean_sq_err_diff: mean,
-                ci95: [mean - 1.96 * se, mean + 1.96 * se],
-                relative: mean / msb,
-            });
+            paired.push(paired_difference(study, tally, p, i));
         }
     }
     Summary {
@@ -175,5 +160,37 @@ pub fn summarize(study: &Study, tally: &Tally) -> Summary {
         filters,
         paired,
         settings: study.config.clone(),
+    }
+}
+
+/// The paired difference of pair `p`'s final squared errors of state `i` (a filter state
+/// index): its mean over the runs both finished, 95 % confidence interval and size relative
+/// to the second filter's mean squared error. `p.n` must be at least 2.
+pub fn paired_difference(
+    study: &Study,
+    tally: &Tally,
+    p: &crate::tally::PairTally,
+    i: usize,
+) -> PairedDifference {
+    let last = study.times.len() - 1;
+    let ib = study
+        .filter_names()
+        .iter()
+        .position(|f| *f == p.b)
+        .expect("a pair of the study's filters");
+    let tb = &tally.filters[ib];
+    let nn = p.n as f64;
+    let mean = p.sum_d[i] / nn;
+    let var = ((p.sum_d2[i] - nn * mean * mean) / (nn - 1.0)).max(0.0);
+    let se = (var / nn).sqrt();
+    let msb = tb.sum_sq_err[last][i] / tb.ok.max(1) as f64;
+    PairedDifference {
+        a: p.a.clone(),
+        b: p.b.clone(),
+        coefficient: study.names[i].clone(),
+        n: p.n,
+        mean_sq_err_diff: mean,
+        ci95: [mean - 1.96 * se, mean + 1.96 * se],
+        relative: mean / msb,
     }
 }

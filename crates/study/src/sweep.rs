@@ -304,7 +304,7 @@ pub fn markdown(s: &SweepSummary, command: &str, figures: &[FigureOutcome]) -> S
         }
     }
     type Column = fn(&PointFilter) -> String;
-    let tables: [(&str, Column); 7] = [
+    let tables: [(&str, Column); 8] = [
         ("Final heading error, RMS / bound", |f| {
             cell(f.heading_rms / f.heading_bound, 3)
         }),
@@ -322,6 +322,9 @@ pub fn markdown(s: &SweepSummary, command: &str, figures: &[FigureOutcome]) -> S
                 cell(f.nees_early_bounds[0], 1),
                 cell(f.nees_early_bounds[1], 1)
             )
+        }),
+        ("Largest average NEES over the run, and when", |f| {
+            format!("{} at {} s", cell(f.nees_peak, 2), cell(f.nees_peak_t, 0))
         }),
         ("Average NEES at the end [95 % bounds]", |f| {
             format!(

@@ -2,7 +2,7 @@
 //! fail, and which catalogued effects are missing.
 
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::{Attitude, PlatformPrior, Registry};
+use navkf_dynamics::{PlatformPrior, Registry};
 use navkf_study::diagnose::{diagnose, report, FilterChoice, Options, RoundKind};
 use navkf_study::output::write_atomic;
 use std::path::PathBuf;
@@ -42,16 +42,11 @@ pub struct Args {
     filter: String,
     /// The attitude equations of the fits' model: `small-angle` (the paper's) or `exact`
     /// (Euler angles; for a platform that may be misaligned by degrees).
-    #[arg(long, default_value = "small-angle", value_parser = attitude_names())]
+    #[arg(long, default_value = "small-angle", value_parser = crate::attitude_names())]
     attitude: String,
     /// Most automatic rounds of the forward selection.
     #[arg(long, default_value_t = Options::default().max_rounds)]
     max_rounds: usize,
-}
-
-/// The attitude variants' names, for `--attitude`.
-fn attitude_names() -> clap::builder::PossibleValuesParser {
-    clap::builder::PossibleValuesParser::new(Attitude::ALL.map(Attitude::name))
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]

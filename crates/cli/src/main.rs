@@ -45,6 +45,12 @@ enum Command {
     },
 }
 
+/// The attitude variants' names, for `--attitude` (see [`navkf_dynamics::Attitude`]).
+fn attitude_names() -> clap::builder::PossibleValuesParser {
+    use navkf_dynamics::Attitude;
+    clap::builder::PossibleValuesParser::new(Attitude::ALL.map(Attitude::name))
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {

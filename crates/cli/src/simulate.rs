@@ -25,6 +25,12 @@ pub struct Args {
     /// Test duration, s (the path is scaled to fit only through its final standstill).
     #[arg(long)]
     duration: Option<f64>,
+    /// The truth's attitude equations: `small-angle` (the paper's) or `exact` (Euler angles).
+    #[arg(long, default_value = "small-angle", value_parser = crate::attitude_names())]
+    attitude: String,
+    /// Initial azimuth error of the platform, one sigma, rad (default: 1 arcmin).
+    #[arg(long, value_name = "RAD")]
+    azimuth_sigma: Option<f64>,
     /// Write the truth file (truth.csv); on by default.
     #[arg(long, default_value_t = true, action = clap::ArgAction::Set)]
     truth: bool,
@@ -34,16 +40,23 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let spec = EffectSpec::parse(&a.effects, &Registry::catalogue())?;
     let noise = NoiseConfig::default();
     let effect_names = spec.names();
-    let model = Arc::new(PlatformModel::new(spec.effects, &noise)?);
+    let attitude: navkf_dynamics::Attitude = a.attitude.parse()?;
+    let model = Arc::new(PlatformModel::new(spec.effects, &noise)?.with_attitude(attitude));
     let mut traj_cfg = TrajectoryConfig::default();
     if let Some(d) = a.duration {
         traj_cfg.duration_s = d;
     }
     let traj = Arc::new(Trajectory::build(&traj_cfg)?);
-    let truth_cfg = TruthConfig {
+    let mut truth_cfg = TruthConfig {
         coefficients: spec.fixed,
         ..Default::default()
     };
+    if let Some(s) = a.azimuth_sigma {
+        if !(s.is_finite() && s >= 0.0) {
+            return Err(format!("--azimuth-sigma {s}: expected a one-sigma >= 0, rad").into());
+        }
+        truth_cfg.initial_tilt.azimuth_rad = s;
+    }
     let sim = Simulator::new(model, traj, truth_cfg, noise)?;
     let run = sim.run(a.seed, a.run);
     let name = a

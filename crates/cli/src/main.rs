@@ -4,6 +4,7 @@
 //! - `inspect`: validate a dataset and summarise it;
 //! - `study`: run a Monte Carlo study, or a shard of one;
 //! - `diagnose`: compare a model with a dataset and find the missing effect;
+//! - `plan`: predict which coefficients a study's test identifies, without Monte Carlo;
 //! - `merge`: combine shards.
 
 use clap::{Parser, Subcommand};
@@ -11,6 +12,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 mod diagnose;
+mod plan;
 mod simulate;
 mod study;
 
@@ -33,6 +35,8 @@ enum Command {
     Study(study::Args),
     /// Compare a model with a dataset: where it fails, and which effect is missing.
     Diagnose(diagnose::Args),
+    /// Predict which coefficients a study file's test identifies, in seconds.
+    Plan(plan::Args),
     /// Combine the shard files of `study --shard` into the study's results.
     Merge(study::MergeArgs),
     /// Validate a dataset folder and print a summary of it.
@@ -59,6 +63,7 @@ fn main() -> ExitCode {
         Command::Study(args) => study::run(args),
         Command::Diagnose(args) => diagnose::run(args),
         Command::Merge(args) => study::merge(args),
+        Command::Plan(args) => plan::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

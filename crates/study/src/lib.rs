@@ -10,6 +10,7 @@ pub mod filters;
 pub mod guard;
 pub mod monte_carlo;
 pub mod output;
+pub mod plan;
 pub mod plots;
 pub mod report;
 pub mod stats;

@@ -488,6 +488,26 @@ impl Study {
     }
 
     fn run_bound(&self, sim_run: &SimulatedRun) -> Option<Vec<Vec<f64>>> {
+        let mut out = Vec::with_capacity(self.times.len());
+        let mut next = 0;
+        self.bound_recursion(sim_run, |t, p, nt| {
+            if next < self.times.len() && t >= self.times[next] - 1e-9 {
+                out.push((0..nt).map(|i| p[i + i * nt]).collect());
+                next += 1;
+            }
+        })?;
+        Some(out)
+    }
+
+    /// The truth-linearised bound's covariance recursion along `sim_run` (see the module
+    /// documentation): the EKF with the truth model, its state reset to the true state before
+    /// each step. `visit(t, P, n)` sees the covariance (column-major, `n` = the truth model's
+    /// dimension) after each update. `None` if the recursion failed.
+    pub fn bound_recursion(
+        &self,
+        sim_run: &SimulatedRun,
+        mut visit: impl FnMut(f64, &[f64], usize),
+    ) -> Option<()> {
         let model = self.sim.model().clone();
         let nt = model.dim();
         let mut ekf = Ekf::new(model.clone());
@@ -505,8 +525,6 @@ impl Study {
         let mut xt0 = sim_run.truth.states[0].clone();
         xt0.truncate(nt);
         ekf.reset(&xt0, &p0).ok()?;
-        let mut out = Vec::with_capacity(self.times.len());
-        let mut next = 0;
         let mut window = navkf_dynamics::InputWindow::with_capacity(16);
         let inputs = self.sim.inputs();
         let mut t_prev = 0.0;
@@ -534,13 +552,9 @@ impl Study {
             })
             .ok()?;
             t_prev = m.t;
-            if next < self.times.len() && m.t >= self.times[next] - 1e-9 {
-                let p = ekf.covariance();
-                out.push((0..nt).map(|i| p[i + i * nt]).collect());
-                next += 1;
-            }
+            visit(m.t, ekf.covariance(), nt);
         }
-        Some(out)
+        Some(())
     }
 
     /// Runs `runs` (a range of run indices) and folds them into one tally per block of

@@ -14,6 +14,7 @@
 //! gives an empty or partial panel with a note, never a panic.
 
 pub(crate) mod panel;
+pub mod plan;
 pub mod sweep;
 
 use crate::error::StudyError;

@@ -1,0 +1,82 @@
+//! The figure of a test plan ([`crate::plan`]): `plan_sigma`, the predicted sigma of every
+//! coefficient over its prior against time, one panel per unit (gyro drifts, g-sensitive
+//! drifts, accelerometer biases, scale factors, each effect's), with the line at half the
+//! prior that counts as identified.
+
+use super::panel::*;
+use super::FigureOutcome;
+use crate::error::StudyError;
+use crate::plan::{Plan, IDENTIFIED_BELOW};
+use plotters::prelude::*;
+use std::path::Path;
+
+/// Title of `plan_sigma`.
+pub const TITLE: &str = "Predicted sigma / prior against time (below the dashed line: identified)";
+
+/// Draws `plan_sigma` into `dir`.
+pub fn draw(p: &Plan, dir: &Path) -> FigureOutcome {
+    let mut units: Vec<&str> = Vec::new();
+    for c in &p.coefficients {
+        if !units.contains(&c.unit.as_str()) {
+            units.push(&c.unit);
+        }
+    }
+    let (t0, t1) = (
+        p.t.first().copied().unwrap_or(0.0),
+        p.t.last().copied().unwrap_or(1.0),
+    );
+    let panels: Vec<Panel> = units
+        .iter()
+        .map(|unit| {
+            let mut panel = Panel::new(
+                format!("coefficients in {unit}"),
+                "time (s)",
+                "sigma / prior".into(),
+                Scale::Log,
+                BIG,
+            );
+            let members: Vec<usize> = (0..p.coefficients.len())
+                .filter(|&i| p.coefficients[i].unit == *unit)
+                .collect();
+            for (k, &i) in members.iter().enumerate() {
+                let style = color(k).stroke_width(2);
+                let dashed = k >= 6;
+                let pts =
+                    p.t.iter()
+                        .copied()
+                        .zip(p.sigma_over_prior[i].iter().copied())
+                        .collect();
+                panel.line(style, dashed, pts);
+                // Each curve named on itself, the names spread along the time axis (a legend
+                // would repeat the colours of the other panels).
+                let at = (k + 1) * p.t.len() / (members.len() + 1);
+                if let (Some(&x), Some(&y)) = (p.t.get(at), p.sigma_over_prior[i].get(at)) {
+                    panel.labels.push((x, y, p.coefficients[i].name.clone()));
+                }
+            }
+            panel.line(
+                GREY.stroke_width(1),
+                true,
+                vec![(t0, IDENTIFIED_BELOW), (t1, IDENTIFIED_BELOW)],
+            );
+            panel.y_include.extend([IDENTIFIED_BELOW, 1.0]);
+            panel
+        })
+        .collect();
+    let grid = Grid {
+        title: TITLE.into(),
+        cols: panels.len().min(2),
+        panels,
+        cell: (560, 400),
+        legend: Vec::new(),
+    };
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        render(dir, "plan_sigma", &grid)
+    }))
+    .unwrap_or_else(|_| Err(StudyError::Other("the figure code panicked".into())));
+    FigureOutcome {
+        name: "plan_sigma".into(),
+        caption: TITLE.into(),
+        result: result.map_err(|e| e.to_string()),
+    }
+}

@@ -1,63 +1,157 @@
 //! `navkf plan`: which coefficients the test of a study file identifies, predicted from the
-//! information along it, without Monte Carlo (see `navkf_study::plan`).
+//! information along it, without Monte Carlo (see `navkf_study::plan`). Several study files,
+//! or one with a `[sweep]`, are compared design by design.
 
 use navkf_study::output::write_atomic;
-use navkf_study::plan::{plan, table};
+use navkf_study::plan::{comparison_table, plan, table, Comparison, Design, Plan};
 use navkf_study::{Study, StudyConfig};
-use std::path::PathBuf;
+use rayon::prelude::*;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The study file whose test to plan, e.g. studies/paper.toml.
-    file: PathBuf,
+    /// The study file whose test to plan (e.g. studies/paper.toml); several files, or one
+    /// with a [sweep], compare designs.
+    #[arg(required = true)]
+    files: Vec<PathBuf>,
     /// Output folder (default results/plan/<study name>).
     #[arg(long)]
     out: Option<PathBuf>,
 }
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
-    let config = StudyConfig::load(&a.file)?;
-    if let Some(s) = &config.sweep {
-        return Err(format!(
-            "{}: the study sweeps `{}`; plan one design at a time for now (sweeps in plan \
-             are not built yet)",
-            a.file.display(),
-            s.key
-        )
-        .into());
-    }
+    let configs = a
+        .files
+        .iter()
+        .map(|f| StudyConfig::load(f))
+        .collect::<Result<Vec<_>, _>>()?;
     let out = a
         .out
-        .unwrap_or_else(|| PathBuf::from("results/plan").join(&config.study.name));
+        .unwrap_or_else(|| PathBuf::from("results/plan").join(&configs[0].study.name));
     navkf_study::output::check_output_dir(&out)?;
     let started = std::time::Instant::now();
-    let study = Study::new(config)?;
-    let p = plan(&study)?;
-    let text = table(&p);
-    let figure = navkf_study::plots::plan::draw(&p, &out);
-    if let Err(e) = &figure.result {
-        eprintln!("warning: figure {} not drawn: {e}", figure.name);
+    let command = navkf_study::output::command_line();
+    if configs.len() == 1 && configs[0].sweep.is_none() {
+        let study = Study::new(configs.into_iter().next().expect("one"))?;
+        let p = plan(&study)?;
+        write_plan(&p, &out, &command, true)?;
+        print!("{}", table(&p));
+        eprintln!(
+            "planned {} in {:.2} s, wrote {}",
+            p.study,
+            started.elapsed().as_secs_f64(),
+            out.display()
+        );
+        return Ok(());
+    }
+    // The designs: a sweep's points, or the files.
+    let mut designs: Vec<(String, Option<f64>, StudyConfig)> = Vec::new();
+    let mut key = None;
+    if configs.len() == 1 {
+        let c = &configs[0];
+        let sweep = c.sweep.as_ref().expect("a sweep");
+        key = Some(sweep.key.clone());
+        for (p, v) in navkf_study::sweep::points(c)?
+            .into_iter()
+            .zip(&sweep.values)
+        {
+            designs.push((format!("{} = {v}", sweep.key), Some(*v), p));
+        }
+    } else {
+        for (f, c) in a.files.iter().zip(configs) {
+            if let Some(s) = &c.sweep {
+                return Err(format!(
+                    "{}: sweeps `{}`; compare several files or sweep one, not both",
+                    f.display(),
+                    s.key
+                )
+                .into());
+            }
+            let label = f
+                .file_stem()
+                .map_or_else(|| f.display().to_string(), |s| s.to_string_lossy().into());
+            designs.push((label, None, c));
+        }
+    }
+    // Built (and so checked) before any planning, then planned two at a time or more.
+    let studies = designs
+        .into_iter()
+        .enumerate()
+        .map(|(i, (label, v, c))| {
+            Study::new(c)
+                .map(|s| (label.clone(), v, s))
+                .map_err(|e| format!("design {i} ({label}): {e}"))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let plans = studies
+        .par_iter()
+        .map(|(label, _, s)| plan(s).map_err(|e| format!("design {label}: {e}")))
+        .collect::<Result<Vec<Plan>, _>>()?;
+    for (i, p) in plans.iter().enumerate() {
+        write_plan(p, &out.join(format!("design-{i:02}")), &command, false)?;
+    }
+    let comparison = Comparison {
+        key,
+        designs: studies
+            .iter()
+            .zip(&plans)
+            .map(|((label, v, _), p)| Design::of(label.clone(), *v, p))
+            .collect(),
+    };
+    let mut md = format!(
+        "# Test designs compared\n\nCommand: `{command}`\n\nPredicted final sigma / prior \
+         of every coefficient (in bold: identified, below {}); each design's plan in \
+         `design-NN/`.\n\n{}",
+        navkf_study::plan::IDENTIFIED_BELOW,
+        comparison_table(&comparison)
+    );
+    if comparison.key.is_some() {
+        let f = navkf_study::plots::plan::draw_sweep(&comparison, &out);
+        match &f.result {
+            Ok(()) => md.push_str(&format!("\n![{}]({}.svg)\n", f.caption, f.name)),
+            Err(e) => eprintln!("warning: figure {} not drawn: {e}", f.name),
+        }
     }
     write_atomic(
-        &out.join("plan.json"),
-        serde_json::to_string_pretty(&p)?.as_bytes(),
+        &out.join("designs.json"),
+        serde_json::to_string_pretty(&comparison)?.as_bytes(),
     )?;
-    let command = navkf_study::output::command_line();
-    let mut md = format!(
-        "# Plan of `{}`\n\nCommand: `{command}`\n\nPredicted by the truth-linearised bound \
-         along run 0 of the study's seed ({:.0} s test), without Monte Carlo.\n\n```text\n{text}```\n",
-        p.study, p.duration_s
-    );
-    if figure.result.is_ok() {
-        md.push_str(&format!("\n![{}](plan_sigma.svg)\n", figure.caption));
-    }
-    write_atomic(&out.join("plan.md"), md.as_bytes())?;
-    print!("{text}");
+    write_atomic(&out.join("designs.md"), md.as_bytes())?;
+    print!("{}", comparison_table(&comparison));
     eprintln!(
-        "planned {} in {:.2} s, wrote {}",
-        p.study,
+        "planned {} designs in {:.2} s, wrote {}",
+        comparison.designs.len(),
         started.elapsed().as_secs_f64(),
         out.display()
     );
+    Ok(())
+}
+
+/// Writes one plan's `plan.json` and `plan.md` (and, with `figure`, `plan_sigma`) into `dir`.
+fn write_plan(
+    p: &Plan,
+    dir: &Path,
+    command: &str,
+    figure: bool,
+) -> Result<(), Box<dyn std::error::Error>> {
+    write_atomic(
+        &dir.join("plan.json"),
+        serde_json::to_string_pretty(p)?.as_bytes(),
+    )?;
+    let mut md = format!(
+        "# Plan of `{}`\n\nCommand: `{command}`\n\nPredicted by the truth-linearised bound \
+         along run 0 of the study's seed ({:.0} s test), without Monte Carlo.\n\n```text\n{}```\n",
+        p.study,
+        p.duration_s,
+        table(p)
+    );
+    if figure {
+        let f = navkf_study::plots::plan::draw(p, dir);
+        match &f.result {
+            Ok(()) => md.push_str(&format!("\n![{}]({}.svg)\n", f.caption, f.name)),
+            Err(e) => eprintln!("warning: figure {} not drawn: {e}", f.name),
+        }
+    }
+    write_atomic(&dir.join("plan.md"), md.as_bytes())?;
     Ok(())
 }

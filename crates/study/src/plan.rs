@@ -206,3 +206,72 @@ pub fn table(p: &Plan) -> String {
     );
     out
 }
+
+/// One design of a comparison: a point of a sweep or one study file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Design {
+    /// How the design is named: `key = value` or the file's name.
+    pub label: String,
+    /// The swept value (sweeps only).
+    pub value: Option<f64>,
+    /// Its plan, without the time series.
+    pub coefficients: Vec<CoefficientPlan>,
+}
+
+/// `designs.json`: several designs' plans side by side.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Comparison {
+    /// The swept key, for a sweep.
+    pub key: Option<String>,
+    /// The designs, in order.
+    pub designs: Vec<Design>,
+}
+
+impl Design {
+    /// The design of `plan`, labelled.
+    pub fn of(label: String, value: Option<f64>, plan: &Plan) -> Self {
+        Design {
+            label,
+            value,
+            coefficients: plan.coefficients.clone(),
+        }
+    }
+}
+
+/// The comparison as a Markdown table: per design, every coefficient's predicted sigma /
+/// prior (identified ones in bold) and how many it identifies.
+pub fn comparison_table(c: &Comparison) -> String {
+    let mut out = String::new();
+    let Some(first) = c.designs.first() else {
+        return out;
+    };
+    let names: Vec<&str> = first.coefficients.iter().map(|k| k.name.as_str()).collect();
+    let _ = writeln!(out, "| design | identified | {} |", names.join(" | "));
+    let _ = writeln!(out, "|---|---|{}", "---|".repeat(names.len()));
+    for d in &c.designs {
+        let cells: Vec<String> = names
+            .iter()
+            .map(|n| {
+                d.coefficients
+                    .iter()
+                    .find(|k| k.name == *n)
+                    .map_or("-".into(), |k| {
+                        if k.identified {
+                            format!("**{:.3}**", k.ratio)
+                        } else {
+                            format!("{:.3}", k.ratio)
+                        }
+                    })
+            })
+            .collect();
+        let count = d.coefficients.iter().filter(|k| k.identified).count();
+        let _ = writeln!(
+            out,
+            "| {} | {count} of {} | {} |",
+            d.label,
+            d.coefficients.len(),
+            cells.join(" | ")
+        );
+    }
+    out
+}

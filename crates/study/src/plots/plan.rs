@@ -80,3 +80,83 @@ pub fn draw(p: &Plan, dir: &Path) -> FigureOutcome {
         result: result.map_err(|e| e.to_string()),
     }
 }
+
+/// Title of `plan_sweep`.
+pub const SWEEP_TITLE: &str =
+    "Predicted final sigma / prior against the swept setting (below the dashed line: identified)";
+
+/// Draws `plan_sweep` into `dir`: one panel per coefficient, its predicted final sigma over
+/// its prior against the swept value (designs without a value are left out).
+pub fn draw_sweep(c: &crate::plan::Comparison, dir: &Path) -> FigureOutcome {
+    let key = c.key.clone().unwrap_or_default();
+    let points: Vec<(f64, &crate::plan::Design)> = c
+        .designs
+        .iter()
+        .filter_map(|d| d.value.map(|v| (v, d)))
+        .collect();
+    let (lo, hi) = points
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), (v, _)| {
+            (lo.min(*v), hi.max(*v))
+        });
+    let x_scale = if lo > 0.0 && hi / lo > 20.0 {
+        Scale::Log
+    } else {
+        Scale::Linear
+    };
+    let names: Vec<String> = c
+        .designs
+        .first()
+        .map(|d| d.coefficients.iter().map(|k| k.name.clone()).collect())
+        .unwrap_or_default();
+    let panels: Vec<Panel> = names
+        .iter()
+        .map(|name| {
+            let mut panel = Panel::new(
+                name.clone(),
+                &key,
+                "sigma / prior".into(),
+                Scale::Log,
+                SMALL,
+            );
+            panel.x_scale = x_scale;
+            let pts = points
+                .iter()
+                .map(|(v, d)| {
+                    let r = d
+                        .coefficients
+                        .iter()
+                        .find(|k| k.name == *name)
+                        .map_or(f64::NAN, |k| k.ratio);
+                    (*v, r)
+                })
+                .collect();
+            panel.line(color(0).stroke_width(2), false, pts);
+            if let (Some(a), Some(b)) = (points.first(), points.last()) {
+                panel.line(
+                    GREY.stroke_width(1),
+                    true,
+                    vec![(a.0, IDENTIFIED_BELOW), (b.0, IDENTIFIED_BELOW)],
+                );
+            }
+            panel.y_include.extend([IDENTIFIED_BELOW, 1.0]);
+            panel
+        })
+        .collect();
+    let grid = Grid {
+        title: SWEEP_TITLE.into(),
+        cols: 4,
+        panels,
+        cell: (380, 280),
+        legend: Vec::new(),
+    };
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        render(dir, "plan_sweep", &grid)
+    }))
+    .unwrap_or_else(|_| Err(StudyError::Other("the figure code panicked".into())));
+    FigureOutcome {
+        name: "plan_sweep".into(),
+        caption: SWEEP_TITLE.into(),
+        result: result.map_err(|e| e.to_string()),
+    }
+}

@@ -25,6 +25,11 @@ pub struct Args {
     /// Test duration, s (the path is scaled to fit only through its final standstill).
     #[arg(long)]
     duration: Option<f64>,
+    /// The test to drive: the `[trajectory]` table of this TOML file (a study file, or one
+    /// with only that table; e.g. a `[[trajectory.segment]]` list). Default: the paper's
+    /// O-A-B-C-O path.
+    #[arg(long, value_name = "FILE")]
+    trajectory: Option<PathBuf>,
     /// The truth's attitude equations: `small-angle` (the paper's) or `exact` (Euler angles).
     #[arg(long, default_value = "small-angle", value_parser = crate::attitude_names())]
     attitude: String,
@@ -42,7 +47,10 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let effect_names = spec.names();
     let attitude: navkf_dynamics::Attitude = a.attitude.parse()?;
     let model = Arc::new(PlatformModel::new(spec.effects, &noise)?.with_attitude(attitude));
-    let mut traj_cfg = TrajectoryConfig::default();
+    let mut traj_cfg = match &a.trajectory {
+        Some(path) => read_trajectory(path)?,
+        None => TrajectoryConfig::default(),
+    };
     if let Some(d) = a.duration {
         traj_cfg.duration_s = d;
     }
@@ -80,4 +88,21 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     );
     println!("{}", ds.summary());
     Ok(())
+}
+
+/// The `[trajectory]` table of the TOML file at `path`; errors name the file and the key.
+fn read_trajectory(path: &std::path::Path) -> Result<TrajectoryConfig, Box<dyn std::error::Error>> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let file: toml::Table = text
+        .parse()
+        .map_err(|e: toml::de::Error| format!("{}: {e}", path.display()))?;
+    let table = file.get("trajectory").cloned().ok_or_else(|| {
+        format!(
+            "{}: no [trajectory] table; expected the test to drive there",
+            path.display()
+        )
+    })?;
+    Ok(table.try_into().map_err(|e: toml::de::Error| {
+        format!("{}: [trajectory]: {}", path.display(), e.message())
+    })?)
 }

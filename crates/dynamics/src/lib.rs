@@ -22,6 +22,7 @@ pub mod outside;
 pub mod prior;
 pub mod real;
 pub mod rng;
+pub mod segments;
 pub mod sensors;
 pub mod simulate;
 pub mod state;

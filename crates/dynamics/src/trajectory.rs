@@ -20,6 +20,7 @@
 use crate::earth::{meridian_radius, normal_gravity, prime_vertical_radius, WIE};
 use crate::error::DynamicsError;
 use crate::kinematics::Input;
+use crate::segments::SegmentSpec;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -49,6 +50,11 @@ pub struct TrajectoryConfig {
     /// Length of A-B (heading East), metres: from the end of the first turn to the start of
     /// the second. B-C and C-O are solved so that the path closes.
     pub leg_east_m: f64,
+    /// A test of the user's own (`[[trajectory.segment]]`, see [`crate::segments`]): when
+    /// given, it replaces the O-A-B-C-O path and the settings above other than the start,
+    /// the duration and nothing else.
+    #[serde(rename = "segment", skip_serializing_if = "Vec::is_empty")]
+    pub segments: Vec<SegmentSpec>,
 }
 
 impl Default for TrajectoryConfig {
@@ -64,6 +70,7 @@ impl Default for TrajectoryConfig {
             peak_turn_rate_deg: 6.0,
             leg_north_m: 9000.0,
             leg_east_m: 6500.0,
+            segments: Vec::new(),
         }
     }
 }
@@ -114,6 +121,38 @@ impl TrajectoryConfig {
                     self.start_lon_deg
                 ),
             ));
+        }
+        if !self.segments.is_empty() {
+            // The O-A-B-C-O settings mean nothing with a segment list: refuse them rather
+            // than ignore them.
+            let d = TrajectoryConfig::default();
+            for (key, v, default) in [
+                (
+                    "initial_standstill_s",
+                    self.initial_standstill_s,
+                    d.initial_standstill_s,
+                ),
+                ("cruise_speed", self.cruise_speed, d.cruise_speed),
+                ("turn_speed", self.turn_speed, d.turn_speed),
+                ("peak_accel", self.peak_accel, d.peak_accel),
+                (
+                    "peak_turn_rate_deg",
+                    self.peak_turn_rate_deg,
+                    d.peak_turn_rate_deg,
+                ),
+                ("leg_north_m", self.leg_north_m, d.leg_north_m),
+                ("leg_east_m", self.leg_east_m, d.leg_east_m),
+            ] {
+                if v != default {
+                    return Err(config_err(
+                        key,
+                        format!(
+                            "{v} has no effect with [[trajectory.segment]]: remove it (each \
+                             segment sets its own speeds and rates)"
+                        ),
+                    ));
+                }
+            }
         }
         if self.turn_speed > self.cruise_speed {
             return Err(config_err(
@@ -201,6 +240,9 @@ pub struct Segment {
     pub motion: Motion,
     /// Label of the corner or leg (`O-A`, `turn A`, ...).
     pub label: &'static str,
+    /// Rise of the road over the segment, m (a grade: it reaches the model as vertical
+    /// acceleration in `fz`).
+    pub climb: f64,
 }
 
 impl Segment {
@@ -259,6 +301,8 @@ pub struct PathState {
     pub pos: [f64; 2],
     /// Heading rate, rad/s.
     pub turn_rate: f64,
+    /// Upward acceleration on a grade, m/s^2 (the vertical velocity itself is not modelled).
+    pub a_up: f64,
     /// Motion phase.
     pub phase: Phase,
 }
@@ -282,6 +326,9 @@ impl Trajectory {
     /// Builds the O-A-B-C-O path of `config`, solving the last two legs for closure.
     pub fn build(config: &TrajectoryConfig) -> Result<Self, DynamicsError> {
         config.validate()?;
+        if !config.segments.is_empty() {
+            return Self::from_segments(config);
+        }
         let lat0 = config.start_lat_deg.to_radians();
         // Leg 3 (South) must undo leg 1 plus the northward part of two turns; leg 4 (West)
         // must undo leg 2 plus the eastward parts. Start from flat-Earth guesses and correct
@@ -393,6 +440,51 @@ impl Trajectory {
         Ok(traj)
     }
 
+    /// The user's segment list, from rest at the start, heading North; after the last segment
+    /// the vehicle holds or cruises until `duration_s`.
+    fn from_segments(c: &TrajectoryConfig) -> Result<Self, DynamicsError> {
+        let laid = crate::segments::lay_out(&c.segments, "trajectory.segment")?;
+        let mut b = SegmentList::default();
+        for l in laid {
+            b.push_climbing(l.duration, l.motion, l.label, l.climb);
+        }
+        let t = b.t;
+        if t > c.duration_s {
+            return Err(config_err(
+                "duration_s",
+                format!(
+                    "the segments take {t:.1} s but the test lasts {} s: expected a longer \
+                     duration or fewer segments",
+                    c.duration_s
+                ),
+            ));
+        }
+        if c.duration_s > t {
+            let last = b.segs.last().map(|s| s.motion);
+            let end_speed = match last {
+                Some(Motion::SpeedChange { to, .. }) => to,
+                Some(Motion::Cruise { speed }) | Some(Motion::Turn { speed, .. }) => speed,
+                _ => 0.0,
+            };
+            if end_speed > 0.0 {
+                b.push(
+                    c.duration_s - t,
+                    Motion::Cruise { speed: end_speed },
+                    "cruise",
+                );
+            } else {
+                b.push(c.duration_s - t, Motion::Standstill, "hold");
+            }
+        }
+        let mut traj = Trajectory {
+            config: c.clone(),
+            segments: b.segs,
+            grid: Vec::new(),
+        };
+        traj.integrate_positions();
+        Ok(traj)
+    }
+
     /// Integrates `L' = v_N / RM`, `lambda' = v_E / (RN cos L)` along the path with RK4.
     fn integrate_positions(&mut self) {
         let n = (self.config.duration_s / GRID).ceil() as usize;
@@ -488,11 +580,19 @@ impl Trajectory {
             h00 * p0[0] + h10 * GRID * m0[0] + h01 * p1[0] + h11 * GRID * m1[0],
             h00 * p0[1] + h10 * GRID * m0[1] + h01 * p1[1] + h11 * GRID * m1[1],
         ];
+        // The road's rise h(u) = climb (u - sin(2 pi u) / (2 pi)) over the segment.
+        let a_up = if seg.climb != 0.0 {
+            let u = ((t - seg.start) / seg.duration).clamp(0.0, 1.0);
+            seg.climb * 2.0 * PI * (2.0 * PI * u).sin() / (seg.duration * seg.duration)
+        } else {
+            0.0
+        };
         PathState {
             v,
             a,
             pos,
             turn_rate: dpsi,
+            a_up,
             phase: seg.phase(),
         }
     }
@@ -513,7 +613,7 @@ pub fn specific_force_for(st: &PathState) -> Input {
     [
         st.a[0] - cor * st.v[1],
         st.a[1] + cor * st.v[0],
-        normal_gravity(s),
+        normal_gravity(s) + st.a_up,
     ]
 }
 
@@ -527,12 +627,17 @@ struct SegmentList {
 
 impl SegmentList {
     fn push(&mut self, duration: f64, motion: Motion, label: &'static str) {
+        self.push_climbing(duration, motion, label, 0.0)
+    }
+
+    fn push_climbing(&mut self, duration: f64, motion: Motion, label: &'static str, climb: f64) {
         let s = Segment {
             start: self.t,
             duration,
             heading: self.heading,
             motion,
             label,
+            climb,
         };
         self.t += duration;
         self.heading = s.end_heading();

@@ -418,26 +418,13 @@ impl Trajectory {
                 );
             }
         }
-        let t = b.t;
-        if t > c.duration_s {
-            return Err(config_err(
-                "duration_s",
-                format!(
-                    "the path takes {t:.1} s but the test lasts {} s: expected a longer duration, shorter legs or a higher cruise_speed",
-                    c.duration_s
-                ),
-            ));
-        }
-        if c.duration_s > t {
-            b.push(c.duration_s - t, Motion::Standstill, "O");
-        }
-        let mut traj = Trajectory {
-            config: c.clone(),
-            segments: b.segs,
-            grid: Vec::new(),
-        };
-        traj.integrate_positions();
-        Ok(traj)
+        Self::finish(
+            c,
+            b,
+            "the path takes",
+            "a longer duration, shorter legs or a higher cruise_speed",
+            "O",
+        )
     }
 
     /// The user's segment list, from rest at the start, heading North; after the last segment
@@ -448,24 +435,37 @@ impl Trajectory {
         for l in laid {
             b.push_climbing(l.duration, l.motion, l.label, l.climb);
         }
+        Self::finish(
+            c,
+            b,
+            "the segments take",
+            "a longer duration or fewer segments",
+            "hold",
+        )
+    }
+
+    /// The path of segments `b` until `duration_s`: refused if they take longer (`what`, e.g. `the path
+    /// takes`, and `remedy` say so), otherwise continued by what the vehicle does at their end (a cruise
+    /// at its speed, or a hold labelled `rest_label`), with the nominal position integrated.
+    fn finish(
+        c: &TrajectoryConfig,
+        mut b: SegmentList,
+        what: &str,
+        remedy: &str,
+        rest_label: &'static str,
+    ) -> Result<Self, DynamicsError> {
         let t = b.t;
         if t > c.duration_s {
             return Err(config_err(
                 "duration_s",
                 format!(
-                    "the segments take {t:.1} s but the test lasts {} s: expected a longer \
-                     duration or fewer segments",
+                    "{what} {t:.1} s but the test lasts {} s: expected {remedy}",
                     c.duration_s
                 ),
             ));
         }
         if c.duration_s > t {
-            let last = b.segs.last().map(|s| s.motion);
-            let end_speed = match last {
-                Some(Motion::SpeedChange { to, .. }) => to,
-                Some(Motion::Cruise { speed }) | Some(Motion::Turn { speed, .. }) => speed,
-                _ => 0.0,
-            };
+            let end_speed = b.segs.last().map_or(0.0, |s| s.kinematics(s.duration).0);
             if end_speed > 0.0 {
                 b.push(
                     c.duration_s - t,
@@ -473,7 +473,7 @@ impl Trajectory {
                     "cruise",
                 );
             } else {
-                b.push(c.duration_s - t, Motion::Standstill, "hold");
+                b.push(c.duration_s - t, Motion::Standstill, rest_label);
             }
         }
         let mut traj = Trajectory {

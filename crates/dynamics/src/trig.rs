@@ -44,6 +44,17 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     (k * c, -k * s)
 }
 
+/// `1/n!` for n = 0..18: the Taylor coefficients of both series.
+const RECIPROCAL_FACTORIALS: [f64; 19] = {
+    let mut f = [1.0; 19];
+    let mut n = 1;
+    while n < 19 {
+        f[n] = f[n - 1] / n as f64;
+        n += 1;
+    }
+    f
+};
+
 /// Largest `|x|` [`sin_cos_angle`] reduces itself; beyond it libm answers.
 pub const ANGLE_LIMIT: f64 = 1.0e5;
 
@@ -78,16 +89,7 @@ pub(crate) fn sin_cos_quadrant(x: f64) -> (f64, f64) {
     // fdlibm's split of pi/2: the first 33 bits, and the rest.
     const PIO2_1: f64 = 1.570_796_326_734_125_6;
     const PIO2_1T: f64 = 6.077_100_506_506_192e-11;
-    // Reciprocal factorials 1/n!.
-    const F: [f64; 17] = {
-        let mut f = [1.0; 17];
-        let mut n = 1;
-        while n < 17 {
-            f[n] = f[n - 1] / n as f64;
-            n += 1;
-        }
-        f
-    };
+    const F: [f64; 19] = RECIPROCAL_FACTORIALS;
     let k = (x * std::f64::consts::FRAC_2_PI).round_ties_even();
     let r = (-k).mul_add(PIO2_1T, (-k).mul_add(PIO2_1, x));
     let r2 = r * r;
@@ -122,16 +124,7 @@ pub(crate) fn sin_cos_quadrant(x: f64) -> (f64, f64) {
 /// Taylor series of sin and cos for `|r| <= 1`, in Estrin's scheme.
 #[inline(always)]
 fn sin_cos_reduced(r: f64) -> (f64, f64) {
-    // Reciprocal factorials 1/n!.
-    const F: [f64; 19] = {
-        let mut f = [1.0; 19];
-        let mut n = 1;
-        while n < 19 {
-            f[n] = f[n - 1] / n as f64;
-            n += 1;
-        }
-        f
-    };
+    const F: [f64; 19] = RECIPROCAL_FACTORIALS;
     let r2 = r * r;
     let r4 = r2 * r2;
     let r8 = r4 * r4;

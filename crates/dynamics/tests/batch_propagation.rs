@@ -2,10 +2,12 @@
 //! and without process noise, across several blocks with padding lanes, and steps aside when
 //! the latitudes are too far apart for its series.
 
-use navkf_dynamics::integrate::propagate_generic;
+mod common;
+
+use common::{one_by_one, window};
 use navkf_dynamics::simulate::base_coefficient_sigma;
 use navkf_dynamics::state::*;
-use navkf_dynamics::{InputWindow, NoiseConfig, PlatformModel, PropagationScratch, SystemModel};
+use navkf_dynamics::{NoiseConfig, PlatformModel, PropagationScratch, SystemModel};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -24,37 +26,6 @@ fn points(count: usize, lat_spread: f64, rng: &mut ChaCha8Rng) -> Vec<f64> {
             *xi = 3.0 * base_coefficient_sigma(i) * rng.gen_range(-1.0..1.0);
         }
         out.extend(x);
-    }
-    out
-}
-
-fn window() -> InputWindow {
-    let mut w = InputWindow::with_capacity(11);
-    for k in 0..=10 {
-        let t = 0.1 * k as f64;
-        w.push_linear(t, [0.8 * (t * 2.0).sin(), -0.5 + 0.3 * t, 9.806]);
-    }
-    w
-}
-
-/// `start`'s points propagated one at a time by the generic RK4.
-fn one_by_one(
-    model: &PlatformModel,
-    start: &[f64],
-    noise: Option<&[f64]>,
-    w: &InputWindow,
-) -> Vec<f64> {
-    let (n, nw) = (model.dim(), model.noise_channels().len());
-    let mut out = start.to_vec();
-    let mut scratch = vec![0.0; model.scratch_len(1)];
-    for (i, x) in out.chunks_exact_mut(n).enumerate() {
-        propagate_generic(
-            model,
-            x,
-            noise.map(|v| &v[i * nw..(i + 1) * nw]),
-            w,
-            &mut scratch,
-        );
     }
     out
 }

@@ -4,6 +4,7 @@
 //! Each test file uses only some of them.
 #![allow(dead_code)]
 
+use navkf_dynamics::integrate::propagate_generic;
 use navkf_dynamics::state::*;
 use navkf_dynamics::{Input, InputWindow, PlatformModel, SystemModel};
 use rand::{Rng, SeedableRng};
@@ -356,4 +357,36 @@ pub fn rest_state(dim: usize, lat: f64, lon: f64) -> Vec<f64> {
     x[LAT] = lat;
     x[LON] = lon;
     x
+}
+
+/// One second of input in 10 sub-steps, varying in every component.
+pub fn window() -> InputWindow {
+    let mut w = InputWindow::with_capacity(11);
+    for k in 0..=10 {
+        let t = 0.1 * k as f64;
+        w.push_linear(t, [0.8 * (t * 2.0).sin(), -0.5 + 0.3 * t, 9.806]);
+    }
+    w
+}
+
+/// `start`'s points propagated one at a time by the generic RK4.
+pub fn one_by_one(
+    model: &PlatformModel,
+    start: &[f64],
+    noise: Option<&[f64]>,
+    w: &InputWindow,
+) -> Vec<f64> {
+    let (n, nw) = (model.dim(), model.noise_channels().len());
+    let mut out = start.to_vec();
+    let mut scratch = vec![0.0; model.scratch_len(1)];
+    for (i, x) in out.chunks_exact_mut(n).enumerate() {
+        propagate_generic(
+            model,
+            x,
+            noise.map(|v| &v[i * nw..(i + 1) * nw]),
+            w,
+            &mut scratch,
+        );
+    }
+    out
 }

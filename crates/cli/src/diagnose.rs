@@ -147,11 +147,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let started = std::time::Instant::now();
     let (d, fits) = diagnose(&ds, &registry, &opts)?;
     let figures = navkf_study::diagnose::plots::draw(&d, &fits, &out);
-    for f in &figures {
-        if let Err(e) = &f.result {
-            eprintln!("warning: figure {} not drawn: {e}", f.name);
-        }
-    }
+    crate::warn_undrawn(&figures);
     let command = navkf_study::output::command_line();
     write_atomic(
         &out.join("diagnosis.json"),

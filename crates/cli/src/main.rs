@@ -55,6 +55,15 @@ fn attitude_names() -> clap::builder::PossibleValuesParser {
     clap::builder::PossibleValuesParser::new(Attitude::ALL.map(Attitude::name))
 }
 
+/// Warns on stderr of every figure that could not be drawn (the results stand without it).
+fn warn_undrawn(figures: &[navkf_study::plots::FigureOutcome]) {
+    for f in figures {
+        if let Err(e) = &f.result {
+            eprintln!("warning: figure {} not drawn: {e}", f.name);
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {

@@ -107,10 +107,10 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     );
     if comparison.key.is_some() {
         let f = navkf_study::plots::plan::draw_sweep(&comparison, &out);
-        match &f.result {
-            Ok(()) => md.push_str(&format!("\n![{}]({}.svg)\n", f.caption, f.name)),
-            Err(e) => eprintln!("warning: figure {} not drawn: {e}", f.name),
+        if f.result.is_ok() {
+            md.push_str(&format!("\n![{}]({}.svg)\n", f.caption, f.name));
         }
+        crate::warn_undrawn(std::slice::from_ref(&f));
     }
     write_atomic(
         &out.join("designs.json"),
@@ -147,10 +147,10 @@ fn write_plan(
     );
     if figure {
         let f = navkf_study::plots::plan::draw(p, dir);
-        match &f.result {
-            Ok(()) => md.push_str(&format!("\n![{}]({}.svg)\n", f.caption, f.name)),
-            Err(e) => eprintln!("warning: figure {} not drawn: {e}", f.name),
+        if f.result.is_ok() {
+            md.push_str(&format!("\n![{}]({}.svg)\n", f.caption, f.name));
         }
+        crate::warn_undrawn(std::slice::from_ref(&f));
     }
     write_atomic(&dir.join("plan.md"), md.as_bytes())?;
     Ok(())

@@ -62,6 +62,23 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
     Ok((i, n))
 }
 
+/// A progress bar over `total` `what` (runs, datasets), or a hidden one with `quiet`.
+fn progress_bar(quiet: bool, total: usize, what: &str) -> ProgressBar {
+    let bar = if quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(total as u64)
+    };
+    bar.set_style(
+        ProgressStyle::with_template(&format!(
+            "{{prefix}} [{{bar:40}}] {{pos}}/{{len}} {what}, {{elapsed}} elapsed, ETA {{eta}}"
+        ))
+        .expect("a valid template")
+        .progress_chars("=> "),
+    );
+    bar
+}
+
 /// Whether the study file is a diagnosis study (`[study] kind = "diagnosis"`).
 fn is_diagnosis_study(path: &std::path::Path) -> Result<bool, Box<dyn std::error::Error>> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -132,18 +149,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
                 - b * navkf_study::tally::BLOCK
         })
         .sum();
-    let bar = if a.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(total_runs as u64)
-    };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{prefix} [{bar:40}] {pos}/{len} runs, {elapsed} elapsed, ETA {eta}",
-        )
-        .expect("valid template")
-        .progress_chars("=> "),
-    );
+    let bar = progress_bar(a.quiet, total_runs, "runs");
     bar.set_prefix(study.config.study.name.clone());
     let example = Mutex::new(None);
     let started = std::time::Instant::now();
@@ -261,17 +267,7 @@ fn run_diagnosis_study(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         .out
         .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
     navkf_study::output::check_output_dir(&out)?;
-    let bar = if a.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(count as u64)
-    };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{prefix} [{bar:40}] {pos}/{len} datasets, {elapsed} elapsed, ETA {eta}",
-        )?
-        .progress_chars("=> "),
-    );
+    let bar = progress_bar(a.quiet, count, "datasets");
     bar.set_prefix(config.study.name.clone());
     let started = std::time::Instant::now();
     let records = run(&config, Some(0..count), &|d| bar.set_position(d as u64))?;
@@ -337,18 +333,7 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
         })
         .collect::<Result<Vec<_>, _>>()?;
     let total: usize = studies.iter().map(|s| s.config.study.runs).sum();
-    let bar = if a.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(total as u64)
-    };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{prefix} [{bar:40}] {pos}/{len} runs, {elapsed} elapsed, ETA {eta}",
-        )
-        .expect("valid template")
-        .progress_chars("=> "),
-    );
+    let bar = progress_bar(a.quiet, total, "runs");
     let started = std::time::Instant::now();
     let mut points = Vec::new();
     let mut done_before = 0;
@@ -375,11 +360,7 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
         points,
     };
     let figures = navkf_study::plots::sweep::draw(&summary, studies[0].names.len(), &out);
-    for f in &figures {
-        if let Err(e) = &f.result {
-            eprintln!("warning: figure {} not drawn: {e}", f.name);
-        }
-    }
+    crate::warn_undrawn(&figures);
     write_atomic(
         &out.join("sweep.json"),
         serde_json::to_string_pretty(&summary)?.as_bytes(),

@@ -25,8 +25,8 @@
 //! of duration `2 |dv| / accel`), `cruise` (for `duration_s` or `distance_m`), `turn`
 //! (`angle_deg`, positive to the right, at a peak `rate_deg`), `figure_eight` (two opposite
 //! full turns at `rate_deg`), `slalom` (`count` pairs of turns by `+-angle_deg`) and `repeat`
-//! (`count` times its `segments`). Any segment may carry `climb_m`: the road rises (or falls)
-//! by that much over it, along a smooth profile. The model keeps zero vertical velocity, so a
+//! (`count` times its `segments`). A `speed`, `cruise` or `turn` may carry `climb_m`: the road
+//! rises (or falls) by that much over it, along a smooth profile. The model keeps zero vertical velocity, so a
 //! grade reaches it only through the specific force: `fz = g + a_up`.
 //!
 //! After the last segment the vehicle keeps doing what it did (holds or cruises) until
@@ -46,9 +46,6 @@ pub enum SegmentSpec {
     Hold {
         /// Duration, s.
         duration_s: f64,
-        /// Rise of the road over the segment, m.
-        #[serde(default)]
-        climb_m: f64,
     },
     /// Accelerate or brake to `to` (m/s) at a peak acceleration `accel` (m/s^2).
     Speed {
@@ -190,10 +187,7 @@ fn lay(
                 })
             };
         match spec {
-            SegmentSpec::Hold {
-                duration_s,
-                climb_m,
-            } => {
+            SegmentSpec::Hold { duration_s } => {
                 if *speed > 0.0 {
                     return Err(err(
                         &k,
@@ -206,7 +200,7 @@ fn lay(
                 out.push(Laid {
                     duration: positive(&k, "duration_s", *duration_s)?,
                     motion: Motion::Standstill,
-                    climb: climb_ok(*climb_m)?,
+                    climb: 0.0,
                     label: "hold",
                 });
             }

@@ -213,6 +213,8 @@ fn a_malformed_segment_is_refused_where_it_stands() {
     for text in [
         "[[segment]]\nkind = \"wheelie\"\n",
         "[[segment]]\nkind = \"hold\"\nduration_s = 1.0\naccel = 2.0\n",
+        // A road cannot rise under a vehicle standing still.
+        "[[segment]]\nkind = \"hold\"\nduration_s = 1.0\nclimb_m = 2.0\n",
     ] {
         let e = toml::from_str::<TrajectoryConfig>(text)
             .unwrap_err()

@@ -499,6 +499,23 @@ impl Study {
         Some(out)
     }
 
+    /// The initial one-sigma of every truth state in the bound's recursion: the filters'
+    /// where the states coincide, the truth's prior otherwise.
+    pub fn bound_prior_sigma(&self) -> Vec<f64> {
+        let model = self.sim.model();
+        model
+            .state_names()
+            .iter()
+            .enumerate()
+            .map(
+                |(i, name)| match self.names.iter().position(|n| n == name) {
+                    Some(j) => self.initial_sigma[j],
+                    None => self.sim.priors()[i].sigma.max(typical_sigma(model, i)),
+                },
+            )
+            .collect()
+    }
+
     /// The truth-linearised bound's covariance recursion along `sim_run` (see the module
     /// documentation): the EKF with the truth model, its state reset to the true state before
     /// each step. `visit(t, P, n)` sees the covariance (column-major, `n` = the truth model's
@@ -511,15 +528,8 @@ impl Study {
         let model = self.sim.model().clone();
         let nt = model.dim();
         let mut ekf = Ekf::new(model.clone());
-        // Initial covariance: the filters' where the states coincide, the truth's prior
-        // otherwise.
         let mut p0 = vec![0.0; nt * nt];
-        let tnames = model.state_names();
-        for i in 0..nt {
-            let s = match self.names.iter().position(|n| *n == tnames[i]) {
-                Some(j) => self.initial_sigma[j],
-                None => self.sim.priors()[i].sigma.max(typical_sigma(&model, i)),
-            };
+        for (i, s) in self.bound_prior_sigma().into_iter().enumerate() {
             p0[i + i * nt] = s * s;
         }
         let mut xt0 = sim_run.truth.states[0].clone();

@@ -113,18 +113,8 @@ pub fn plan(study: &Study) -> Result<Plan, StudyError> {
             "the test has no measurement: nothing to plan".into(),
         ));
     }
-    // Prior: the recursion's initial covariance (the filters' initial sigma where the
-    // states coincide).
-    let prior: Vec<f64> = (0..n)
-        .map(|i| {
-            study
-                .names
-                .iter()
-                .position(|m| *m == names[i])
-                .map(|j| study.initial_sigma[j])
-                .unwrap_or_else(|| crate::monte_carlo::typical_sigma(model, i))
-        })
-        .collect();
+    // Prior: the recursion's own initial sigma.
+    let prior = study.bound_prior_sigma();
     let mut coefficients = Vec::new();
     let mut sigma_over_prior = Vec::new();
     for i in NAV_DIM..n {

@@ -85,12 +85,12 @@ pub fn paired_verdict(d: &crate::summary::PairedDifference) -> String {
     let [lo, hi] = d.ci95;
     if !(lo.is_finite() && hi.is_finite()) {
         "no verdict".into()
+    } else if !d.significant() {
+        "no significant difference".into()
     } else if lo > 0.0 {
         format!("{} worse", d.a)
-    } else if hi < 0.0 {
-        format!("{} worse", d.b)
     } else {
-        "no significant difference".into()
+        format!("{} worse", d.b)
     }
 }
 
@@ -114,7 +114,7 @@ pub fn paired_table(s: &Summary) -> String {
     let mut significant = 0;
     for d in &s.paired {
         let v = paired_verdict(d);
-        if v.ends_with("worse") {
+        if d.significant() {
             significant += 1;
         }
         let pct = 100.0 * d.relative;

@@ -64,6 +64,14 @@ pub struct PairedDifference {
     pub relative: f64,
 }
 
+impl PairedDifference {
+    /// Whether the 95 % interval excludes zero (a NaN interval is no verdict, so `false`).
+    pub fn significant(&self) -> bool {
+        let [lo, hi] = self.ci95;
+        lo.is_finite() && hi.is_finite() && (lo > 0.0 || hi < 0.0)
+    }
+}
+
 /// The whole `summary.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Summary {

@@ -21,7 +21,7 @@ use crate::plots::FigureOutcome;
 use crate::stats::mean_chi2_bounds;
 use crate::summary::{paired_difference, PairedDifference, Summary};
 use crate::tally::{DivergenceCause, Tally};
-use navkf_dynamics::state::{NAV_DIM, PHI_Z};
+use navkf_dynamics::state::PHI_Z;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -262,7 +262,6 @@ pub fn point(
         .filter(|p| p.n >= 2)
         .map(|p| paired_difference(study, tally, p, PHI_Z))
         .collect();
-    debug_assert!(n > NAV_DIM);
     SweepPoint {
         value,
         folder: point_folder(index),
@@ -367,7 +366,6 @@ pub fn markdown(s: &SweepSummary, command: &str, figures: &[FigureOutcome]) -> S
     let _ = writeln!(out, "|---|---|---|---|---|---|---|");
     for p in &s.points {
         for d in &p.paired_heading {
-            let significant = d.ci95[0] > 0.0 || d.ci95[1] < 0.0;
             let _ = writeln!(
                 out,
                 "| {:e} | {} | {} | {:.3e} | [{:.3e}, {:.3e}] | {:+.2} % | {} |",
@@ -378,7 +376,7 @@ pub fn markdown(s: &SweepSummary, command: &str, figures: &[FigureOutcome]) -> S
                 d.ci95[0],
                 d.ci95[1],
                 100.0 * d.relative,
-                if significant { "yes" } else { "no" }
+                if d.significant() { "yes" } else { "no" }
             );
         }
     }
@@ -395,11 +393,7 @@ pub fn markdown(s: &SweepSummary, command: &str, figures: &[FigureOutcome]) -> S
     );
     let _ = writeln!(out, "|---|---|---|");
     for p in &s.points {
-        let sig: Vec<&PairedDifference> = p
-            .paired
-            .iter()
-            .filter(|d| d.ci95[0] > 0.0 || d.ci95[1] < 0.0)
-            .collect();
+        let sig: Vec<&PairedDifference> = p.paired.iter().filter(|d| d.significant()).collect();
         let largest = sig
             .iter()
             .max_by(|a, b| a.relative.abs().total_cmp(&b.relative.abs()))

@@ -55,15 +55,9 @@ pub fn draw(d: &Diagnosis, fits: &Fits, dir: &Path) -> Vec<FigureOutcome> {
     let geo = Geo::of(&fits.model);
     let mut out = Vec::new();
     let mut run = |name: &str, caption: String, fig: &dyn Fn() -> Grid| {
-        let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            render(dir, name, &fig()).map_err(|e| e.to_string())
-        }))
-        .unwrap_or_else(|_| Err("the figure code panicked".into()));
-        out.push(FigureOutcome {
-            name: name.into(),
-            caption,
-            result,
-        });
+        out.push(crate::plots::outcome(name, caption, || {
+            render(dir, name, &fig())
+        }));
     };
     let model_label = model_label(&fits.model.effects);
     run(

@@ -49,6 +49,23 @@ pub const NEES_NIS_TITLE: &str = "Average NEES and NIS over time, with 95 % band
 /// Title of `estimates_all` (followed by the run index).
 pub const ESTIMATES_ALL_TITLE: &str = "Coefficient estimates against the truth";
 
+/// Draws one figure with `draw`, catching its failure, or its panic, into the outcome: a
+/// figure that cannot be drawn never costs the results it illustrates.
+pub(crate) fn outcome(
+    name: impl Into<String>,
+    caption: impl Into<String>,
+    draw: impl FnOnce() -> Result<(), StudyError>,
+) -> FigureOutcome {
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(draw))
+        .unwrap_or_else(|_| Err(StudyError::Other("the figure code panicked".into())))
+        .map_err(|e| e.to_string());
+    FigureOutcome {
+        name: name.into(),
+        caption: caption.into(),
+        result,
+    }
+}
+
 /// Draws every figure into `dir`. A figure that fails (or panics) is reported in its outcome;
 /// the others are still drawn.
 pub fn write_all(
@@ -60,14 +77,7 @@ pub fn write_all(
 ) -> Vec<FigureOutcome> {
     let mut out = Vec::new();
     let mut run = |name: String, caption: String, f: &dyn Fn() -> Result<(), StudyError>| {
-        let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f))
-            .unwrap_or_else(|_| Err(StudyError::Other("the figure code panicked".into())))
-            .map_err(|e| e.to_string());
-        out.push(FigureOutcome {
-            name,
-            caption,
-            result,
-        });
+        out.push(outcome(name, caption, f));
     };
     if let Some(ex) = example {
         run(

@@ -4,8 +4,7 @@
 //! prior that counts as identified.
 
 use super::panel::*;
-use super::FigureOutcome;
-use crate::error::StudyError;
+use super::{outcome, FigureOutcome};
 use crate::plan::{Plan, IDENTIFIED_BELOW};
 use plotters::prelude::*;
 use std::path::Path;
@@ -70,15 +69,7 @@ pub fn draw(p: &Plan, dir: &Path) -> FigureOutcome {
         cell: (560, 400),
         legend: Vec::new(),
     };
-    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        render(dir, "plan_sigma", &grid)
-    }))
-    .unwrap_or_else(|_| Err(StudyError::Other("the figure code panicked".into())));
-    FigureOutcome {
-        name: "plan_sigma".into(),
-        caption: TITLE.into(),
-        result: result.map_err(|e| e.to_string()),
-    }
+    outcome("plan_sigma", TITLE, || render(dir, "plan_sigma", &grid))
 }
 
 /// Title of `plan_sweep`.
@@ -150,13 +141,7 @@ pub fn draw_sweep(c: &crate::plan::Comparison, dir: &Path) -> FigureOutcome {
         cell: (380, 280),
         legend: Vec::new(),
     };
-    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+    outcome("plan_sweep", SWEEP_TITLE, || {
         render(dir, "plan_sweep", &grid)
-    }))
-    .unwrap_or_else(|_| Err(StudyError::Other("the figure code panicked".into())));
-    FigureOutcome {
-        name: "plan_sweep".into(),
-        caption: SWEEP_TITLE.into(),
-        result: result.map_err(|e| e.to_string()),
-    }
+    })
 }

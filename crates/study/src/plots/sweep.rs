@@ -11,8 +11,7 @@
 //! factor of 20 (an initial misalignment from arcminutes to tens of degrees).
 
 use super::panel::*;
-use super::FigureOutcome;
-use crate::error::StudyError;
+use super::{outcome, FigureOutcome};
 use crate::sweep::{PointFilter, SweepSummary};
 use plotters::prelude::*;
 use std::path::Path;
@@ -155,14 +154,7 @@ pub fn draw(s: &SweepSummary, dim: usize, dir: &Path) -> Vec<FigureOutcome> {
         ("sweep_accuracy", ACCURACY_TITLE, &accuracy),
         ("sweep_nees", NEES_TITLE, &nees),
     ] {
-        let result =
-            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| render(dir, name, fig)))
-                .unwrap_or_else(|_| Err(StudyError::Other("the figure code panicked".into())));
-        out.push(FigureOutcome {
-            name: name.into(),
-            caption: caption.into(),
-            result: result.map_err(|e| e.to_string()),
-        });
+        out.push(outcome(name, caption, || render(dir, name, fig)));
     }
     out
 }

@@ -32,13 +32,7 @@ fn built_prefix(traj: &Trajectory, t: f64) -> [f64; 2] {
 
 /// North and East displacement of the end from the start, m.
 fn displacement(t: &Trajectory) -> [f64; 2] {
-    let c = t.config();
-    let (lat0, lon0) = (c.start_lat_deg.to_radians(), c.start_lon_deg.to_radians());
-    let end = t.end_position();
-    [
-        (end[0] - lat0) * meridian_radius(lat0.sin()),
-        (end[1] - lon0) * prime_vertical_radius(lat0.sin()) * lat0.cos(),
-    ]
+    built_prefix(t, t.duration())
 }
 
 #[test]

@@ -25,7 +25,11 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// The path's settings. Every field has a default, so a study file may set only some.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+///
+/// Written back (a results folder's "study file as run") with only the settings that mean
+/// something: with a segment list, the O-A-B-C-O settings are left out, so the file as run
+/// reads back exactly as [`TrajectoryConfig::validate`] accepts it.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct TrajectoryConfig {
     /// Latitude of O, degrees (Harbin, where the paper's authors work).
@@ -53,8 +57,35 @@ pub struct TrajectoryConfig {
     /// A test of the user's own (`[[trajectory.segment]]`, see [`crate::segments`]): when
     /// given, it replaces the O-A-B-C-O path and the settings above other than the start,
     /// the duration and nothing else.
-    #[serde(rename = "segment", skip_serializing_if = "Vec::is_empty")]
+    #[serde(rename = "segment")]
     pub segments: Vec<SegmentSpec>,
+}
+
+impl Serialize for TrajectoryConfig {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let path = [
+            ("initial_standstill_s", self.initial_standstill_s),
+            ("cruise_speed", self.cruise_speed),
+            ("turn_speed", self.turn_speed),
+            ("peak_accel", self.peak_accel),
+            ("peak_turn_rate_deg", self.peak_turn_rate_deg),
+            ("leg_north_m", self.leg_north_m),
+            ("leg_east_m", self.leg_east_m),
+        ];
+        let mut st = serializer.serialize_struct("TrajectoryConfig", 3 + path.len() + 1)?;
+        st.serialize_field("start_lat_deg", &self.start_lat_deg)?;
+        st.serialize_field("start_lon_deg", &self.start_lon_deg)?;
+        st.serialize_field("duration_s", &self.duration_s)?;
+        if self.segments.is_empty() {
+            for (key, v) in path {
+                st.serialize_field(key, &v)?;
+            }
+        } else {
+            st.serialize_field("segment", &self.segments)?;
+        }
+        st.end()
+    }
 }
 
 impl Default for TrajectoryConfig {
@@ -153,6 +184,11 @@ impl TrajectoryConfig {
                     ));
                 }
             }
+        }
+        if !self.segments.is_empty() {
+            // Cheap beside building the path: a sweep checks every point's segments here.
+            let laid = crate::segments::lay_out(&self.segments, "trajectory.segment")?;
+            check_fits(self, laid.iter().map(|l| l.duration).sum(), SEGMENTS_FIT)?;
         }
         if self.turn_speed > self.cruise_speed {
             return Err(config_err(
@@ -307,6 +343,37 @@ pub struct PathState {
     pub phase: Phase,
 }
 
+/// What a path that outlasts `duration_s` is called, and what would fix it.
+#[derive(Clone, Copy)]
+struct Fit {
+    what: &'static str,
+    remedy: &'static str,
+}
+
+const PATH_FITS: Fit = Fit {
+    what: "the path takes",
+    remedy: "a longer duration, shorter legs or a higher cruise_speed",
+};
+
+const SEGMENTS_FIT: Fit = Fit {
+    what: "the segments take",
+    remedy: "a longer duration or fewer segments",
+};
+
+/// Refuses a path of `t` seconds longer than the test.
+fn check_fits(c: &TrajectoryConfig, t: f64, fit: Fit) -> Result<(), DynamicsError> {
+    if t > c.duration_s {
+        return Err(config_err(
+            "duration_s",
+            format!(
+                "{} {t:.1} s but the test lasts {} s: expected {}",
+                fit.what, c.duration_s, fit.remedy
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// The built path: segments plus the integrated nominal latitude and longitude.
 #[derive(Debug, Clone)]
 pub struct Trajectory {
@@ -418,13 +485,7 @@ impl Trajectory {
                 );
             }
         }
-        Self::finish(
-            c,
-            b,
-            "the path takes",
-            "a longer duration, shorter legs or a higher cruise_speed",
-            "O",
-        )
+        Self::finish(c, b, PATH_FITS, "O")
     }
 
     /// The user's segment list, from rest at the start, heading North; after the last segment
@@ -435,35 +496,20 @@ impl Trajectory {
         for l in laid {
             b.push_climbing(l.duration, l.motion, l.label, l.climb);
         }
-        Self::finish(
-            c,
-            b,
-            "the segments take",
-            "a longer duration or fewer segments",
-            "hold",
-        )
+        Self::finish(c, b, SEGMENTS_FIT, "hold")
     }
 
-    /// The path of segments `b` until `duration_s`: refused if they take longer (`what`, e.g. `the path
-    /// takes`, and `remedy` say so), otherwise continued by what the vehicle does at their end (a cruise
-    /// at its speed, or a hold labelled `rest_label`), with the nominal position integrated.
+    /// The path of segments `b` until `duration_s`: refused if they take longer (`fit` says
+    /// so), otherwise continued by what the vehicle does at their end (a cruise at its speed,
+    /// or a hold labelled `rest_label`), with the nominal position integrated.
     fn finish(
         c: &TrajectoryConfig,
         mut b: SegmentList,
-        what: &str,
-        remedy: &str,
+        fit: Fit,
         rest_label: &'static str,
     ) -> Result<Self, DynamicsError> {
         let t = b.t;
-        if t > c.duration_s {
-            return Err(config_err(
-                "duration_s",
-                format!(
-                    "{what} {t:.1} s but the test lasts {} s: expected {remedy}",
-                    c.duration_s
-                ),
-            ));
-        }
+        check_fits(c, t, fit)?;
         if c.duration_s > t {
             let end_speed = b.segs.last().map_or(0.0, |s| s.kinematics(s.duration).0);
             if end_speed > 0.0 {

@@ -216,3 +216,26 @@ fn a_malformed_segment_is_refused_where_it_stands() {
         assert!(e.contains("line"), "{e}");
     }
 }
+
+#[test]
+fn a_test_of_segments_written_back_reads_back_the_same() {
+    // A results folder keeps the study file as run: written back, a segment list must come
+    // back as the same test, without the O-A-B-C-O settings it would refuse beside it.
+    let original = config(
+        "duration_s = 900.0\n[[segment]]\nkind = \"hold\"\nduration_s = 30.0\n\
+         [[segment]]\nkind = \"repeat\"\ncount = 2\nsegments = [\
+         { kind = \"speed\", to = 20.0, accel = 2.0 }, \
+         { kind = \"turn\", angle_deg = 180.0, rate_deg = 4.0, climb_m = 3.0 }, \
+         { kind = \"speed\", to = 0.0, accel = 2.0 }, { kind = \"hold\", duration_s = 5.0 }]\n",
+    );
+    let written = toml::to_string(&original).expect("writes");
+    assert!(!written.contains("leg_north_m"), "{written}");
+    let back = config(&written);
+    assert_eq!(back, original);
+    Trajectory::build(&back).expect("the file as run builds");
+    // The O-A-B-C-O path keeps every one of its settings.
+    let paper = TrajectoryConfig::default();
+    let written = toml::to_string(&paper).expect("writes");
+    assert!(written.contains("leg_north_m"), "{written}");
+    assert_eq!(config(&written), paper);
+}

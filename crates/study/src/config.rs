@@ -379,6 +379,7 @@ impl StudyConfig {
             ));
         }
         self.noise.validate()?;
+        self.trajectory.validate().map_err(|e| e.to_string())?;
         let f = &self.filter;
         let i = &f.initial;
         for (key, v) in [

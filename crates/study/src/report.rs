@@ -200,16 +200,26 @@ fn settings(s: &Summary) -> String {
     let lines = [
         format!("runs: {} (seed {})", s.runs, c.study.seed),
         format!("filters: {}", c.study.filters.join(", ")),
-        format!(
-            "trajectory: {} s, {} s at rest first, legs {} m north and {} m east, cruise {} m/s, start {} deg N {} deg E",
-            c.trajectory.duration_s,
-            c.trajectory.initial_standstill_s,
-            c.trajectory.leg_north_m,
-            c.trajectory.leg_east_m,
-            c.trajectory.cruise_speed,
-            c.trajectory.start_lat_deg,
-            c.trajectory.start_lon_deg
-        ),
+        if c.trajectory.segments.is_empty() {
+            format!(
+                "trajectory: {} s, {} s at rest first, legs {} m north and {} m east, cruise {} m/s, start {} deg N {} deg E",
+                c.trajectory.duration_s,
+                c.trajectory.initial_standstill_s,
+                c.trajectory.leg_north_m,
+                c.trajectory.leg_east_m,
+                c.trajectory.cruise_speed,
+                c.trajectory.start_lat_deg,
+                c.trajectory.start_lon_deg
+            )
+        } else {
+            format!(
+                "trajectory: {} s written as {} segments (below), start {} deg N {} deg E",
+                c.trajectory.duration_s,
+                c.trajectory.segments.len(),
+                c.trajectory.start_lat_deg,
+                c.trajectory.start_lon_deg
+            )
+        },
         format!(
             "truth: effects {}; integration {} Hz, inputs {} Hz, measurements {} Hz; coefficients drawn at {} x their typical sigma",
             list(&c.truth.effects),

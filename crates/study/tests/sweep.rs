@@ -58,6 +58,65 @@ fn each_point_changes_only_the_swept_setting() {
 }
 
 #[test]
+fn a_setting_inside_a_list_is_swept_by_its_index() {
+    // A trajectory of segments: the speed of the second segment, and a cruise's duration
+    // inside a repeat, indexed as the located errors write them.
+    let text = "[study]\nname = \"laps\"\nruns = 2\nseed = 1\nfilters = [\"ekf\"]\n\
+        [trajectory]\nduration_s = 600.0\n\
+        [[trajectory.segment]]\nkind = \"hold\"\nduration_s = 10.0\n\
+        [[trajectory.segment]]\nkind = \"speed\"\nto = 10.0\naccel = 2.0\n\
+        [[trajectory.segment]]\nkind = \"repeat\"\ncount = 2\nsegments = [\
+        { kind = \"cruise\", duration_s = 60.0 }, \
+        { kind = \"turn\", angle_deg = 180.0, rate_deg = 6.0 }]\n";
+    let sweep = |key: &str, values: &str| {
+        StudyConfig::parse(&format!(
+            "{text}[sweep]\nkey = \"{key}\"\nvalues = {values}\n"
+        ))
+        .and_then(|c| points(&c))
+    };
+    let speed = |c: &StudyConfig| match &c.trajectory.segments[1] {
+        navkf_dynamics::segments::SegmentSpec::Speed { to, .. } => *to,
+        other => panic!("{other:?}"),
+    };
+    let p = sweep("trajectory.segment[1].to", "[5.0, 20.0]").unwrap();
+    assert_eq!(p.iter().map(speed).collect::<Vec<_>>(), [5.0, 20.0]);
+    let mut same = p[1].clone();
+    same.trajectory.segments[1] = p[0].trajectory.segments[1].clone();
+    assert_eq!(same, p[0], "only the swept segment differs");
+    let p = sweep("trajectory.segment[2].segments[0].duration_s", "[30.0]").unwrap();
+    let navkf_dynamics::segments::SegmentSpec::Repeat { segments, .. } =
+        &p[0].trajectory.segments[2]
+    else {
+        panic!("a repeat")
+    };
+    assert!(matches!(
+        segments[0],
+        navkf_dynamics::segments::SegmentSpec::Cruise { duration_s: Some(d), .. } if d == 30.0
+    ));
+    // An integer inside a list stays an integer.
+    assert!(sweep("trajectory.segment[2].count", "[3.0]").is_ok());
+    assert!(sweep("trajectory.segment[2].count", "[2.5]")
+        .unwrap_err()
+        .contains("not a whole number"));
+    // Out of range, not a list, a malformed index, and a value the segment refuses.
+    for (key, needle) in [
+        ("trajectory.segment[7].to", "has 3 entries, not 8"),
+        ("trajectory.duration_s[0]", "is not a list"),
+        ("trajectory.segment[x].to", "expected an index"),
+        ("trajectory.segment[1.to", "expected an index in brackets"),
+        ("trajectory.segment[1].accel", "trajectory.segment[1].accel"),
+    ] {
+        let values = if key.ends_with("accel") {
+            "[-1.0]"
+        } else {
+            "[1.0]"
+        };
+        let e = sweep(key, values).unwrap_err();
+        assert!(e.contains(needle), "{key}: {e}");
+    }
+}
+
+#[test]
 fn bad_sweeps_are_refused_with_their_key() {
     let err = |key: &str, values: &[f64]| points(&with_sweep(key, values)).unwrap_err();
     let e = err("truth.initial_tilt.azimut_rad", &[1.0]);

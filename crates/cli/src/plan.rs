@@ -87,8 +87,15 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         .par_iter()
         .map(|(label, _, s)| plan(s).map_err(|e| format!("design {label}: {e}")))
         .collect::<Result<Vec<Plan>, _>>()?;
+    // Files are a few designs, each worth its own figure; a sweep's points are many, and
+    // its figure is the one across them.
     for (i, p) in plans.iter().enumerate() {
-        write_plan(p, &out.join(format!("design-{i:02}")), &command, false)?;
+        write_plan(
+            p,
+            &out.join(format!("design-{i:02}")),
+            &command,
+            key.is_none(),
+        )?;
     }
     let comparison = Comparison {
         key,

@@ -44,6 +44,7 @@ fn plan_writes_one_design_or_compares_several() {
     assert!(md.contains("| paper | 3 of 13 |"), "{md}");
     assert!(md.contains("| stress-10x |"), "{md}");
     assert!(two.join("design-01/plan.json").is_file());
+    assert!(two.join("design-01/plan_sigma.png").is_file());
 
     let sweep = dir.join("sweep.toml");
     let text_file = std::fs::read_to_string(PAPER).unwrap()
@@ -60,6 +61,7 @@ fn plan_writes_one_design_or_compares_several() {
     let md = std::fs::read_to_string(out.join("designs.md")).unwrap();
     assert!(md.contains("| noise.gps_m = 30 |"), "{md}");
     assert!(out.join("plan_sweep.svg").is_file());
+    assert!(!out.join("design-00/plan_sigma.svg").exists());
     let json = std::fs::read_to_string(out.join("designs.json")).unwrap();
     assert!(json.contains("\"key\": \"noise.gps_m\""));
 

@@ -90,19 +90,25 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// The `[trajectory]` table of the TOML file at `path`; errors name the file and the key.
+/// The `[trajectory]` table of the TOML file at `path`, checked; errors name the file and
+/// the line and column (a parse error) or the key (a value the trajectory refuses).
 fn read_trajectory(path: &std::path::Path) -> Result<TrajectoryConfig, Box<dyn std::error::Error>> {
+    /// The file's other tables (a study file's `[study]`, `[noise]`...) are not read here.
+    #[derive(serde::Deserialize)]
+    struct TrajectoryFile {
+        trajectory: Option<TrajectoryConfig>,
+    }
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let file: toml::Table = text
-        .parse()
-        .map_err(|e: toml::de::Error| format!("{}: {e}", path.display()))?;
-    let table = file.get("trajectory").cloned().ok_or_else(|| {
+    let file: TrajectoryFile =
+        toml::from_str(&text).map_err(|e: toml::de::Error| format!("{}: {e}", path.display()))?;
+    let trajectory = file.trajectory.ok_or_else(|| {
         format!(
             "{}: no [trajectory] table; expected the test to drive there",
             path.display()
         )
     })?;
-    Ok(table.try_into().map_err(|e: toml::de::Error| {
-        format!("{}: [trajectory]: {}", path.display(), e.message())
-    })?)
+    trajectory
+        .validate()
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(trajectory)
 }

@@ -1,4 +1,5 @@
-//! `navkf plan` from the command line: one study file, several, and a sweep.
+//! `navkf plan` from the command line: one study file, several, and a sweep; and the tests
+//! it plans driven by `simulate --trajectory`.
 
 mod common;
 
@@ -79,4 +80,52 @@ fn plan_writes_one_design_or_compares_several() {
         text(&o.stderr)
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn simulate_drives_a_written_test_and_locates_a_bad_one() {
+    let dir = scratch("simulate");
+    let run = |file: &std::path::Path, out: &str| {
+        navkf([
+            "simulate".as_ref(),
+            "--trajectory".as_ref(),
+            file.as_os_str(),
+            "--out".as_ref(),
+            dir.join(out).as_os_str(),
+        ])
+    };
+    // A study file's [trajectory]: the identify-all laps, one hour.
+    let o = run("../../studies/identify-all.toml".as_ref(), "laps");
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("3601 rows"), "{}", text(&o.stdout));
+    // A misspelt key: the file, its line and column.
+    let bad = dir.join("misspelt.toml");
+    std::fs::write(
+        &bad,
+        "[trajectory]\nduration_s = 100.0\n[[trajectory.segment]]\nkind = \"hold\"\nduratio_s = 10.0\n",
+    )
+    .unwrap();
+    let o = run(&bad, "a");
+    assert_eq!(o.status.code(), Some(1));
+    let e = text(&o.stderr);
+    assert!(
+        e.contains("misspelt.toml") && e.contains("line 3") && e.contains("duratio_s"),
+        "{e}"
+    );
+    // A value the trajectory refuses: the file and the segment's key.
+    let bad = dir.join("refused.toml");
+    std::fs::write(
+        &bad,
+        "[trajectory]\nduration_s = 100.0\n[[trajectory.segment]]\nkind = \"hold\"\nduration_s = 10.0\n\
+         [[trajectory.segment]]\nkind = \"speed\"\nto = 0.0\naccel = 1.0\n",
+    )
+    .unwrap();
+    let o = run(&bad, "b");
+    assert_eq!(o.status.code(), Some(1));
+    let e = text(&o.stderr);
+    assert!(
+        e.contains("refused.toml") && e.contains("trajectory.segment[1].to"),
+        "{e}"
+    );
+    assert!(!dir.join("a").exists() && !dir.join("b").exists());
 }

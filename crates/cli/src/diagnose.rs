@@ -143,20 +143,21 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             PathBuf::from("results/diagnose").join(&ds.name)
         }
     };
-    navkf_study::output::check_output_dir(&out)?;
+    let staged = navkf_study::output::ResultsDir::begin(&out)?;
     let started = std::time::Instant::now();
     let (d, fits) = diagnose(&ds, &registry, &opts)?;
-    let figures = navkf_study::diagnose::plots::draw(&d, &fits, &out);
+    let figures = navkf_study::diagnose::plots::draw(&d, &fits, staged.path());
     crate::warn_undrawn(&figures);
     let command = navkf_study::output::command_line();
     write_atomic(
-        &out.join("diagnosis.json"),
+        &staged.path().join("diagnosis.json"),
         serde_json::to_string_pretty(&d)?.as_bytes(),
     )?;
     write_atomic(
-        &out.join("report.md"),
+        &staged.path().join("report.md"),
         report::markdown(&d, &command, &figures).as_bytes(),
     )?;
+    staged.commit()?;
     eprintln!(
         "diagnosed {} in {:.1} s ({} rounds), wrote {}",
         ds.name,

@@ -28,13 +28,15 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("results/plan").join(&configs[0].study.name));
-    navkf_study::output::check_output_dir(&out)?;
+    let staged = navkf_study::output::ResultsDir::begin(&out)?;
+    let dir = staged.path();
     let started = std::time::Instant::now();
     let command = navkf_study::output::command_line();
     if configs.len() == 1 && configs[0].sweep.is_none() {
         let study = Study::new(configs.into_iter().next().expect("one"))?;
         let p = plan(&study)?;
-        write_plan(&p, &out, &command, true)?;
+        write_plan(&p, dir, &command, true)?;
+        staged.commit()?;
         print!("{}", table(&p));
         eprintln!(
             "planned {} in {:.2} s, wrote {}",
@@ -92,7 +94,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     for (i, p) in plans.iter().enumerate() {
         write_plan(
             p,
-            &out.join(format!("design-{i:02}")),
+            &dir.join(format!("design-{i:02}")),
             &command,
             key.is_none(),
         )?;
@@ -113,17 +115,18 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         comparison_table(&comparison)
     );
     if comparison.key.is_some() {
-        let f = navkf_study::plots::plan::draw_sweep(&comparison, &out);
+        let f = navkf_study::plots::plan::draw_sweep(&comparison, dir);
         if f.result.is_ok() {
             md.push_str(&format!("\n![{}]({}.svg)\n", f.caption, f.name));
         }
         crate::warn_undrawn(std::slice::from_ref(&f));
     }
     write_atomic(
-        &out.join("designs.json"),
+        &dir.join("designs.json"),
         serde_json::to_string_pretty(&comparison)?.as_bytes(),
     )?;
-    write_atomic(&out.join("designs.md"), md.as_bytes())?;
+    write_atomic(&dir.join("designs.md"), md.as_bytes())?;
+    staged.commit()?;
     print!("{}", comparison_table(&comparison));
     eprintln!(
         "planned {} designs in {:.2} s, wrote {}",

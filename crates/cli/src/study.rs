@@ -3,7 +3,7 @@
 
 use indicatif::{ProgressBar, ProgressStyle};
 use navkf_study::output::{
-    fold, read_partials, shard_blocks, write_atomic, write_results, Partial,
+    fold, read_partials, shard_blocks, write_atomic, write_results, Partial, ResultsDir,
 };
 use navkf_study::{guard, Study, StudyConfig};
 use std::path::PathBuf;
@@ -136,7 +136,14 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
-    navkf_study::output::check_output_dir(&out)?;
+    // Shards share their folder (each adds its file); a whole study replaces its folder whole.
+    let staged = match shard {
+        Some(_) => {
+            navkf_study::output::check_output_dir(&out)?;
+            None
+        }
+        None => Some(ResultsDir::begin(&out)?),
+    };
     let study = Study::new(config)?;
     let blocks = match shard {
         Some((i, n)) => shard_blocks(study.block_count(), i, n),
@@ -187,7 +194,9 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             );
         }
         None => {
-            let summary = write_results(&study, &tally, example.as_ref(), &out)?;
+            let staged = staged.expect("a whole study is staged");
+            let summary = write_results(&study, &tally, example.as_ref(), staged.path())?;
+            staged.commit()?;
             eprintln!(
                 "{} runs in {wall:.1} s, wrote {}",
                 tally.runs,
@@ -218,7 +227,7 @@ pub fn merge(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
-    navkf_study::output::check_output_dir(&out)?;
+    let staged = ResultsDir::begin(&out)?;
     let study = Study::new(config)?;
     let blocks: Vec<_> = parts
         .iter()
@@ -226,7 +235,10 @@ pub fn merge(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     let example = parts.iter().find_map(|p| p.example.clone());
     let tally = fold(&blocks);
-    let summary = write_results(&study, &tally, example.as_ref(), &out)?;
+    let summary = write_results(&study, &tally, example.as_ref(), staged.path())?;
+    // The shard files it merged stay beside the results they made.
+    staged.carry_over(|name| name.starts_with("partial-") && name.ends_with(".json"))?;
+    staged.commit()?;
     eprintln!(
         "merged {} shards ({} runs) into {}",
         parts.len(),
@@ -266,7 +278,7 @@ fn run_diagnosis_study(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
-    navkf_study::output::check_output_dir(&out)?;
+    let staged = ResultsDir::begin(&out)?;
     let bar = progress_bar(a.quiet, count, "datasets");
     bar.set_prefix(config.study.name.clone());
     let started = std::time::Instant::now();
@@ -277,7 +289,8 @@ fn run_diagnosis_study(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         threads: rayon::current_num_threads(),
     };
     let command = navkf_study::output::command_line();
-    let summary = report::write(&config, records, &out, &command, Some(timing))?;
+    let summary = report::write(&config, records, staged.path(), &command, Some(timing))?;
+    staged.commit()?;
     eprintln!(
         "diagnosed {} datasets in {:.0} s, wrote {}",
         summary.records.len(),
@@ -323,7 +336,8 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
-    navkf_study::output::check_output_dir(&out)?;
+    let staged = ResultsDir::begin(&out)?;
+    let dir = staged.path();
     // Every point is built (and so checked) before the first run.
     let studies = sweep::points(&config)?
         .into_iter()
@@ -347,8 +361,8 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
         let tally = study.run_folded(0..study.block_count(), &progress, keep_example);
         done_before += study.config.study.runs;
         let example = example.into_inner().expect("not poisoned");
-        let dir = out.join(sweep::point_folder(i));
-        let summary = write_results(study, &tally, example.as_ref(), &dir)?;
+        let point_dir = dir.join(sweep::point_folder(i));
+        let summary = write_results(study, &tally, example.as_ref(), &point_dir)?;
         points.push(sweep::point(i, values[i], study, &tally, &summary));
     }
     bar.finish_and_clear();
@@ -359,17 +373,18 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
         filters: config.study.filters.clone(),
         points,
     };
-    let figures = navkf_study::plots::sweep::draw(&summary, studies[0].names.len(), &out);
+    let figures = navkf_study::plots::sweep::draw(&summary, studies[0].names.len(), dir);
     crate::warn_undrawn(&figures);
     write_atomic(
-        &out.join("sweep.json"),
+        &dir.join("sweep.json"),
         serde_json::to_string_pretty(&summary)?.as_bytes(),
     )?;
     let command = navkf_study::output::command_line();
     write_atomic(
-        &out.join("sweep.md"),
+        &dir.join("sweep.md"),
         sweep::markdown(&summary, &command, &figures).as_bytes(),
     )?;
+    staged.commit()?;
     eprintln!(
         "{} points x {} runs in {:.1} s, wrote {}",
         summary.points.len(),

@@ -129,3 +129,47 @@ fn simulate_drives_a_written_test_and_locates_a_bad_one() {
     );
     assert!(!dir.join("a").exists() && !dir.join("b").exists());
 }
+
+#[test]
+fn a_results_folder_is_replaced_whole_and_a_users_folder_is_refused() {
+    let dir = scratch("replace");
+    // An earlier comparison of eleven designs left design-10/; planning one file replaces
+    // the folder whole, so nothing of the comparison survives beside the new plan.
+    let out = dir.join("out");
+    std::fs::create_dir_all(out.join("design-10")).unwrap();
+    std::fs::write(out.join("designs.json"), "{}").unwrap();
+    std::fs::write(out.join("design-10/plan.md"), "old").unwrap();
+    let o = navkf([
+        "plan".as_ref(),
+        PAPER.as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(out.join("plan.md").is_file());
+    assert!(!out.join("design-10").exists() && !out.join("designs.json").exists());
+    // A folder of the user's own is refused before any work, and left as it was.
+    let theirs = dir.join("theirs");
+    std::fs::create_dir_all(&theirs).unwrap();
+    std::fs::write(theirs.join("notes.txt"), "mine").unwrap();
+    let o = navkf([
+        "plan".as_ref(),
+        PAPER.as_ref(),
+        "--out".as_ref(),
+        theirs.as_os_str(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        text(&o.stderr).contains("something other than navkf results"),
+        "{}",
+        text(&o.stderr)
+    );
+    let left: Vec<_> = std::fs::read_dir(&theirs).unwrap().collect();
+    assert_eq!(left.len(), 1);
+    // Nothing is left beside them.
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|n| !n.contains("navkf-")), "{names:?}");
+}

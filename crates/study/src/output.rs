@@ -10,6 +10,8 @@ use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+pub use crate::results_dir::{ResultsDir, MARKER};
+
 /// Checks that `name` (a study's or dataset's name, the last part of its default results
 /// folder) is a plain name: 1 to 100 ASCII letters, digits, `-`, `_` or `.`, not starting
 /// with `.`. Anything else (`../x`, `/tmp/x`, `""`, a control character) would write outside
@@ -49,7 +51,8 @@ pub fn shown(text: &str) -> String {
 
 /// Makes sure `dir` can take a run's outputs before the run starts: it is a folder, or can be
 /// created as one, and a file can be written in it. A study that would fail only when writing
-/// its results fails here instead, before any computing.
+/// its results fails here instead, before any computing. Only a shard writes into a folder
+/// this way (several shards share it); every other command writes through [`ResultsDir`].
 pub fn check_output_dir(dir: &Path) -> Result<(), StudyError> {
     let io = |source| StudyError::Io {
         path: dir.to_path_buf(),

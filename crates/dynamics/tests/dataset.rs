@@ -1254,3 +1254,54 @@ fn summary_names_truth_columns_and_survives_an_empty_dataset() {
     assert_eq!((s.span, s.speed, s.extent), (None, None, None));
     assert!(s.to_string().contains("span          empty"));
 }
+
+#[test]
+fn an_error_on_line_2_is_reported_without_reading_the_rest() {
+    // inputs.csv: a bad cell on line 2, then 64 GiB of NUL bytes (a sparse file: no disk
+    // used). A reader that took the whole file before checking would hold one 64 GiB
+    // "line" in memory; a streaming one stops at line 2.
+    let dir = folder("sparse", &[("measurements.csv", MEAS_OK)]);
+    let path = dir.join("inputs.csv");
+    std::fs::write(&path, "t,f_e,f_n,f_u\n0,0.001,x,9.8\n").unwrap();
+    let file = std::fs::OpenOptions::new().write(true).open(&path).unwrap();
+    if file.set_len(64 << 30).is_err() {
+        return; // a file system without sparse files: nothing to show here
+    }
+    drop(file);
+    let e = Dataset::read(&dir).unwrap_err().to_string();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_mentions(&e, &["inputs.csv:2", "f_n"]);
+}
+
+#[test]
+fn a_device_or_fifo_is_refused_not_read() {
+    // /dev/zero never ends and a FIFO without a writer blocks: both refused before reading.
+    if !std::path::Path::new("/dev/zero").exists() {
+        return;
+    }
+    let inputs = inputs_text(50);
+    for name in [
+        "inputs.csv",
+        "measurements.csv",
+        "truth.csv",
+        "dataset.toml",
+    ] {
+        let dir = folder(
+            "device",
+            &[("inputs.csv", &inputs), ("measurements.csv", MEAS_OK)],
+        );
+        let _ = std::fs::remove_file(dir.join(name));
+        std::os::unix::fs::symlink("/dev/zero", dir.join(name)).unwrap();
+        let e = Dataset::read(&dir).unwrap_err().to_string();
+        assert_mentions(&e, &[name, "not a regular file"]);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    let dir = folder(
+        "folder",
+        &[("inputs.csv", &inputs), ("measurements.csv", MEAS_OK)],
+    );
+    std::fs::create_dir(dir.join("truth.csv")).unwrap();
+    let e = Dataset::read(&dir).unwrap_err().to_string();
+    assert_mentions(&e, &["truth.csv", "a folder"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}

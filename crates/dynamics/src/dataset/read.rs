@@ -98,30 +98,52 @@ fn data_error(path: &Path, line: usize, column: &str, message: String) -> Dynami
 }
 
 /// One CSV line: its 1-based line number and its cells, trimmed of surrounding blanks.
+#[derive(Clone)]
 struct Row {
     line: usize,
     cells: Vec<String>,
 }
 
-/// A CSV file read whole: the header row, then the data rows.
+/// A CSV file read as a stream: its header row, then one data row at a time, so that an
+/// error on line 2 is reported before the rest is read, and memory holds only what the caller
+/// keeps of each row.
 struct Table {
     path: PathBuf,
     header: Row,
-    rows: Vec<Row>,
+    reader: csv::Reader<std::fs::File>,
+    record: csv::ByteRecord,
+    /// Line of the last row read (the header's before any).
+    last_line: usize,
 }
 
 impl Table {
-    /// The line just after the last row: where a missing row was expected.
+    /// The line just after the last row read: where a missing row was expected.
     fn next_line(&self) -> usize {
-        self.rows.last().unwrap_or(&self.header).line + 1
+        self.last_line + 1
+    }
+
+    /// The next data row, or `None` at the end of the file.
+    fn next_row(&mut self) -> Result<Option<Row>, DynamicsError> {
+        let row = read_row(
+            &self.path,
+            &mut self.reader,
+            &mut self.record,
+            self.last_line,
+        )?;
+        if let Some(r) = &row {
+            self.last_line = r.line;
+        }
+        Ok(row)
     }
 }
 
-/// Reads a CSV file without interpreting it. `flexible` so that rows of the wrong length reach
-/// us and are reported with their column; bytes that are not UTF-8 become U+FFFD and so fail
-/// as "not a number" or as a wrong column name, with their line.
+/// Opens a CSV file and reads its header row, without interpreting it. `flexible` so that
+/// rows of the wrong length reach us and are reported with their column; bytes that are not
+/// UTF-8 become U+FFFD and so fail as "not a number" or as a wrong column name, with their
+/// line. Anything but a regular file (a device such as `/dev/zero`, a FIFO, a folder) is
+/// refused before reading: it could hang or never end.
 fn read_table(path: &Path, expected_header: &str) -> Result<Table, DynamicsError> {
-    let file = std::fs::File::open(path).map_err(|source| {
+    let not_found = |source: std::io::Error| {
         if source.kind() == ErrorKind::NotFound {
             DynamicsError::File {
                 path: path.to_path_buf(),
@@ -135,30 +157,21 @@ fn read_table(path: &Path, expected_header: &str) -> Result<Table, DynamicsError
                 source,
             }
         }
+    };
+    regular_file(path).map_err(|e| match e {
+        RegularFile::Io(source) => not_found(source),
+        RegularFile::Not(message) => DynamicsError::File {
+            path: path.to_path_buf(),
+            message,
+        },
     })?;
+    let file = std::fs::File::open(path).map_err(not_found)?;
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
         .from_reader(file);
     let mut record = csv::ByteRecord::new();
-    let mut rows = Vec::new();
-    loop {
-        match reader.read_byte_record(&mut record) {
-            Ok(true) => {}
-            Ok(false) => break,
-            Err(e) => return Err(csv_error(path, e)),
-        }
-        let line = record.position().map_or(rows.len() + 1, |p| {
-            usize::try_from(p.line()).unwrap_or(usize::MAX)
-        });
-        let cells = record
-            .iter()
-            .map(|b| String::from_utf8_lossy(b).trim().to_owned())
-            .collect();
-        rows.push(Row { line, cells });
-    }
-    let mut rows = rows.into_iter();
-    let Some(header) = rows.next() else {
+    let Some(header) = read_row(path, &mut reader, &mut record, 0)? else {
         return Err(data_error(
             path,
             1,
@@ -168,9 +181,57 @@ fn read_table(path: &Path, expected_header: &str) -> Result<Table, DynamicsError
     };
     Ok(Table {
         path: path.to_path_buf(),
+        last_line: header.line,
         header,
-        rows: rows.collect(),
+        reader,
+        record,
     })
+}
+
+/// One row of `reader`, its cells trimmed; `previous` is the line of the row before.
+fn read_row(
+    path: &Path,
+    reader: &mut csv::Reader<std::fs::File>,
+    record: &mut csv::ByteRecord,
+    previous: usize,
+) -> Result<Option<Row>, DynamicsError> {
+    match reader.read_byte_record(record) {
+        Ok(true) => {}
+        Ok(false) => return Ok(None),
+        Err(e) => return Err(csv_error(path, e)),
+    }
+    let line = record.position().map_or(previous + 1, |p| {
+        usize::try_from(p.line()).unwrap_or(usize::MAX)
+    });
+    let cells = record
+        .iter()
+        .map(|b| String::from_utf8_lossy(b).trim().to_owned())
+        .collect();
+    Ok(Some(Row { line, cells }))
+}
+
+/// Why a path is not a regular file to read.
+enum RegularFile {
+    /// It cannot be looked at (not found, no permission).
+    Io(std::io::Error),
+    /// It is something else; the message says what.
+    Not(String),
+}
+
+/// Checks that `path` (following links) is a regular file.
+fn regular_file(path: &Path) -> Result<(), RegularFile> {
+    let meta = std::fs::metadata(path).map_err(RegularFile::Io)?;
+    if meta.is_file() {
+        return Ok(());
+    }
+    let what = if meta.is_dir() {
+        "a folder"
+    } else {
+        "a device, FIFO or socket"
+    };
+    Err(RegularFile::Not(format!(
+        "is {what}, not a regular file; expected a file (reading it could block or never end)"
+    )))
 }
 
 fn csv_error(path: &Path, e: csv::Error) -> DynamicsError {
@@ -325,15 +386,15 @@ fn check_increasing(
 }
 
 fn read_inputs(path: &Path) -> Result<Vec<InputSample>, DynamicsError> {
-    let table = read_table(path, &INPUT_COLUMNS.join(","))?;
+    let mut table = read_table(path, &INPUT_COLUMNS.join(","))?;
     check_header(&table, &INPUT_COLUMNS)?;
-    let mut inputs = Vec::with_capacity(table.rows.len());
+    let mut inputs = Vec::new();
     let mut previous = None;
-    for row in &table.rows {
+    while let Some(row) = table.next_row()? {
         let cells = Cells {
             path,
             columns: &INPUT_COLUMNS,
-            row,
+            row: &row,
         };
         cells.check_count()?;
         let t = cells.required(0)?;
@@ -359,16 +420,16 @@ fn read_measurements(
     path: &Path,
     inputs: &[InputSample],
 ) -> Result<Vec<Measurement>, DynamicsError> {
-    let table = read_table(path, &MEASUREMENT_COLUMNS.join(","))?;
+    let mut table = read_table(path, &MEASUREMENT_COLUMNS.join(","))?;
     check_header(&table, &MEASUREMENT_COLUMNS)?;
-    let mut measurements = Vec::with_capacity(table.rows.len());
-    let mut lines = Vec::with_capacity(table.rows.len());
+    let mut measurements = Vec::new();
+    let mut lines = Vec::new();
     let mut previous = None;
-    for row in &table.rows {
+    while let Some(row) = table.next_row()? {
         let cells = Cells {
             path,
             columns: &MEASUREMENT_COLUMNS,
-            row,
+            row: &row,
         };
         cells.check_count()?;
         let t = cells.required(0)?;
@@ -612,6 +673,12 @@ fn known_coefficients(registry: &Registry) -> Vec<String> {
 }
 
 fn read_config(path: &Path, known: &[String]) -> Result<ConfigFile, DynamicsError> {
+    if let Err(RegularFile::Not(message)) = regular_file(path) {
+        return Err(DynamicsError::File {
+            path: path.to_path_buf(),
+            message,
+        });
+    }
     let text = std::fs::read_to_string(path).map_err(|source| DynamicsError::Io {
         path: path.to_path_buf(),
         source,
@@ -672,8 +739,8 @@ fn key_line(text: &str, table: &str, key: &str) -> Option<usize> {
 }
 
 fn read_truth(path: &Path) -> Result<Truth, DynamicsError> {
-    let table = read_table(path, "t,<state names>")?;
-    let header = &table.header;
+    let mut table = read_table(path, "t,<state names>")?;
+    let header = table.header.clone();
     let first = header.cells.first().map_or("", String::as_str);
     if first != "t" {
         return Err(data_error(
@@ -715,14 +782,14 @@ fn read_truth(path: &Path) -> Result<Truth, DynamicsError> {
         }
     }
     let columns: Vec<&str> = header.cells.iter().map(String::as_str).collect();
-    let mut t = Vec::with_capacity(table.rows.len());
-    let mut states = Vec::with_capacity(table.rows.len());
+    let mut t = Vec::new();
+    let mut states = Vec::new();
     let mut previous = None;
-    for row in &table.rows {
+    while let Some(row) = table.next_row()? {
         let cells = Cells {
             path,
             columns: &columns,
-            row,
+            row: &row,
         };
         cells.check_count()?;
         let time = cells.required(0)?;

@@ -143,6 +143,9 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             PathBuf::from("results/diagnose").join(&ds.name)
         }
     };
+    for w in ds.warnings() {
+        eprintln!("warning: {w}");
+    }
     let staged = navkf_study::output::ResultsDir::begin(&out)?;
     let started = std::time::Instant::now();
     let (d, fits) = diagnose(&ds, &registry, &opts)?;

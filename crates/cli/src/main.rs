@@ -86,6 +86,9 @@ fn main() -> ExitCode {
 fn inspect(dir: &std::path::Path, json: bool) -> Result<(), Box<dyn std::error::Error>> {
     let ds = navkf_dynamics::dataset::Dataset::read(dir)?;
     let summary = ds.summary();
+    for w in &summary.warnings {
+        eprintln!("warning: {w}");
+    }
     if json {
         println!("{}", serde_json::to_string_pretty(&summary)?);
     } else {

@@ -93,9 +93,11 @@ fn before_and_after_figures_are_drawn_and_linked() {
 
 #[test]
 fn a_dataset_too_short_for_windows_still_draws() {
+    // The fewest updates a diagnosis judges: shorter than one 300-s NIS window.
+    let n = navkf_study::diagnose::MIN_UPDATES;
     let mut ds = odometer_dataset();
-    ds.measurements.truncate(4);
-    let t_end = ds.measurements[3].t;
+    ds.measurements.truncate(n);
+    let t_end = ds.measurements[n - 1].t;
     ds.inputs.retain(|s| s.t <= t_end + 0.5);
     ds.truth = None;
     let (d, fits) = diagnose(&ds, &Registry::catalogue(), &Options::default()).unwrap();
@@ -112,4 +114,10 @@ fn a_dataset_too_short_for_windows_still_draws() {
     }
     no_temporaries(&dir);
     std::fs::remove_dir_all(&dir).unwrap();
+    // One update fewer is refused, saying how many it needs.
+    ds.measurements.truncate(n - 1);
+    let e = diagnose(&ds, &Registry::catalogue(), &Options::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains(&format!("needs at least {n} updates")), "{e}");
 }

@@ -2,13 +2,16 @@
 //! optional dataset.toml with its `[noise]`, `[prior]` and `[simulation]` tables, and
 //! truth.csv), read with validation and written atomically.
 //!
-//! Positions are kept in degrees, exactly as in the file, so that a dataset written and read
-//! back is bit-identical; [`Measurement::gps_rad`] converts for the filters.
+//! Positions are kept in degrees, exactly as in the file (except that a track crossing the
+//! antimeridian is made continuous), so that a dataset written and read back is
+//! bit-identical; [`Measurement::gps_rad`] converts for the filters.
 
+mod plausibility;
 mod read;
 mod summary;
 mod write;
 
+pub use plausibility::{DataWarning, Doubt};
 pub use summary::{
     DatasetSummary, Extent, Gap, Gaps, IntervalStats, Span, SpeedProfile, Stream, TruthSummary,
     TurnProfile, GAP_FACTOR, MIN_HEADING_SPEED, STILL_SPEED, TURN_RATE_DEG_S,

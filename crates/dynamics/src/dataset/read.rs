@@ -493,6 +493,7 @@ fn read_measurements(
             ));
         }
     }
+    check_input_rate(path, &inputs_path(path), inputs, &measurements)?;
     if let Some((line, why)) = looks_like_radians(&measurements, &lines) {
         return Err(data_error(
             path,
@@ -505,7 +506,74 @@ fn read_measurements(
             ),
         ));
     }
+    unwrap_longitude(&mut measurements);
     Ok(measurements)
+}
+
+/// `inputs.csv` beside `measurements`.
+fn inputs_path(measurements: &Path) -> PathBuf {
+    measurements.with_file_name(INPUTS_FILE)
+}
+
+/// Largest change of longitude (deg) between consecutive fixes that an antimeridian
+/// crossing may hide: over 1000 km at the equator, 190 km at 80 deg.
+const CROSSING_MAX_DEG: f64 = 10.0;
+
+/// Makes a track that crosses the antimeridian (longitude jumping between +180 and -180)
+/// one continuous track: a fix whose longitude jumps by more than half a turn from the
+/// previous one, but lies within [`CROSSING_MAX_DEG`] of it once moved by whole turns, is
+/// moved by those turns. The filters, `inspect`'s extent and the figures then all see the
+/// vehicle drive on, not jump 40,000 km. Other fixes keep their value to the bit.
+fn unwrap_longitude(measurements: &mut [Measurement]) {
+    let mut previous: Option<f64> = None;
+    for m in measurements.iter_mut() {
+        if let Some([_, lon]) = m.position_deg.as_mut() {
+            if let Some(p) = previous {
+                let turns = ((p - *lon) / 360.0).round();
+                let moved = *lon + 360.0 * turns;
+                if turns != 0.0 && (moved - p).abs() <= CROSSING_MAX_DEG {
+                    *lon = moved;
+                }
+            }
+            previous = Some(*lon);
+        }
+    }
+}
+
+/// Refuses inputs recorded less often than the measurements: the filter integrates the
+/// specific force between updates, so an input slower than the updates leaves intervals
+/// with nothing to integrate (or one sample held for several updates). Compared as median
+/// intervals, so gaps and jitter do not trip it.
+fn check_input_rate(
+    measurements_path: &Path,
+    inputs_path: &Path,
+    inputs: &[InputSample],
+    measurements: &[Measurement],
+) -> Result<(), DynamicsError> {
+    use super::plausibility::median_interval;
+    let (Some(di), Some(dm)) = (
+        median_interval(inputs.iter().map(|i| i.t)),
+        median_interval(measurements.iter().map(|m| m.t)),
+    ) else {
+        return Ok(());
+    };
+    if di > 1.5 * dm {
+        return Err(data_error(
+            inputs_path,
+            3,
+            "t",
+            format!(
+                "inputs every {di} s (median interval) are slower than the measurements of \
+                 {} every {dm} s; expected inputs at least as often as the measurements (the \
+                 filter integrates the specific force between updates)",
+                measurements_path.file_name().map_or_else(
+                    || measurements_path.display().to_string(),
+                    |n| n.to_string_lossy().into_owned()
+                )
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// A sensor pair: both cells or neither; one without the other is an error naming the empty
@@ -620,6 +688,16 @@ fn looks_like_radians(measurements: &[Measurement], lines: &[usize]) -> Option<(
 /// The length (m) of the odometer's displacement over `[ta, tb]`, from its samples inside
 /// the interval; `None` with fewer than two.
 fn odometer_displacement(odometer: &[(f64, [f64; 2])], ta: f64, tb: f64) -> Option<f64> {
+    odometer_east_north(odometer, ta, tb).map(|d| d[0].hypot(d[1]))
+}
+
+/// The odometer's East and North displacement (m) over `[ta, tb]` (its velocity integrated
+/// by trapezoids over its samples inside the interval); `None` with fewer than two.
+pub(super) fn odometer_east_north(
+    odometer: &[(f64, [f64; 2])],
+    ta: f64,
+    tb: f64,
+) -> Option<[f64; 2]> {
     let start = odometer.partition_point(|(t, _)| *t < ta);
     let end = odometer.partition_point(|(t, _)| *t <= tb);
     let inside = odometer.get(start..end)?;
@@ -633,7 +711,7 @@ fn odometer_displacement(odometer: &[(f64, [f64; 2])], ta: f64, tb: f64) -> Opti
         d[0] += 0.5 * (v0[0] + v1[0]) * dt;
         d[1] += 0.5 * (v0[1] + v1[1]) * dt;
     }
-    Some(d[0].hypot(d[1]))
+    Some(d)
 }
 
 /// Distance (m) between two positions in degrees, on the local tangent plane.

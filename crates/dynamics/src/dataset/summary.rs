@@ -8,7 +8,7 @@
 //! empty parts simply gives `None`s.
 
 use super::read::chord_m;
-use super::Dataset;
+use super::{DataWarning, Dataset};
 use serde::Serialize;
 use std::fmt;
 
@@ -148,6 +148,8 @@ pub struct DatasetSummary {
     pub extent: Option<Extent>,
     /// The truth's columns (`None` without truth).
     pub truth: Option<TruthSummary>,
+    /// Values that look written in the wrong unit ([`Dataset::warnings`]).
+    pub warnings: Vec<DataWarning>,
 }
 
 impl Dataset {
@@ -189,6 +191,7 @@ impl Dataset {
                 columns: t.names.clone(),
                 rows: t.t.len(),
             }),
+            warnings: self.warnings(),
         }
     }
 
@@ -399,6 +402,9 @@ impl fmt::Display for StreamText<'_> {
 impl fmt::Display for DatasetSummary {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "dataset `{}`", self.name)?;
+        for w in &self.warnings {
+            writeln!(f, "  WARNING       {w}")?;
+        }
         match self.span {
             Some(s) => writeln!(
                 f,

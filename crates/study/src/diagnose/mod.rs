@@ -322,6 +322,9 @@ pub struct Withdrawn {
     pub constancy: Constancy,
 }
 
+/// Fewest measurement rows a diagnosis judges: two blocks of the drift test.
+pub const MIN_UPDATES: usize = 2 * consistency::BLOCK;
+
 /// The whole diagnosis (`diagnosis.json`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Diagnosis {
@@ -356,6 +359,11 @@ pub struct Diagnosis {
     pub constancy: Vec<(String, Option<Constancy>)>,
     /// Plain-language findings.
     pub findings: Vec<String>,
+    /// The dataset's values that look written in the wrong unit
+    /// ([`navkf_dynamics::dataset::Dataset::warnings`]): the verdict stands on data that may
+    /// be wrong, and the report says so first.
+    #[serde(default)]
+    pub data_warnings: Vec<navkf_dynamics::dataset::DataWarning>,
 }
 
 /// The filter passes behind a diagnosis, kept for its figures.
@@ -374,6 +382,16 @@ pub fn diagnose(
     registry: &Registry,
     opts: &Options,
 ) -> Result<(Diagnosis, Fits), DiagnoseError> {
+    let updates = ds.measurements.len();
+    if updates < MIN_UPDATES {
+        return Err(DiagnoseError::Data(format!(
+            "{}: {updates} measurement row(s); a diagnosis needs at least {MIN_UPDATES} \
+             updates to judge (its drift test compares blocks of {} updates, and its NIS \
+             and whiteness tests have no power on fewer)",
+            navkf_dynamics::dataset::MEASUREMENTS_FILE,
+            consistency::BLOCK
+        )));
+    }
     let (_, _, start) = fit::first_full_measurement(ds)?;
     let (start_priors, prior_entries) = priors::resolve(ds, &opts.prior, start[0]);
     let base = FitSetup {
@@ -513,6 +531,7 @@ pub fn diagnose(
         withdrawn,
         constancy: constancies,
         findings: Vec::new(),
+        data_warnings: ds.warnings(),
     };
     d.findings = report::findings(&d);
     Ok((

@@ -671,6 +671,16 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
     if d.attitude != navkf_dynamics::Attitude::SmallAngle {
         let _ = writeln!(out, "Attitude equations of every fit: {}.\n", d.attitude);
     }
+    if !d.data_warnings.is_empty() {
+        let _ = writeln!(
+            out,
+            "**The data look wrong: the verdict below stands on them. Check these first.**\n"
+        );
+        for w in &d.data_warnings {
+            let _ = writeln!(out, "- WARNING {w}");
+        }
+        let _ = writeln!(out);
+    }
     let _ = writeln!(
         out,
         "**Verdict: {}**{}\n",

@@ -1,0 +1,234 @@
+//! Plausibility: values that parse and pass every rule of data-format.md, yet look written in
+//! the wrong unit. A diagnosis of such data would name an effect or blame the model with
+//! confidence, so `inspect` prints these warnings and `diagnose` puts them at the top of its
+//! report, before its verdict.
+//!
+//! Each check compares two things the file states independently, so that it needs no
+//! assumption about the vehicle:
+//! - **times in milliseconds**: the odometer's velocity integrated over the time column
+//!   against the GPS track (milliseconds make the odometer travel 1000 times too far); without
+//!   both, the input interval (a vehicle test records its specific force at 10 Hz or faster);
+//! - **latitude or longitude in radians**: the odometer's North (East) travel against the GPS
+//!   track's, axis by axis (radians read as degrees move 57 times too little), whatever the
+//!   other column holds (a track in radians on both axes is refused by the reader);
+//! - **specific force not in m/s^2**: its median magnitude against the Earth's gravity (a
+//!   vehicle on a road feels `|f|` within a few percent of g most of the time).
+
+use super::read::{chord_m, odometer_east_north};
+use super::{Dataset, INPUTS_FILE, MEASUREMENTS_FILE};
+use crate::earth::{meridian_radius, normal_gravity, prime_vertical_radius};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// What looks wrong.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Doubt {
+    /// The time column looks like milliseconds.
+    TimesInMilliseconds,
+    /// `lat_deg` looks like radians.
+    LatitudeInRadians,
+    /// `lon_deg` looks like radians.
+    LongitudeInRadians,
+    /// The specific force is far from gravity: not m/s^2, or not a specific force.
+    SpecificForceNotGravity,
+}
+
+/// One warning: what, where (file and column), and the evidence.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DataWarning {
+    /// What looks wrong.
+    pub doubt: Doubt,
+    /// The file.
+    pub file: String,
+    /// The column.
+    pub column: String,
+    /// The evidence and what was expected.
+    pub message: String,
+}
+
+impl fmt::Display for DataWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}: column `{}`: {}",
+            self.file, self.column, self.message
+        )
+    }
+}
+
+/// Travel (m) the odometer must cover before its comparison with the GPS means anything.
+const MIN_TRAVEL_M: f64 = 100.0;
+/// Odometer travel beyond this many times the GPS track's: the time column is milliseconds
+/// (1000 times), not GPS noise or an odometer scale error (a few percent).
+const MILLISECONDS_RATIO: f64 = 30.0;
+/// GPS travel on one axis below this fraction of the odometer's: that column is radians
+/// (1/57).
+const RADIANS_RATIO: f64 = 0.1;
+/// A median input interval at or beyond this (s) is no vehicle test's inertial record.
+const SLOWEST_INPUT_S: f64 = 1.0;
+/// The median specific force must lie within this fraction of gravity.
+const GRAVITY_TOLERANCE: f64 = 0.3;
+
+impl Dataset {
+    /// The warnings of [the module](self): empty for data that look as data-format.md says.
+    pub fn warnings(&self) -> Vec<DataWarning> {
+        let mut out = Vec::new();
+        let travel = Travel::of(self);
+        let warn = |doubt, file: &str, column: &str, message: String| DataWarning {
+            doubt,
+            file: file.to_owned(),
+            column: column.to_owned(),
+            message,
+        };
+        if let Some(t) = &travel {
+            let odo = t.odometer[0].hypot(t.odometer[1]);
+            if odo >= MIN_TRAVEL_M && odo > MILLISECONDS_RATIO * t.gps_total {
+                out.push(warn(
+                    Doubt::TimesInMilliseconds,
+                    MEASUREMENTS_FILE,
+                    "t",
+                    format!(
+                        "integrated over this time column the odometer travels {odo:.0} m \
+                         while the GPS track moves {:.0} m ({:.0} times less): times in \
+                         milliseconds (or velocities in mm/s)? Expected seconds and m/s",
+                        t.gps_total,
+                        odo / t.gps_total.max(1e-9)
+                    ),
+                ));
+            }
+        }
+        if out.is_empty() {
+            if let Some(dt) = median_interval(self.inputs.iter().map(|i| i.t)) {
+                if dt >= SLOWEST_INPUT_S {
+                    out.push(warn(
+                        Doubt::TimesInMilliseconds,
+                        INPUTS_FILE,
+                        "t",
+                        format!(
+                            "inputs every {dt} (median interval) over {} in all: times in \
+                             milliseconds? A vehicle test records the specific force at 10 Hz \
+                             or faster; expected seconds",
+                            self.inputs.last().map_or(0.0, |i| i.t)
+                                - self.inputs.first().map_or(0.0, |i| i.t)
+                        ),
+                    ));
+                }
+            }
+        }
+        // Milliseconds stretch the odometer on both axes; radians shrink the GPS on one.
+        let in_ms = out.iter().any(|w| w.doubt == Doubt::TimesInMilliseconds);
+        if let Some(t) = travel.as_ref().filter(|_| !in_ms) {
+            for (axis, doubt, column, direction) in [
+                (1, Doubt::LatitudeInRadians, "lat_deg", "North-South"),
+                (0, Doubt::LongitudeInRadians, "lon_deg", "East-West"),
+            ] {
+                let (odo, gps) = (t.odometer[axis], t.gps[axis]);
+                if odo >= MIN_TRAVEL_M && gps < RADIANS_RATIO * odo {
+                    out.push(warn(
+                        doubt,
+                        MEASUREMENTS_FILE,
+                        column,
+                        format!(
+                            "read as degrees the GPS track moves {gps:.0} m {direction} \
+                             while the odometer moves {odo:.0} m: radians? Expected degrees \
+                             (multiply radians by 180/pi)"
+                        ),
+                    ));
+                }
+            }
+        }
+        if let Some(f) = median(
+            self.inputs
+                .iter()
+                .map(|i| i.f[0].hypot(i.f[1]).hypot(i.f[2])),
+        ) {
+            let lat = self
+                .measurements
+                .iter()
+                .find_map(|m| m.position_deg)
+                .map_or(45.0, |p| p[0]);
+            let g = normal_gravity(lat.to_radians().sin());
+            if !((1.0 - GRAVITY_TOLERANCE) * g..=(1.0 + GRAVITY_TOLERANCE) * g).contains(&f) {
+                let hint = if (f - 1.0).abs() < GRAVITY_TOLERANCE {
+                    " It is near 1: in g? Multiply by 9.81."
+                } else if (f / 1000.0 - 1.0).abs() < GRAVITY_TOLERANCE {
+                    " It is near 1000: in mg? Multiply by 0.00981."
+                } else {
+                    ""
+                };
+                out.push(warn(
+                    Doubt::SpecificForceNotGravity,
+                    INPUTS_FILE,
+                    "f_e,f_n,f_u",
+                    format!(
+                        "the median magnitude of the specific force is {f:.4e}, far from \
+                         gravity here ({g:.3} m/s^2); a vehicle on a road feels about g.{hint} \
+                         Expected m/s^2, gravity included"
+                    ),
+                ));
+            }
+        }
+        out
+    }
+}
+
+/// Odometer and GPS travel compared over the same intervals (between consecutive GPS fixes
+/// that hold odometer samples).
+struct Travel {
+    /// Odometer travel East and North, m (sums of the absolute displacement per interval).
+    odometer: [f64; 2],
+    /// GPS travel East and North read as degrees, m (same).
+    gps: [f64; 2],
+    /// GPS chord length, m.
+    gps_total: f64,
+}
+
+impl Travel {
+    fn of(ds: &Dataset) -> Option<Travel> {
+        let odometer: Vec<(f64, [f64; 2])> = ds
+            .measurements
+            .iter()
+            .filter_map(|m| m.velocity.map(|v| (m.t, v)))
+            .collect();
+        let fixes: Vec<(f64, [f64; 2])> = ds
+            .measurements
+            .iter()
+            .filter_map(|m| m.position_deg.map(|p| (m.t, p)))
+            .collect();
+        if odometer.len() < 2 || fixes.len() < 2 {
+            return None;
+        }
+        let mut t = Travel {
+            odometer: [0.0; 2],
+            gps: [0.0; 2],
+            gps_total: 0.0,
+        };
+        for w in fixes.windows(2) {
+            let ((ta, a), (tb, b)) = (w[0], w[1]);
+            let Some(d) = odometer_east_north(&odometer, ta, tb) else {
+                continue;
+            };
+            t.odometer[0] += d[0].abs();
+            t.odometer[1] += d[1].abs();
+            let lat = (0.5 * (a[0] + b[0])).to_radians();
+            let s = lat.sin();
+            t.gps[1] += ((b[0] - a[0]).to_radians() * meridian_radius(s)).abs();
+            t.gps[0] += ((b[1] - a[1]).to_radians() * prime_vertical_radius(s) * lat.cos()).abs();
+            t.gps_total += chord_m(a, b);
+        }
+        Some(t)
+    }
+}
+
+fn median(values: impl Iterator<Item = f64>) -> Option<f64> {
+    let mut v: Vec<f64> = values.filter(|x| x.is_finite()).collect();
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied()
+}
+
+/// The median interval between consecutive times.
+pub(super) fn median_interval(t: impl Iterator<Item = f64>) -> Option<f64> {
+    let t: Vec<f64> = t.collect();
+    median(t.windows(2).map(|w| w[1] - w[0]))
+}

@@ -127,7 +127,7 @@ fn sample(name: &str) -> Dataset {
     ];
     let truth = Truth {
         names: vec!["phi_x".into(), "phi_y".into(), "Ka2x".into()],
-        t: vec![0.0, 1.0, 2.0],
+        t: vec![0.0, 1.0, 4.0],
         states: vec![
             vec![1e-5, -2e-5, 0.0],
             vec![1.000_000_000_000_000_2e-5, 3.0 / 7.0, 1e-12],
@@ -1304,4 +1304,52 @@ fn a_device_or_fifo_is_refused_not_read() {
     let e = Dataset::read(&dir).unwrap_err().to_string();
     assert_mentions(&e, &["truth.csv", "a folder"]);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn messages_escape_control_bytes_and_cut_long_cells() {
+    // A terminal escape sequence in a cell, and a megabyte-long cell: the message shows the
+    // first escaped and the second cut, with its length.
+    let inputs = format!(
+        "t,f_e,f_n,f_u\n0,\u{1b}[31mred,0,9.8\n{}",
+        inputs_text(50)
+            .lines()
+            .skip(2)
+            .collect::<Vec<_>>()
+            .join("\n")
+            + "\n"
+    );
+    let e = read_error("escape", &[("inputs.csv", &inputs)]);
+    assert!(!e.contains('\u{1b}'), "{e:?}");
+    assert_mentions(&e, &["\\u{1b}[31mred", "f_e"]);
+    let long = "9".repeat(1 << 20);
+    let inputs = format!("t,f_e,f_n,f_u\n0,x{long},0,9.8\n1,0,0,9.8\n");
+    let e = read_error("long", &[("inputs.csv", &inputs)]);
+    assert!(e.len() < 1000, "{} characters", e.len());
+    assert_mentions(&e, &["characters)", "f_e"]);
+}
+
+#[test]
+fn truth_columns_and_span_must_match_the_data() {
+    let inputs = inputs_text(50); // 0 .. 4.9 s
+    let meas = "t,v_e,v_n,lat_deg,lon_deg\n1,0.5,0.1,45.78,126.63\n2,0.5,0.1,45.78001,126.63001\n";
+    let with_truth = |truth: &str| {
+        read_error(
+            "truth",
+            &[
+                ("inputs.csv", &inputs),
+                ("measurements.csv", meas),
+                ("truth.csv", truth),
+            ],
+        )
+    };
+    // A misspelt column would be left out of every comparison: refused, located.
+    let e = with_truth("t,phi_x,Kg0xx\n0,0,0\n2,0,0\n");
+    assert_mentions(&e, &["truth.csv:1", "Kg0xx", "misspelt"]);
+    // A row beyond the inputs' span.
+    let e = with_truth("t,phi_x\n0,0\n2,0\n9,0\n");
+    assert_mentions(&e, &["truth.csv:4", "outside the span"]);
+    // A truth that ends before the last measurement.
+    let e = with_truth("t,phi_x\n0,0\n1,0\n");
+    assert_mentions(&e, &["truth.csv:4", "before the last measurement"]);
 }

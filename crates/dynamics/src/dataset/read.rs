@@ -52,7 +52,9 @@ impl Dataset {
         };
         let truth_path = dir.join(TRUTH_FILE);
         let truth = if exists(&truth_path)? {
-            Some(read_truth(&truth_path)?)
+            let mut known: Vec<String> = BASE_NAMES.iter().map(|s| s.to_string()).collect();
+            known.extend(known_coefficients(registry));
+            Some(read_truth(&truth_path, &known, &inputs, &measurements)?)
         } else {
             None
         };
@@ -92,9 +94,49 @@ fn data_error(path: &Path, line: usize, column: &str, message: String) -> Dynami
     DynamicsError::Data {
         path: path.to_path_buf(),
         line,
-        column: column.to_owned(),
-        message,
+        column: printable(column),
+        message: printable(&message),
     }
+}
+
+/// Longest stretch of a message without a blank that is shown whole (a cell, a name).
+const LONGEST_WORD: usize = 60;
+
+/// `text` safe to print: control characters (a terminal escape sequence, a NUL) escaped as
+/// `\u{1b}`, and any stretch without a blank longer than [`LONGEST_WORD`] characters (a
+/// megabyte-long cell) cut, with its length shown.
+pub(crate) fn printable(text: &str) -> String {
+    let mut out = String::with_capacity(text.len().min(4096));
+    let mut word = 0usize; // characters of the current stretch without a blank
+    let mut cut = false; // the current stretch is being skipped
+    let chars: Vec<char> = text.chars().collect();
+    for (i, &c) in chars.iter().enumerate() {
+        if c == ' ' || c == '\n' {
+            word = 0;
+            cut = false;
+            out.push(c);
+            continue;
+        }
+        word += 1;
+        if cut {
+            continue;
+        }
+        if word > LONGEST_WORD {
+            let rest = chars[i..]
+                .iter()
+                .take_while(|c| **c != ' ' && **c != '\n')
+                .count();
+            out.push_str(&format!("... ({} characters)", word - 1 + rest));
+            cut = true;
+            continue;
+        }
+        if c.is_control() {
+            out.extend(c.escape_unicode());
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }
 
 /// One CSV line: its 1-based line number and its cells, trimmed of surrounding blanks.
@@ -816,7 +858,15 @@ fn key_line(text: &str, table: &str, key: &str) -> Option<usize> {
     None
 }
 
-fn read_truth(path: &Path) -> Result<Truth, DynamicsError> {
+/// `truth.csv`: columns that are states of the base model or of a known effect (a misspelt
+/// one would be silently left out of every comparison), rows inside the inputs' span, and a
+/// last row at the last measurement (the diagnosis compares its final estimates with it).
+fn read_truth(
+    path: &Path,
+    known: &[String],
+    inputs: &[InputSample],
+    measurements: &[Measurement],
+) -> Result<Truth, DynamicsError> {
     let mut table = read_table(path, "t,<state names>")?;
     let header = table.header.clone();
     let first = header.cells.first().map_or("", String::as_str);
@@ -859,6 +909,25 @@ fn read_truth(path: &Path) -> Result<Truth, DynamicsError> {
             ));
         }
     }
+    for name in &names {
+        if !known.contains(name) {
+            return Err(data_error(
+                path,
+                header.line,
+                name,
+                format!(
+                    "`{}` is no state of the base model or of a known effect; expected state \
+                     names such as phi_x, v_x, L, Kg0x, Ka1y or an effect's coefficients \
+                     (misspelt?)",
+                    name
+                ),
+            ));
+        }
+    }
+    let (t0, t1) = (
+        inputs.first().map_or(f64::NEG_INFINITY, |i| i.t),
+        inputs.last().map_or(f64::INFINITY, |i| i.t),
+    );
     let columns: Vec<&str> = header.cells.iter().map(String::as_str).collect();
     let mut t = Vec::new();
     let mut states = Vec::new();
@@ -875,6 +944,14 @@ fn read_truth(path: &Path) -> Result<Truth, DynamicsError> {
             .map(|i| cells.required(i))
             .collect::<Result<Vec<f64>, _>>()?;
         check_increasing(path, row.line, time, &mut previous)?;
+        if time < t0 || time > t1 {
+            return Err(cells.error(
+                "t",
+                format!(
+                    "t = {time} is outside the span of {INPUTS_FILE}; expected {t0} <= t <= {t1}"
+                ),
+            ));
+        }
         t.push(time);
         states.push(state);
     }
@@ -884,6 +961,20 @@ fn read_truth(path: &Path) -> Result<Truth, DynamicsError> {
             table.next_line(),
             "-",
             "no rows; expected at least one row after the header".to_owned(),
+        ));
+    }
+    let last_measurement = measurements.last().map_or(f64::NEG_INFINITY, |m| m.t);
+    let last_truth = t.last().copied().unwrap_or(f64::NEG_INFINITY);
+    if last_truth < last_measurement {
+        return Err(data_error(
+            path,
+            table.next_line(),
+            "t",
+            format!(
+                "the truth ends at t = {last_truth}, before the last measurement at t = \
+                 {last_measurement}; expected a row at or after it (the final estimates are \
+                 compared with the truth at the end)"
+            ),
         ));
     }
     Ok(Truth { names, t, states })

@@ -196,3 +196,30 @@ fn a_bad_or_repeated_effect_is_refused_with_its_index() {
     assert!(!dir.join("sim").exists(), "nothing written");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn impossible_sizes_are_refused_with_the_memory_they_need() {
+    // A billion-second test, or a study's inputs recorded at 10 MHz: refused before
+    // allocating, naming the setting and the memory, instead of aborting the process.
+    let dir = scratch("sizes");
+    let t = Instant::now();
+    let o = navkf([
+        Path::new("simulate"),
+        Path::new("--out"),
+        &dir.join("sim"),
+        Path::new("--duration"),
+        Path::new("1e12"),
+    ]);
+    refused_at_once(&o, t.elapsed(), "trajectory.duration_s");
+    assert!(text(&o.stderr).contains("of memory"), "{}", text(&o.stderr));
+    assert!(!dir.join("sim").exists(), "nothing written");
+    let study = study_file(
+        &dir,
+        "s.toml",
+        &[("input_rate_hz", "1.0e9"), ("rate_hz", "1.0e9")],
+    );
+    let t = Instant::now();
+    let o = navkf([Path::new("study"), &study, Path::new("--quiet")]);
+    refused_at_once(&o, t.elapsed(), "truth.input_rate_hz");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -16,6 +16,7 @@ pub mod effects;
 pub mod error;
 pub mod integrate;
 pub mod kinematics;
+pub mod memory;
 pub mod model;
 pub mod noise;
 pub mod outside;

@@ -242,6 +242,19 @@ impl Simulator {
                 ),
             )
         })?;
+        // The recorded inputs, shared by every run, and one run's truth and measurements.
+        crate::memory::check(
+            "truth.input_rate_hz",
+            "the recorded inputs",
+            duration * config.input_rate_hz,
+            std::mem::size_of::<InputSample>(),
+        )?;
+        crate::memory::check(
+            "truth.measurement_rate_hz",
+            "one run's truth",
+            duration * config.measurement_rate_hz,
+            (model.dim() + 8) * std::mem::size_of::<f64>(),
+        )?;
         if config.initial_tilt.alignment == Alignment::Gyrocompass {
             let lat = trajectory.state(0.0).pos[0];
             if lat.cos() < MIN_GYROCOMPASS_COS_LAT {

@@ -527,6 +527,12 @@ impl Trajectory {
             segments: b.segs,
             grid: Vec::new(),
         };
+        crate::memory::check(
+            "trajectory.duration_s",
+            "the trajectory's position grid",
+            (traj.config.duration_s / GRID).ceil() + 1.0,
+            std::mem::size_of::<[f64; 2]>(),
+        )?;
         traj.integrate_positions();
         Ok(traj)
     }

@@ -607,12 +607,16 @@ impl Study {
         // Several blocks in flight at once for parallelism; folding stays per block, in
         // order, so the thread count changes nothing but speed.
         let in_flight = (rayon::current_num_threads() * 4).div_ceil(BLOCK).max(1);
-        let block_list: Vec<usize> = blocks.collect();
         let done = std::sync::atomic::AtomicUsize::new(0);
-        for group in block_list.chunks(in_flight) {
+        // Groups taken from the range as they are needed: memory stays bounded by a group,
+        // however many runs the study asks for.
+        let mut next = blocks.start;
+        while next < blocks.end {
+            let group = next..(next + in_flight).min(blocks.end);
+            next = group.end;
             let runs: Vec<usize> = group
-                .iter()
-                .flat_map(|&b| (b * BLOCK)..((b + 1) * BLOCK).min(total))
+                .clone()
+                .flat_map(|b| (b * BLOCK)..((b + 1) * BLOCK).min(total))
                 .collect();
             let records: Vec<RunRecord> = runs
                 .par_iter()
@@ -623,7 +627,7 @@ impl Study {
                     rec
                 })
                 .collect();
-            for &b in group {
+            for b in group {
                 let mut tally = self.empty_tally(b * BLOCK);
                 for rec in records.iter().filter(|r| r.run / BLOCK == b) {
                     self.add_run(&mut tally, rec);

@@ -64,8 +64,30 @@ fn warn_undrawn(figures: &[navkf_study::plots::FigureOutcome]) {
     }
 }
 
+/// Ctrl-C. A Monte Carlo or diagnosis study stops after the runs in flight, writes nothing
+/// and says what it kept (`navkf_study::interrupt`); a second Ctrl-C, or one during a
+/// command that takes seconds, exits at once (exit code 130).
+fn handle_ctrl_c(cooperative: bool) {
+    let presses = std::sync::atomic::AtomicUsize::new(0);
+    let installed = ctrlc::set_handler(move || {
+        let n = presses.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+        if cooperative && n == 0 {
+            navkf_study::interrupt::request();
+            eprintln!(
+                "\ninterrupt: stopping after the runs in flight (Ctrl-C again to exit at once)"
+            );
+        } else {
+            std::process::exit(130);
+        }
+    });
+    if let Err(e) = installed {
+        eprintln!("warning: Ctrl-C will stop the process without cleaning up: {e}");
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    handle_ctrl_c(matches!(cli.command, Command::Study(_)));
     let result = match cli.command {
         Command::Simulate(args) => simulate::run(args),
         Command::Inspect { dir, json } => inspect(&dir, json),

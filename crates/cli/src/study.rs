@@ -176,6 +176,14 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         ),
     };
     bar.finish_and_clear();
+    if navkf_study::interrupt::requested() {
+        return Err(interrupted(
+            tally.runs.max(tallies.iter().map(|t| t.runs).sum()),
+            total_runs,
+            "runs",
+            &out,
+        ));
+    }
     let example = example.into_inner().expect("not poisoned");
     let wall = started.elapsed().as_secs_f64();
     match shard {
@@ -282,7 +290,13 @@ fn run_diagnosis_study(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let bar = progress_bar(a.quiet, count, "datasets");
     bar.set_prefix(config.study.name.clone());
     let started = std::time::Instant::now();
-    let records = run(&config, Some(0..count), &|d| bar.set_position(d as u64))?;
+    let records =
+        run(&config, Some(0..count), &|d| bar.set_position(d as u64)).map_err(|e| match e {
+            navkf_study::StudyError::Interrupted { done, total, what } => {
+                interrupted(done, total, what, &out)
+            }
+            e => e.into(),
+        })?;
     bar.finish_and_clear();
     let timing = report::Timing {
         wall_s: started.elapsed().as_secs_f64(),
@@ -359,6 +373,10 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
             *example.lock().expect("no panics while holding it") = Some(study.example_of(rec))
         };
         let tally = study.run_folded(0..study.block_count(), &progress, keep_example);
+        if navkf_study::interrupt::requested() {
+            bar.finish_and_clear();
+            return Err(interrupted(done_before + tally.runs, total, "runs", &out));
+        }
         done_before += study.config.study.runs;
         let example = example.into_inner().expect("not poisoned");
         let point_dir = dir.join(sweep::point_folder(i));
@@ -393,4 +411,23 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
         out.display()
     );
     Ok(())
+}
+
+/// The error of a study stopped by Ctrl-C: what was done, and that `out` is as it was.
+fn interrupted(
+    done: usize,
+    total: usize,
+    what: &'static str,
+    out: &std::path::Path,
+) -> Box<dyn std::error::Error> {
+    let kept = if out.exists() {
+        format!("{} is as it was", out.display())
+    } else {
+        format!("{} was not created", out.display())
+    };
+    format!(
+        "{}; {kept}",
+        navkf_study::StudyError::Interrupted { done, total, what }
+    )
+    .into()
 }

@@ -30,6 +30,16 @@ pub enum StudyError {
         /// The error.
         source: std::io::Error,
     },
+    /// Stopped on request (Ctrl-C, [`crate::interrupt`]) before the work was complete.
+    #[error("interrupted after {done} of {total} {what}: nothing was written")]
+    Interrupted {
+        /// Units of work completed.
+        done: usize,
+        /// Units asked for.
+        total: usize,
+        /// What they are (runs, datasets).
+        what: &'static str,
+    },
     /// Anything else, said in words (e.g. shards that do not fit together).
     #[error("{0}")]
     Other(String),

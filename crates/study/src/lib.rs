@@ -8,6 +8,7 @@ pub mod diagnosis_study;
 pub mod error;
 pub mod filters;
 pub mod guard;
+pub mod interrupt;
 pub mod monte_carlo;
 pub mod output;
 pub mod plan;

@@ -611,7 +611,7 @@ impl Study {
         // Groups taken from the range as they are needed: memory stays bounded by a group,
         // however many runs the study asks for.
         let mut next = blocks.start;
-        while next < blocks.end {
+        while next < blocks.end && !crate::interrupt::requested() {
             let group = next..(next + in_flight).min(blocks.end);
             next = group.end;
             let runs: Vec<usize> = group

@@ -1,4 +1,5 @@
 //! What the CLI tests share: running the built `navkf` and reading its output.
+#![allow(dead_code)] // each test file uses a subset
 
 use std::process::{Command, Output};
 

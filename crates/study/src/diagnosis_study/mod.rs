@@ -402,15 +402,28 @@ pub fn run(
     let options = config.options();
     let range = only.unwrap_or(0..planned.len());
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let records = planned[range.start.min(planned.len())..range.end.min(planned.len())]
+    let chosen = &planned[range.start.min(planned.len())..range.end.min(planned.len())];
+    // A dataset not started when a stop is asked for is skipped (crate::interrupt).
+    let records: Vec<Option<Record>> = chosen
         .par_iter()
         .map(|p| {
+            if crate::interrupt::requested() {
+                return None;
+            }
             let r = run_one(config, &trajectory, &options, p);
             progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
-            r
+            Some(r)
         })
         .collect();
-    Ok(records)
+    let finished = records.iter().flatten().count();
+    if finished < chosen.len() {
+        return Err(StudyError::Interrupted {
+            done: finished,
+            total: chosen.len(),
+            what: "datasets",
+        });
+    }
+    Ok(records.into_iter().flatten().collect())
 }
 
 /// Number of datasets the study makes.

@@ -64,15 +64,7 @@ pub struct TrajectoryConfig {
 impl Serialize for TrajectoryConfig {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeStruct;
-        let path = [
-            ("initial_standstill_s", self.initial_standstill_s),
-            ("cruise_speed", self.cruise_speed),
-            ("turn_speed", self.turn_speed),
-            ("peak_accel", self.peak_accel),
-            ("peak_turn_rate_deg", self.peak_turn_rate_deg),
-            ("leg_north_m", self.leg_north_m),
-            ("leg_east_m", self.leg_east_m),
-        ];
+        let path = self.path_settings();
         let mut st = serializer.serialize_struct("TrajectoryConfig", 3 + path.len() + 1)?;
         st.serialize_field("start_lat_deg", &self.start_lat_deg)?;
         st.serialize_field("start_lon_deg", &self.start_lon_deg)?;
@@ -107,17 +99,24 @@ impl Default for TrajectoryConfig {
 }
 
 impl TrajectoryConfig {
-    /// Checks every value; the error names the key and what was expected.
-    pub fn validate(&self) -> Result<(), DynamicsError> {
-        let positive = [
-            ("duration_s", self.duration_s),
+    /// The O-A-B-C-O path's own settings, by key: what a segment list replaces.
+    fn path_settings(&self) -> [(&'static str, f64); 7] {
+        [
+            ("initial_standstill_s", self.initial_standstill_s),
             ("cruise_speed", self.cruise_speed),
             ("turn_speed", self.turn_speed),
             ("peak_accel", self.peak_accel),
             ("peak_turn_rate_deg", self.peak_turn_rate_deg),
             ("leg_north_m", self.leg_north_m),
             ("leg_east_m", self.leg_east_m),
-        ];
+        ]
+    }
+
+    /// Checks every value; the error names the key and what was expected.
+    pub fn validate(&self) -> Result<(), DynamicsError> {
+        // All positive but the standstill (checked below: it may be zero).
+        let positive = std::iter::once(("duration_s", self.duration_s))
+            .chain(self.path_settings().into_iter().skip(1));
         for (key, v) in positive {
             if !(v.is_finite() && v > 0.0) {
                 return Err(config_err(
@@ -156,24 +155,8 @@ impl TrajectoryConfig {
         if !self.segments.is_empty() {
             // The O-A-B-C-O settings mean nothing with a segment list: refuse them rather
             // than ignore them.
-            let d = TrajectoryConfig::default();
-            for (key, v, default) in [
-                (
-                    "initial_standstill_s",
-                    self.initial_standstill_s,
-                    d.initial_standstill_s,
-                ),
-                ("cruise_speed", self.cruise_speed, d.cruise_speed),
-                ("turn_speed", self.turn_speed, d.turn_speed),
-                ("peak_accel", self.peak_accel, d.peak_accel),
-                (
-                    "peak_turn_rate_deg",
-                    self.peak_turn_rate_deg,
-                    d.peak_turn_rate_deg,
-                ),
-                ("leg_north_m", self.leg_north_m, d.leg_north_m),
-                ("leg_east_m", self.leg_east_m, d.leg_east_m),
-            ] {
+            let defaults = TrajectoryConfig::default().path_settings();
+            for ((key, v), (_, default)) in self.path_settings().into_iter().zip(defaults) {
                 if v != default {
                     return Err(config_err(
                         key,

@@ -1353,3 +1353,25 @@ fn truth_columns_and_span_must_match_the_data() {
     let e = with_truth("t,phi_x\n0,0\n1,0\n");
     assert_mentions(&e, &["truth.csv:4", "before the last measurement"]);
 }
+
+#[test]
+fn a_file_in_another_encoding_is_named_as_such_and_a_utf8_bom_is_accepted() {
+    let inputs = inputs_text(50);
+    // UTF-16 little-endian with a byte-order mark, as some exporters write.
+    let mut utf16 = vec![0xFF, 0xFE];
+    utf16.extend(inputs.encode_utf16().flat_map(|u| u.to_le_bytes()));
+    let dir = folder("utf16", &[("measurements.csv", MEAS_OK)]);
+    std::fs::write(dir.join("inputs.csv"), &utf16).unwrap();
+    let e = Dataset::read(&dir).unwrap_err().to_string();
+    assert_mentions(&e, &["inputs.csv", "UTF-16", "expected UTF-8"]);
+    // The same without the mark.
+    std::fs::write(dir.join("inputs.csv"), &utf16[2..]).unwrap();
+    let e = Dataset::read(&dir).unwrap_err().to_string();
+    assert_mentions(&e, &["inputs.csv", "UTF-16"]);
+    // UTF-8 with a byte-order mark (a spreadsheet's "CSV UTF-8"): read as the same file.
+    std::fs::write(dir.join("inputs.csv"), format!("\u{feff}{inputs}")).unwrap();
+    let with_bom = Dataset::read(&dir).unwrap();
+    std::fs::write(dir.join("inputs.csv"), &inputs).unwrap();
+    assert_eq!(with_bom.inputs, Dataset::read(&dir).unwrap().inputs);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -207,13 +207,21 @@ fn read_table(path: &Path, expected_header: &str) -> Result<Table, DynamicsError
             message,
         },
     })?;
-    let file = std::fs::File::open(path).map_err(not_found)?;
+    let mut file = std::fs::File::open(path).map_err(not_found)?;
+    if let Some(encoding) = other_encoding(&mut file).map_err(not_found)? {
+        return Err(DynamicsError::File {
+            path: path.to_path_buf(),
+            message: format!(
+                "is {encoding}; expected UTF-8 (or plain ASCII) text: save it as UTF-8 CSV"
+            ),
+        });
+    }
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
         .from_reader(file);
     let mut record = csv::ByteRecord::new();
-    let Some(header) = read_row(path, &mut reader, &mut record, 0)? else {
+    let Some(mut header) = read_row(path, &mut reader, &mut record, 0)? else {
         return Err(data_error(
             path,
             1,
@@ -221,12 +229,41 @@ fn read_table(path: &Path, expected_header: &str) -> Result<Table, DynamicsError
             format!("empty file; expected the header `{expected_header}`"),
         ));
     };
+    // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first name.
+    if let Some(first) = header.cells.first_mut() {
+        if let Some(rest) = first.strip_prefix('\u{feff}') {
+            *first = rest.trim().to_owned();
+        }
+    }
     Ok(Table {
         path: path.to_path_buf(),
         last_line: header.line,
         header,
         reader,
         record,
+    })
+}
+
+/// The encoding of `file` when it is UTF-16 or UTF-32 (by byte-order mark, or by the NUL
+/// bytes every ASCII character carries in them), which would otherwise read as garbled
+/// column names; the file is left at its start.
+fn other_encoding(file: &mut std::fs::File) -> std::io::Result<Option<&'static str>> {
+    use std::io::{Read, Seek};
+    let mut head = [0u8; 4];
+    let mut n = 0;
+    while n < head.len() {
+        match file.read(&mut head[n..])? {
+            0 => break,
+            k => n += k,
+        }
+    }
+    file.rewind()?;
+    let head = &head[..n];
+    Ok(match head {
+        [0xFF, 0xFE, 0, 0] | [0, 0, 0xFE, 0xFF] => Some("UTF-32 (byte-order mark)"),
+        [0xFF, 0xFE, ..] | [0xFE, 0xFF, ..] => Some("UTF-16 (byte-order mark)"),
+        [a, 0, b, 0] | [0, a, 0, b] if *a != 0 && *b != 0 => Some("UTF-16 (NUL bytes)"),
+        _ => None,
     })
 }
 

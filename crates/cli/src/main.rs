@@ -85,6 +85,23 @@ fn handle_ctrl_c(cooperative: bool) {
     }
 }
 
+/// `message` safe to print on a terminal: control characters other than line breaks (a
+/// terminal escape sequence echoed from a user's file by a parser) escaped as `\u{1b}`.
+fn terminal_safe(message: &str) -> String {
+    message
+        .chars()
+        .flat_map(|c| {
+            let escape = c.is_control() && c != '\n';
+            let shown: Vec<char> = if escape {
+                c.escape_unicode().collect()
+            } else {
+                vec![c]
+            };
+            shown
+        })
+        .collect()
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     handle_ctrl_c(matches!(cli.command, Command::Study(_)));
@@ -99,7 +116,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", terminal_safe(&e.to_string()));
             ExitCode::FAILURE
         }
     }

@@ -25,6 +25,12 @@ fn cases(dir: &str) -> Vec<PathBuf> {
     v
 }
 
+/// Whether `s` holds a control character other than a line break (a terminal escape echoed
+/// from the data).
+fn has_control(s: &str) -> bool {
+    s.chars().any(|c| c.is_control() && c != '\n')
+}
+
 #[test]
 fn every_bad_dataset_gets_its_message_and_exit_code() {
     let cases = cases("corpus");
@@ -47,6 +53,9 @@ fn every_bad_dataset_gets_its_message_and_exit_code() {
                 o.status.code()
             ));
             continue;
+        }
+        if has_control(&said) {
+            failures.push(format!("{name}: prints a raw control character: {said:?}"));
         }
         for fragment in lines.filter(|l| !l.is_empty()) {
             if !said.contains(fragment) {
@@ -77,6 +86,9 @@ fn every_bad_study_file_is_refused_with_its_message() {
         if o.status.code() != Some(1) || said.contains("panicked") {
             failures.push(format!("{name}: exit {:?}:\n{said}", o.status.code()));
             continue;
+        }
+        if has_control(&said) {
+            failures.push(format!("{name}: prints a raw control character: {said:?}"));
         }
         for fragment in body.lines().filter_map(|l| l.strip_prefix("# expect: ")) {
             if !said.contains(fragment) {

@@ -112,6 +112,14 @@ fn wrong_units_are_warned_about_with_their_file_and_column() {
     assert_eq!(doubts(&ds), [Doubt::TimesInMilliseconds]);
     assert!(ds.warnings()[0].to_string().contains("inputs.csv"));
 
+    // Inputs at 1 Hz, the slowest data-format.md allows, are seconds: no warning, with the
+    // odometer to compare or without it.
+    let mut slow = base.clone();
+    slow.inputs = base.inputs.iter().step_by(10).copied().collect();
+    assert_eq!(doubts(&slow), [], "{:?}", slow.warnings());
+    slow.measurements.iter_mut().for_each(|m| m.velocity = None);
+    assert_eq!(doubts(&slow), [], "{:?}", slow.warnings());
+
     // Latitude in radians, longitude in degrees (the reader's radians check cannot see it),
     // and the other way round.
     for (axis, doubt, column) in [

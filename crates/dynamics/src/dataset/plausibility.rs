@@ -7,7 +7,7 @@
 //! assumption about the vehicle:
 //! - **times in milliseconds**: the odometer's velocity integrated over the time column
 //!   against the GPS track (milliseconds make the odometer travel 1000 times too far); without
-//!   both, the input interval (a vehicle test records its specific force at 10 Hz or faster);
+//!   both, an input interval longer than the 1 s data-format.md allows;
 //! - **latitude or longitude in radians**: the odometer's North (East) travel against the GPS
 //!   track's, axis by axis (radians read as degrees move 57 times too little), whatever the
 //!   other column holds (a track in radians on both axes is refused by the reader);
@@ -65,8 +65,10 @@ const MILLISECONDS_RATIO: f64 = 30.0;
 /// GPS travel on one axis below this fraction of the odometer's: that column is radians
 /// (1/57).
 const RADIANS_RATIO: f64 = 0.1;
-/// A median input interval at or beyond this (s) is no vehicle test's inertial record.
-const SLOWEST_INPUT_S: f64 = 1.0;
+/// A median input interval beyond this (s) is no vehicle test's inertial record: data-format.md
+/// asks for inputs at least at the filter rate (1 Hz), while a 10-500 Hz record written in
+/// milliseconds shows intervals of 2-100.
+const SLOWEST_INPUT_S: f64 = 1.5;
 /// The median specific force must lie within this fraction of gravity.
 const GRAVITY_TOLERANCE: f64 = 0.3;
 
@@ -81,9 +83,14 @@ impl Dataset {
             column: column.to_owned(),
             message,
         };
-        if let Some(t) = &travel {
+        // Whether odometer and GPS can tell seconds from milliseconds: then they decide, and
+        // the input interval (a weaker hint) is not consulted.
+        let compared = travel
+            .as_ref()
+            .is_some_and(|t| t.odometer[0].hypot(t.odometer[1]) >= MIN_TRAVEL_M);
+        if let Some(t) = travel.as_ref().filter(|_| compared) {
             let odo = t.odometer[0].hypot(t.odometer[1]);
-            if odo >= MIN_TRAVEL_M && odo > MILLISECONDS_RATIO * t.gps_total {
+            if odo > MILLISECONDS_RATIO * t.gps_total {
                 out.push(warn(
                     Doubt::TimesInMilliseconds,
                     MEASUREMENTS_FILE,
@@ -98,17 +105,17 @@ impl Dataset {
                 ));
             }
         }
-        if out.is_empty() {
+        if !compared {
             if let Some(dt) = median_interval(self.inputs.iter().map(|i| i.t)) {
-                if dt >= SLOWEST_INPUT_S {
+                if dt > SLOWEST_INPUT_S {
                     out.push(warn(
                         Doubt::TimesInMilliseconds,
                         INPUTS_FILE,
                         "t",
                         format!(
                             "inputs every {dt} (median interval) over {} in all: times in \
-                             milliseconds? A vehicle test records the specific force at 10 Hz \
-                             or faster; expected seconds",
+                             milliseconds? Inputs come at the filter rate (1 Hz) or faster; \
+                             expected seconds",
                             self.inputs.last().map_or(0.0, |i| i.t)
                                 - self.inputs.first().map_or(0.0, |i| i.t)
                         ),

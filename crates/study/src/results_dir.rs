@@ -178,24 +178,22 @@ impl Drop for ResultsDir {
     }
 }
 
-/// Whether `dir` holds navkf results (or nothing).
+/// Whether `dir` holds navkf results (or nothing): its marker, a results file of an earlier
+/// version, or shard files.
 fn holds_results(dir: &Path) -> bool {
-    let Ok(mut entries) = std::fs::read_dir(dir) else {
+    let Ok(entries) = std::fs::read_dir(dir) else {
         return false;
     };
-    if entries.next().is_none() {
-        return true;
+    let mut empty = true;
+    for e in entries.flatten() {
+        empty = false;
+        let name = e.file_name().to_string_lossy().into_owned();
+        let shard = name.starts_with("partial-") && name.ends_with(".json");
+        if name == MARKER || RESULTS_FILES.contains(&name.as_str()) || shard {
+            return true;
+        }
     }
-    dir.join(MARKER).is_file()
-        || RESULTS_FILES.iter().any(|f| dir.join(f).is_file())
-        || std::fs::read_dir(dir).is_ok_and(|mut it| {
-            it.any(|e| {
-                e.is_ok_and(|e| {
-                    let n = e.file_name().to_string_lossy().into_owned();
-                    n.starts_with("partial-") && n.ends_with(".json")
-                })
-            })
-        })
+    empty
 }
 
 /// Removes the staging and old folders of `name` left by processes that no longer run

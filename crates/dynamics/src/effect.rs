@@ -13,7 +13,7 @@
 //! or registering it in an [`crate::effects::Registry`]. The model holds effects as
 //! [`DynEffect`] objects, which every [`Effect`] is.
 
-use crate::kinematics::Kinematics;
+use crate::kinematics::{Input, Kinematics, LatitudeTerms};
 use crate::real::{Lanes, Real};
 use crate::state::{MEAS_DIM, NAV_DIM};
 use std::fmt;
@@ -215,8 +215,15 @@ pub trait DynEffect: Send + Sync + fmt::Debug {
     fn terms(&self) -> Terms;
     /// [`Effect::add_rates`] on one state.
     fn add_rates(&self, k: &Kinematics, c: &[f64], rates: &mut [f64; NAV_DIM]);
-    /// [`Effect::add_rates`] on a batch of eight.
-    fn add_rates_lanes(&self, k: &Kinematics<Lanes>, c: &[Lanes], rates: &mut [Lanes; NAV_DIM]);
+    /// [`Effect::add_rates`] on each block of a group of batches of eight, the effect's
+    /// coefficients being at `coefficients` in each block's state. One call serves the group,
+    /// so the dynamic dispatch is paid once per group and stage, not per block.
+    fn add_rates_blocks(
+        &self,
+        group: &BlockGroup<'_>,
+        coefficients: std::ops::Range<usize>,
+        rates: &mut [[Lanes; NAV_DIM]],
+    );
     /// [`Effect::add_rate_partials`].
     fn add_rate_partials(&self, k: &Kinematics, c: &[f64], offset: usize, p: &mut Partials);
     /// [`Effect::add_measurement`].
@@ -252,9 +259,17 @@ impl<E: Effect> DynEffect for E {
     fn add_rates(&self, k: &Kinematics, c: &[f64], rates: &mut [f64; NAV_DIM]) {
         Effect::add_rates(self, k, c, rates)
     }
-    #[inline]
-    fn add_rates_lanes(&self, k: &Kinematics<Lanes>, c: &[Lanes], rates: &mut [Lanes; NAV_DIM]) {
-        Effect::add_rates(self, k, c, rates)
+    fn add_rates_blocks(
+        &self,
+        group: &BlockGroup<'_>,
+        coefficients: std::ops::Range<usize>,
+        rates: &mut [[Lanes; NAV_DIM]],
+    ) {
+        for (b, r) in rates.iter_mut().enumerate().take(group.len()) {
+            // Built here, inlined with the effect's rates: only what they read is computed.
+            let k = group.kinematics(b);
+            Effect::add_rates(self, &k, &group.state(b)[coefficients.clone()], r)
+        }
     }
     fn add_rate_partials(&self, k: &Kinematics, c: &[f64], offset: usize, p: &mut Partials) {
         Effect::add_rate_partials(self, k, c, offset, p)
@@ -273,33 +288,55 @@ impl<E: Effect> DynEffect for E {
     }
 }
 
-/// The number types the model evaluates effects' rates on: `f64` and [`Lanes`], each calling
-/// its instance of the effect's one generic [`Effect::add_rates`].
-pub trait EffectNumber: Real {
-    /// `e`'s rates on this number type.
-    fn add_effect_rates(
-        e: &dyn DynEffect,
-        k: &Kinematics<Self>,
-        c: &[Self],
-        rates: &mut [Self; NAV_DIM],
-    );
+/// A group of batches of eight states as the effects see them during the batched
+/// propagation: each block's full state (`stride` lanes apart), its latitude's functions, and
+/// the stage's input. An effect builds from these the kinematics it reads
+/// ([`Kinematics::from_latitude`]), bit for bit the values the base model used. Passing the
+/// whole kinematics instead, which a call through the effect's vtable must take through
+/// memory, cost the propagation half again its time: a CPU that stores one vector register
+/// every other cycle spent it storing 23 vectors per derivative where 5 do.
+#[derive(Debug, Clone)]
+pub struct BlockGroup<'a> {
+    states: &'a [Lanes],
+    stride: usize,
+    latitude: &'a [LatitudeTerms<Lanes>],
+    f: &'a Input,
 }
 
-impl EffectNumber for f64 {
-    #[inline(always)]
-    fn add_effect_rates(e: &dyn DynEffect, k: &Kinematics, c: &[f64], r: &mut [f64; NAV_DIM]) {
-        e.add_rates(k, c, r)
+impl<'a> BlockGroup<'a> {
+    /// `latitude.len()` blocks whose states lie in `states`, `stride` lanes apart, under the
+    /// input `f`.
+    pub fn new(
+        states: &'a [Lanes],
+        stride: usize,
+        latitude: &'a [LatitudeTerms<Lanes>],
+        f: &'a Input,
+    ) -> Self {
+        assert!(states.len() >= latitude.len() * stride);
+        BlockGroup {
+            states,
+            stride,
+            latitude,
+            f,
+        }
     }
-}
-
-impl EffectNumber for Lanes {
+    /// Number of blocks.
     #[inline(always)]
-    fn add_effect_rates(
-        e: &dyn DynEffect,
-        k: &Kinematics<Lanes>,
-        c: &[Lanes],
-        r: &mut [Lanes; NAV_DIM],
-    ) {
-        e.add_rates_lanes(k, c, r)
+    pub fn len(&self) -> usize {
+        self.latitude.len()
+    }
+    /// Whether the group has no block.
+    pub fn is_empty(&self) -> bool {
+        self.latitude.is_empty()
+    }
+    /// Block `b`'s full state.
+    #[inline(always)]
+    pub fn state(&self, b: usize) -> &'a [Lanes] {
+        &self.states[b * self.stride..(b + 1) * self.stride]
+    }
+    /// Block `b`'s kinematics.
+    #[inline(always)]
+    pub fn kinematics(&self, b: usize) -> Kinematics<Lanes> {
+        Kinematics::from_latitude(self.state(b), self.f, &self.latitude[b])
     }
 }

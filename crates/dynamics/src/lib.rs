@@ -32,11 +32,11 @@ pub mod trajectory;
 pub mod trig;
 
 pub use attitude::Attitude;
-pub use effect::{DynEffect, Effect, MeasurementTerm, NoiseChannel, Partials, Terms};
+pub use effect::{BlockGroup, DynEffect, Effect, MeasurementTerm, NoiseChannel, Partials, Terms};
 pub use effects::Registry;
 pub use error::DynamicsError;
 pub use integrate::{InputWindow, PropagationScratch};
-pub use kinematics::{Input, Kinematics};
+pub use kinematics::{Input, Kinematics, LatitudeTerms};
 pub use model::PlatformModel;
 pub use noise::NoiseConfig;
 pub use prior::PlatformPrior;

@@ -18,12 +18,12 @@
 use crate::attitude::{exact_jacobian, exact_rates, exact_rates_with, Attitude, Rotation};
 use crate::batch_propagation;
 use crate::earth::WIE;
-use crate::effect::{DynEffect, EffectNumber, MeasurementTerm, NoiseChannel, Partials};
+use crate::effect::{BlockGroup, DynEffect, MeasurementTerm, NoiseChannel, Partials};
 use crate::error::DynamicsError;
 use crate::integrate::{propagate_generic, InputWindow, PropagationScratch};
 use crate::kinematics::{Input, Kinematics};
 use crate::noise::NoiseConfig;
-use crate::real::Real;
+use crate::real::{Lanes, Real};
 use crate::state::*;
 use crate::system::SystemModel;
 use std::collections::HashSet;
@@ -241,10 +241,10 @@ impl PlatformModel {
         ]
     }
 
-    /// The platform terms of the whole model: [`PlatformModel::base_terms`] plus every
-    /// effect's, on one state or a batch.
+    /// The platform terms of the whole model at one state: [`PlatformModel::base_terms`] plus
+    /// every effect's.
     #[inline(always)]
-    pub fn platform_terms<T: EffectNumber>(&self, x: &[T], k: &Kinematics<T>) -> [T; NAV_DIM] {
+    pub fn platform_terms(&self, x: &[f64], k: &Kinematics) -> [f64; NAV_DIM] {
         let mut t = self.base_terms(x, k);
         self.add_effect_rates(x, k, &mut t);
         t
@@ -270,17 +270,20 @@ impl PlatformModel {
         ]
     }
 
-    /// Adds the switched-on effects' rate terms to `r`, on one state or a batch.
+    /// Adds the switched-on effects' rate terms to `r`, at one state.
     #[inline(always)]
-    pub fn add_effect_rates<T: EffectNumber>(
-        &self,
-        x: &[T],
-        k: &Kinematics<T>,
-        r: &mut [T; NAV_DIM],
-    ) {
+    pub fn add_effect_rates(&self, x: &[f64], k: &Kinematics, r: &mut [f64; NAV_DIM]) {
         for &i in &self.rate_effects {
             let c = &x[self.ranges[i].clone()];
-            T::add_effect_rates(self.effects[i].as_ref(), k, c, r);
+            self.effects[i].add_rates(k, c, r);
+        }
+    }
+
+    /// [`PlatformModel::add_effect_rates`] on a group of batches, one call per effect.
+    #[inline(always)]
+    pub fn add_effect_rates_blocks(&self, group: &BlockGroup<'_>, r: &mut [[Lanes; NAV_DIM]]) {
+        for &i in &self.rate_effects {
+            self.effects[i].add_rates_blocks(group, self.ranges[i].clone(), r);
         }
     }
 

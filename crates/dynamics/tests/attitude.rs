@@ -192,7 +192,8 @@ fn exact_batched_propagation_agrees_with_the_one_state_path() {
     let model = exact(&reg.names().iter().map(|s| s.as_str()).collect::<Vec<_>>());
     let n = model.dim();
     let mut rng = rng(5);
-    let count = 11;
+    // Five blocks: a group of four and one more (the batch takes effects four blocks at a time).
+    let count = 37;
     let mut start = Vec::new();
     for _ in 0..count {
         let mut x = random_state(&model, &mut rng);

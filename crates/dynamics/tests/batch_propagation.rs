@@ -138,7 +138,9 @@ fn every_effect_and_a_users_own_run_batched_and_agree_with_the_generic_path() {
     let sigmas = model.effect_coefficient_sigmas();
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let w = window();
-    let count = 11;
+    // Six blocks: a whole group of four and a part-group, the last block one point and seven
+    // padding lanes.
+    let count = 41;
     let mut start = Vec::new();
     for base in points(count, 1e-5, &mut rng).chunks_exact(BASE_DIM) {
         start.extend_from_slice(base);

@@ -73,7 +73,7 @@ const SLOWEST_INPUT_S: f64 = 1.5;
 const GRAVITY_TOLERANCE: f64 = 0.3;
 
 impl Dataset {
-    /// The warnings of [the module](self): empty for data that look as data-format.md says.
+    /// The warnings this module describes: empty for data that look as data-format.md says.
     pub fn warnings(&self) -> Vec<DataWarning> {
         let mut out = Vec::new();
         let travel = Travel::of(self);

@@ -127,14 +127,18 @@ impl<T: Real> Rotation<T> {
     #[inline(always)]
     pub fn to_platform(&self, v: [T; 3]) -> [T; 3] {
         let c = &self.c;
-        std::array::from_fn(|i| c[i][0].mul_add(v[0], c[i][1].mul_add(v[1], c[i][2] * v[2])))
+        // Written out, not by `std::array::from_fn`, whose closure the inliner can leave as a
+        // call (see `crate::real`).
+        let row = |i: usize| c[i][0].mul_add(v[0], c[i][1].mul_add(v[1], c[i][2] * v[2]));
+        [row(0), row(1), row(2)]
     }
 
     /// `C_p^n a = (C_n^p)^T a`: a platform-axis vector in navigation axes.
     #[inline(always)]
     pub fn to_navigation(&self, a: [T; 3]) -> [T; 3] {
         let c = &self.c;
-        std::array::from_fn(|j| c[0][j].mul_add(a[0], c[1][j].mul_add(a[1], c[2][j] * a[2])))
+        let column = |j: usize| c[0][j].mul_add(a[0], c[1][j].mul_add(a[1], c[2][j] * a[2]));
+        [column(0), column(1), column(2)]
     }
 
     /// The Euler-angle rates `(phi_x', phi_y', phi_z')` for the rate `Om` (model.md).
@@ -165,8 +169,8 @@ pub fn exact_rates_with<T: Real>(
 ) -> [T; NAV_DIM] {
     let w = k.w_cmd;
     let cw = rot.to_platform(w);
-    let om = std::array::from_fn(|i| (cw[i] - w[i]) + terms[PHI_X + i]);
-    let [dx, dy, dz] = rot.euler_rates(om);
+    let om = |i: usize| (cw[i] - w[i]) + terms[PHI_X + i];
+    let [dx, dy, dz] = rot.euler_rates([om(0), om(1), om(2)]);
     let [fx, fy, fz] = k.f;
     let a = rot.to_navigation([fx + terms[V_X], fy + terms[V_Y], fz]);
     let coriolis = k.sin_l * (2.0 * crate::earth::WIE) + k.v_x * k.tan_over_rn;

@@ -129,24 +129,38 @@ impl Real for Lanes {
     }
     #[inline(always)]
     fn mul_add(self, a: Lanes, b: Lanes) -> Lanes {
-        Lanes(std::array::from_fn(|l| self.0[l].mul_add(a.0[l], b.0[l])))
+        let mut out = self;
+        for l in 0..LANES {
+            out.0[l] = self.0[l].mul_add(a.0[l], b.0[l]);
+        }
+        out
     }
 }
 
+// The element-wise operations are plain loops over the lanes: written with
+// `std::array::from_fn`, whose closure sits behind a `try` adaptor, the inliner left some of
+// them as calls, one per lane, once the exact-attitude kernel grew (it then cost twice as
+// much).
 macro_rules! lane_op {
-    ($trait:ident, $method:ident, $op:tt, $assign:ident, $assign_method:ident) => {
+    ($trait:ident, $method:ident, $op:tt, $aop:tt, $assign:ident, $assign_method:ident) => {
         impl $trait for Lanes {
             type Output = Lanes;
             #[inline(always)]
-            fn $method(self, rhs: Lanes) -> Lanes {
-                Lanes(std::array::from_fn(|l| self.0[l] $op rhs.0[l]))
+            fn $method(mut self, rhs: Lanes) -> Lanes {
+                for l in 0..LANES {
+                    self.0[l] $aop rhs.0[l];
+                }
+                self
             }
         }
         impl $trait<f64> for Lanes {
             type Output = Lanes;
             #[inline(always)]
-            fn $method(self, rhs: f64) -> Lanes {
-                Lanes(std::array::from_fn(|l| self.0[l] $op rhs))
+            fn $method(mut self, rhs: f64) -> Lanes {
+                for l in 0..LANES {
+                    self.0[l] $aop rhs;
+                }
+                self
             }
         }
         impl $assign for Lanes {
@@ -160,22 +174,28 @@ macro_rules! lane_op {
     };
 }
 
-lane_op!(Add, add, +, AddAssign, add_assign);
-lane_op!(Sub, sub, -, SubAssign, sub_assign);
-lane_op!(Mul, mul, *, MulAssign, mul_assign);
+lane_op!(Add, add, +, +=, AddAssign, add_assign);
+lane_op!(Sub, sub, -, -=, SubAssign, sub_assign);
+lane_op!(Mul, mul, *, *=, MulAssign, mul_assign);
 
 impl Div for Lanes {
     type Output = Lanes;
     #[inline(always)]
-    fn div(self, rhs: Lanes) -> Lanes {
-        Lanes(std::array::from_fn(|l| self.0[l] / rhs.0[l]))
+    fn div(mut self, rhs: Lanes) -> Lanes {
+        for l in 0..LANES {
+            self.0[l] /= rhs.0[l];
+        }
+        self
     }
 }
 
 impl Neg for Lanes {
     type Output = Lanes;
     #[inline(always)]
-    fn neg(self) -> Lanes {
-        Lanes(self.0.map(|v| -v))
+    fn neg(mut self) -> Lanes {
+        for l in 0..LANES {
+            self.0[l] = -self.0[l];
+        }
+        self
     }
 }

@@ -24,11 +24,13 @@
 //! What was measured (`cargo run --release -p navkf-dynamics --example prop_timing`, 51
 //! points, 25 states, minima of interleaved runs on a Zen 4 EPYC): effects called per block
 //! with the whole kinematics cost 18.0 us against 11.8 us for 25 states with no physics;
-//! this loop costs 15.1 us. Nearly all of the gain is the latitude terms in place of the
-//! kinematics (5 vectors stored per derivative instead of 23); the group size (1, 2, 4 or 8
-//! blocks) measured the same. Loops that called the effects inside a block's stage, after its
-//! base part, measured 22-25 us: keep the two passes apart. The arithmetic of every lane is
-//! the same in both loops, so a point lands bit for bit where it lands alone in its block.
+//! this loop cost 15.1 us, and 13.2 us once the `Lanes` operators were plain loops
+//! ([`crate::real`]). The gain is the latitude terms in place of the kinematics (5 vectors
+//! stored per derivative instead of 23); the group size (1, 2, 4 or 8 blocks) measured the
+//! same. Loops that called the effects inside a block's stage, after its base part, measured
+//! 22-25 us, but before the `Lanes` fix, so that comparison may be worth redoing. The
+//! arithmetic of every lane is the same in both loops, so a point lands bit for bit where it
+//! lands alone in its block.
 
 use crate::attitude::{exact_rates, Attitude};
 use crate::effect::BlockGroup;

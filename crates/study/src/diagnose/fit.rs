@@ -82,8 +82,8 @@ pub struct FilterChoice {
 
 impl Default for FilterChoice {
     /// The EKF: on this model it gives the UKFs' likelihood to 1e-3 of 7e4 (the paper study
-    /// finds the filters equal to four digits), and with effects that add rates it is about
-    /// seven times cheaper than the sigma-point filters.
+    /// finds the filters equal to four digits), and with effects that add rates it costs about
+    /// half a sigma-point filter's step (README, Speed).
     fn default() -> Self {
         FilterChoice {
             name: "ekf".into(),

@@ -88,7 +88,7 @@ fn block_latitude(x: &[Lanes], reference: (f64, f64, f64)) -> LatitudeTerms<Lane
 /// model without rate effects. `EXACT` selects the exact-attitude variant
 /// ([`crate::attitude`]).
 #[inline(always)]
-fn base_rates<const EXACT: bool>(
+fn rates_without_effects<const EXACT: bool>(
     model: &PlatformModel,
     x: &[Lanes],
     f: &Input,
@@ -282,10 +282,10 @@ fn propagate_blocks<const EXACT: bool>(
             for (s, st) in RK4.iter().enumerate() {
                 let u = st.input(window, j);
                 k[s] = if s == 0 {
-                    base_rates::<EXACT>(model, x, u, reference)
+                    rates_without_effects::<EXACT>(model, x, u, reference)
                 } else {
                     blocks.stage(tmp, x, w, st.offset(h), &k[s - 1]);
-                    base_rates::<EXACT>(model, tmp, u, reference)
+                    rates_without_effects::<EXACT>(model, tmp, u, reference)
                 };
                 blocks.add_noise(&mut k[s], w);
             }

@@ -215,8 +215,9 @@ pub trait DynEffect: Send + Sync + fmt::Debug {
     fn terms(&self) -> Terms;
     /// [`Effect::add_rates`] on one state.
     fn add_rates(&self, k: &Kinematics, c: &[f64], rates: &mut [f64; NAV_DIM]);
-    /// [`Effect::add_rates`] on each block of a group of batches of eight, the effect's
-    /// coefficients being at `coefficients` in each block's state. One call serves the group,
+    /// [`Effect::add_rates`] on each block of a group of batches of eight (`rates` holds one
+    /// entry per block), the effect's coefficients being at `coefficients` in each block's
+    /// state. One call serves the group,
     /// so the dynamic dispatch is paid once per group and stage, not per block.
     fn add_rates_blocks(
         &self,
@@ -265,7 +266,8 @@ impl<E: Effect> DynEffect for E {
         coefficients: std::ops::Range<usize>,
         rates: &mut [[Lanes; NAV_DIM]],
     ) {
-        for (b, r) in rates.iter_mut().enumerate().take(group.len()) {
+        debug_assert_eq!(rates.len(), group.len());
+        for (b, r) in rates.iter_mut().enumerate() {
             // Built here, inlined with the effect's rates: only what they read is computed.
             let k = group.kinematics(b);
             Effect::add_rates(self, &k, &group.state(b)[coefficients.clone()], r)

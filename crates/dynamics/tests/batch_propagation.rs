@@ -100,7 +100,7 @@ impl navkf_dynamics::Effect for Damping {
         "damping"
     }
     fn description(&self) -> &str {
-        "v' -= kd v |v| / 10"
+        "v' -= kd v_x v_y / 10, phi_z' += kd (tan L / cos L + phi_x fz + 1e6 tan L / RN) / 1000"
     }
     fn coefficient_names(&self) -> &[&str] {
         &["kd"]
@@ -123,6 +123,11 @@ impl navkf_dynamics::Effect for Damping {
         // A product of states, so that a lane mix-up could not cancel out.
         rates[V_X] -= c[0] * k.v_x * k.v_y * 0.1;
         rates[V_Y] -= c[0] * k.v_y * k.v_x * 0.1;
+        // Kinematics no catalogued effect reads: the batch hands effects the latitude's
+        // functions and each rebuilds the rest, so every field must come out as the one-state
+        // path's.
+        rates[PHI_Z] +=
+            c[0] * (k.tan_l * k.inv_cos + k.phi[0] * k.f[2] + k.tan_over_rn * 1e6) * 1e-3;
     }
 }
 

@@ -176,12 +176,14 @@ impl Blocks<'_> {
             }
         }
     }
-    /// Stores the block `x` back to the points from `first`.
+    /// Stores the block `x` back to the points from `first`: the states that moved (the
+    /// coefficients stay as they were unless noise drives them).
     #[inline(always)]
     fn scatter(&mut self, first: usize, x: &[Lanes]) {
         let n = self.n;
+        let moved = if self.drifting { n } else { NAV_DIM };
         for l in 0..LANES.min(self.count - first) {
-            let dst = &mut self.points[(first + l) * n..(first + l + 1) * n];
+            let dst = &mut self.points[(first + l) * n..(first + l) * n + moved];
             for (d, xs) in dst.iter_mut().zip(x.iter()) {
                 *d = xs.0[l];
             }

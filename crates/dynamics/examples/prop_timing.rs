@@ -1,7 +1,8 @@
 //! Times the batched propagation of 51 points over 1 s (10 sub-steps), for the base model,
 //! `--idle` (five coefficients that enter nothing: 25 states, no physics) and
 //! `--rate-effects` (`accel-cross-axis` and `torquer-scale`: 25 states); `--exact` for the
-//! exact-attitude variant. The point count is the same in every case, so the three compare
+//! exact-attitude variant; `--noise` adds noise held over the window on every channel (as the
+//! standard UKF's points carry). The point count is the same in every case, so the three compare
 //! the cost of the rates per block.
 use navkf_dynamics::effects::Registry;
 use navkf_dynamics::state::*;
@@ -72,13 +73,19 @@ fn main() {
         .collect();
     let mut pts = base.clone();
     let mut scratch = PropagationScratch::default();
+    // `--noise`: noise held over the window on every channel, as the standard UKF's points carry.
+    let channels = model.noise_channels().len();
+    let noise: Vec<f64> = (0..51 * channels).map(|i| 1e-9 * (i % 7) as f64).collect();
+    let noise = std::env::args()
+        .any(|a| a == "--noise")
+        .then_some(&noise[..]);
     let reps = 20000;
     let mut best = f64::INFINITY;
     for _ in 0..5 {
         let t = std::time::Instant::now();
         for _ in 0..reps / 5 {
             pts.copy_from_slice(&base);
-            model.propagate_points(&mut pts, None, &w, &mut scratch);
+            model.propagate_points(&mut pts, noise, &w, &mut scratch);
             std::hint::black_box(&pts);
         }
         best = best.min(t.elapsed().as_secs_f64() * 1e6 / (reps / 5) as f64);

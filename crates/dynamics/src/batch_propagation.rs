@@ -14,28 +14,36 @@
 //! [`crate::integrate::propagate_generic`] does, operation for operation, including noise held
 //! over the window and coefficients that a noise channel drives moving linearly.
 //!
-//! Without effects that add rates, a block's derivatives are formed whole in registers and
-//! the blocks go one at a time (`propagate_blocks`). With them (`propagate_groups`),
-//! four blocks go through each stage together: first the base model's part for every
-//! block of the group, then each effect once for the whole group
+//! Blocks go through each stage in groups of four ([`GROUP`]): one RK4 stage depends on the
+//! previous one, so a single block is a chain of dependent operations (the latitude series,
+//! a division, the rates) that leaves the core waiting; four independent chains in flight keep
+//! it busy. Without effects that add rates, a block's derivative is formed whole in registers,
+//! noise included, and stored once. With them, the base model's part of every block of the
+//! group comes first, then each effect once for the whole group
 //! ([`crate::DynEffect::add_rates_blocks`]). What the effects receive is each block's
 //! [`LatitudeTerms`], from which they rebuild the kinematics they read ([`BlockGroup`]).
 //!
 //! What was measured (`cargo run --release -p navkf-dynamics --example prop_timing`, 51
-//! points, 25 states, minima of interleaved runs on a Zen 4 EPYC): effects called per block
-//! with the whole kinematics cost 18.0 us against 11.8 us for 25 states with no physics;
-//! this loop cost 15.1 us, and 13.2 us once the `Lanes` operators were plain loops
-//! ([`crate::real`]). The gain is the latitude terms in place of the kinematics (5 vectors
-//! stored per derivative instead of 23); the group size (1, 2, 4 or 8 blocks) measured the
-//! same. Loops that called the effects inside a block's stage, after its base part, measured
-//! 22-25 us, but before the `Lanes` fix, so that comparison may be worth redoing. The
-//! arithmetic of every lane is the same in both loops, so a point lands bit for bit where it
-//! lands alone in its block.
+//! points, minima of interleaved runs on a Zen 4 EPYC):
+//! - Effects called per block with the whole kinematics cost 18.0 us against 11.8 us for 25
+//!   states with no physics; the grouped pass with the latitude terms 15.1 us, and 13.2 us
+//!   once the `Lanes` operators were plain loops ([`crate::real`]). The gain is the latitude
+//!   terms in place of the kinematics (5 vectors stored per derivative instead of 23).
+//! - The base model one block at a time cost 11.0 us against 9.7 for the loop before the
+//!   physics was shared (`ae4115e`, which formed the drifts once per input knot and kept the
+//!   block in local arrays). In groups of four it costs 9.7. With noise on every channel
+//!   (`--noise`, as the standard UKF's points carry): 10.6 in groups with the noise added in
+//!   registers, 12.0 when it was added to the stored derivative, 10.3 before. Groups of two:
+//!   9.8 and 10.7, but 13.6 with two rate effects against 12.8 in fours. Forming the drifts
+//!   once per input knot measured nothing, one block at a time or in groups.
+//!
+//! The arithmetic of every lane is the same whatever the grouping, so a point lands bit for
+//! bit where it lands alone in its block.
 
 use crate::attitude::{exact_rates, Attitude};
 use crate::effect::BlockGroup;
 use crate::integrate::{rk4_step, InputWindow, PropagationScratch, RK4};
-use crate::kinematics::{Input, Kinematics, LatitudeTerms};
+use crate::kinematics::{Kinematics, LatitudeTerms};
 use crate::model::PlatformModel;
 use crate::real::{Lanes, LANES};
 use crate::state::*;
@@ -64,9 +72,9 @@ fn small_sin_cos(d: f64) -> (f64, f64) {
     (s, c)
 }
 
-/// Blocks of [`LANES`] points that go through a stage together when effects add rates: one
-/// dispatch per effect serves four blocks. Their states, stage derivatives and latitude terms
-/// (about 25 kB at 25 states) fit the first-level cache.
+/// Blocks of [`LANES`] points that go through a stage together: four independent dependency
+/// chains in flight, and one dispatch per effect for four blocks. Their states, stage
+/// derivatives and latitude terms (about 25 kB at 25 states) fit the first-level cache.
 const GROUP: usize = 4;
 
 /// The latitude's functions at a block's states `x`: the one place where the batch computes
@@ -82,24 +90,6 @@ fn block_latitude(x: &[Lanes], reference: (f64, f64, f64)) -> LatitudeTerms<Lane
         cos_l.0[l] = c0 * cd - s0 * sd;
     }
     LatitudeTerms::new(sin_l, cos_l)
-}
-
-/// Navigation-state derivatives of a block at states `x` (all `n` states, as lanes) under a
-/// model without rate effects. `EXACT` selects the exact-attitude variant
-/// ([`crate::attitude`]).
-#[inline(always)]
-fn rates_without_effects<const EXACT: bool>(
-    model: &PlatformModel,
-    x: &[Lanes],
-    f: &Input,
-    reference: (f64, f64, f64),
-) -> [Lanes; NAV_DIM] {
-    let k = Kinematics::from_latitude(x, f, &block_latitude(x, reference));
-    if EXACT {
-        exact_rates(&k, &model.base_terms(x, &k))
-    } else {
-        model.base_rates(x, &k)
-    }
 }
 
 /// Whether the batched path applies to these points over this window: every latitude within
@@ -132,16 +122,14 @@ pub fn propagate(
     window: &InputWindow,
     scratch: &mut PropagationScratch,
 ) {
-    let exact = model.attitude() == Attitude::Exact;
-    match (model.has_rate_effects(), exact) {
-        (false, false) => propagate_blocks::<false>(model, points, noise, window, scratch),
-        (false, true) => propagate_blocks::<true>(model, points, noise, window, scratch),
-        (true, false) => propagate_groups::<false>(model, points, noise, window, scratch),
-        (true, true) => propagate_groups::<true>(model, points, noise, window, scratch),
+    if model.attitude() == Attitude::Exact {
+        propagate_groups::<true>(model, points, noise, window, scratch);
+    } else {
+        propagate_groups::<false>(model, points, noise, window, scratch);
     }
 }
 
-/// What both loops share: the points, the noise and how a stage and a sub-step move a block.
+/// The points, the noise and how a stage and a sub-step move a block.
 struct Blocks<'a> {
     points: &'a mut [f64],
     noise: Option<&'a [f64]>,
@@ -260,44 +248,8 @@ fn blocks<'a>(
     Some((blocks, (lat_ref, s0, c0)))
 }
 
-/// [`propagate`] for a model without rate effects, a block at a time.
-fn propagate_blocks<const EXACT: bool>(
-    model: &PlatformModel,
-    points: &mut [f64],
-    noise: Option<&[f64]>,
-    window: &InputWindow,
-    scratch: &mut PropagationScratch,
-) {
-    let Some((mut blocks, reference)) = blocks(model, points, noise, window) else {
-        return;
-    };
-    let n = blocks.n;
-    let (x, rest) = scratch.lanes(scratch_lanes(n)).split_at_mut(n);
-    let (tmp, rest) = rest.split_at_mut(n);
-    let w = &mut rest[..n];
-    for first in (0..blocks.count).step_by(LANES) {
-        blocks.gather(first, x, w);
-        tmp.copy_from_slice(x);
-        let mut k = [[Lanes::default(); NAV_DIM]; 4];
-        for j in 0..window.substeps() {
-            let h = window.t[j + 1] - window.t[j];
-            for (s, st) in RK4.iter().enumerate() {
-                let u = st.input(window, j);
-                k[s] = if s == 0 {
-                    rates_without_effects::<EXACT>(model, x, u, reference)
-                } else {
-                    blocks.stage(tmp, x, w, st.offset(h), &k[s - 1]);
-                    rates_without_effects::<EXACT>(model, tmp, u, reference)
-                };
-                blocks.add_noise(&mut k[s], w);
-            }
-            blocks.finish(x, tmp, w, h, [&k[0], &k[1], &k[2], &k[3]]);
-        }
-        blocks.scatter(first, x);
-    }
-}
-
-/// [`propagate`] for a model with rate effects, [`GROUP`] blocks at a time.
+/// [`propagate`], [`GROUP`] blocks at a time. `EXACT` selects the exact-attitude variant
+/// ([`crate::attitude`]).
 fn propagate_groups<const EXACT: bool>(
     model: &PlatformModel,
     points: &mut [f64],
@@ -318,6 +270,7 @@ fn propagate_groups<const EXACT: bool>(
     let mut latitude = [LatitudeTerms::<Lanes>::default(); GROUP];
     let mut terms = [[Lanes::default(); NAV_DIM]; GROUP];
     let block = |b: usize| b * n..(b + 1) * n;
+    let effects = model.has_rate_effects();
     for group_first in (0..blocks.count).step_by(LANES * GROUP) {
         let count = (blocks.count - group_first).div_ceil(LANES).min(GROUP);
         for b in 0..count {
@@ -344,26 +297,40 @@ fn propagate_groups<const EXACT: bool>(
                     } else {
                         &tmps[block(b)]
                     };
-                    latitude[b] = block_latitude(at, reference);
-                    let kb = Kinematics::from_latitude(at, u, &latitude[b]);
-                    if EXACT {
-                        terms[b] = model.base_terms(at, &kb);
+                    let lat = block_latitude(at, reference);
+                    let kb = Kinematics::from_latitude(at, u, &lat);
+                    if effects {
+                        latitude[b] = lat;
+                        if EXACT {
+                            terms[b] = model.base_terms(at, &kb);
+                        } else {
+                            ks[b] = model.base_rates(at, &kb);
+                        }
                     } else {
-                        ks[b] = model.base_rates(at, &kb);
+                        // The whole derivative formed in registers and stored once.
+                        let mut r = if EXACT {
+                            exact_rates(&kb, &model.base_terms(at, &kb))
+                        } else {
+                            model.base_rates(at, &kb)
+                        };
+                        blocks.add_noise(&mut r, &ws[block(b)]);
+                        ks[b] = r;
                     }
                 }
-                let states = if s == 0 { &xs[..] } else { &tmps[..] };
-                let group = BlockGroup::new(states, n, &latitude[..count], u);
-                if EXACT {
-                    model.add_effect_rates_blocks(&group, &mut terms[..count]);
+                if effects {
+                    let states = if s == 0 { &xs[..] } else { &tmps[..] };
+                    let group = BlockGroup::new(states, n, &latitude[..count], u);
+                    if EXACT {
+                        model.add_effect_rates_blocks(&group, &mut terms[..count]);
+                        for b in 0..count {
+                            ks[b] = exact_rates(&group.kinematics(b), &terms[b]);
+                        }
+                    } else {
+                        model.add_effect_rates_blocks(&group, &mut ks[..count]);
+                    }
                     for b in 0..count {
-                        ks[b] = exact_rates(&group.kinematics(b), &terms[b]);
+                        blocks.add_noise(&mut ks[b], &ws[block(b)]);
                     }
-                } else {
-                    model.add_effect_rates_blocks(&group, &mut ks[..count]);
-                }
-                for b in 0..count {
-                    blocks.add_noise(&mut ks[b], &ws[block(b)]);
                 }
             }
             for b in 0..count {

@@ -14,6 +14,7 @@
 //! [`DynEffect`] objects, which every [`Effect`] is.
 
 use crate::kinematics::{Input, Kinematics, LatitudeTerms};
+use crate::linear_rates::LinearRate;
 use crate::real::{Lanes, Real};
 use crate::state::{MEAS_DIM, NAV_DIM};
 use std::fmt;
@@ -75,8 +76,13 @@ pub enum MeasurementTerm {
 /// is refused), so a term is never silently dropped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Terms {
-    /// It adds to the navigation-state derivatives ([`Effect::add_rates`]).
+    /// It adds to the navigation-state derivatives through its own code
+    /// ([`Effect::add_rates`]).
     pub rates: bool,
+    /// Rate terms linear in one coefficient, which the model evaluates itself (no
+    /// [`Effect::add_rates`] needed; see [`crate::linear_rates`] for why). They are added
+    /// before any effect's [`Effect::add_rates`].
+    pub linear_rates: &'static [LinearRate],
     /// Its measurement term ([`Effect::add_measurement`]).
     pub measurement: MeasurementTerm,
     /// It brings process-noise channels ([`Effect::process_noise`]).
@@ -87,13 +93,24 @@ impl Terms {
     /// Rates only.
     pub const RATES: Terms = Terms {
         rates: true,
+        linear_rates: &[],
         measurement: MeasurementTerm::None,
         noise: false,
     };
+    /// Linear rate terms only.
+    pub const fn linear(terms: &'static [LinearRate]) -> Terms {
+        Terms {
+            rates: false,
+            linear_rates: terms,
+            measurement: MeasurementTerm::None,
+            noise: false,
+        }
+    }
     /// A measurement term only.
     pub const fn measurement(kind: MeasurementTerm) -> Terms {
         Terms {
             rates: false,
+            linear_rates: &[],
             measurement: kind,
             noise: false,
         }
@@ -101,6 +118,7 @@ impl Terms {
     /// Process noise only.
     pub const NOISE: Terms = Terms {
         rates: false,
+        linear_rates: &[],
         measurement: MeasurementTerm::None,
         noise: true,
     };
@@ -109,7 +127,10 @@ impl Terms {
 /// One switchable term of the model.
 ///
 /// An effect declares what it adds in [`Effect::terms`] and implements those methods; the
-/// others default to adding nothing. `c` is always the slice of the state holding this
+/// others default to adding nothing. Rate terms that are a coefficient times a kinematic
+/// quantity ([`crate::Feature`]) are better declared as data in [`Terms::linear_rates`], with
+/// no code: the model evaluates and differentiates them, and the UKFs' batch evaluates them
+/// inline ([`crate::linear_rates`]); `add_rates` is for the rest. `c` is always the slice of the state holding this
 /// effect's own coefficients, in the order of [`Effect::coefficient_names`]; `offset` is the
 /// index of the first of them in the full state (for writing partials).
 ///

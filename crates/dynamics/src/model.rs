@@ -22,6 +22,7 @@ use crate::effect::{BlockGroup, DynEffect, MeasurementTerm, NoiseChannel, Partia
 use crate::error::DynamicsError;
 use crate::integrate::{propagate_generic, InputWindow, PropagationScratch};
 use crate::kinematics::{Input, Kinematics};
+use crate::linear_rates::StateLinearRate;
 use crate::noise::NoiseConfig;
 use crate::real::{Lanes, Real};
 use crate::state::*;
@@ -35,7 +36,10 @@ pub struct PlatformModel {
     offsets: Vec<usize>,
     /// The state indices of each effect's coefficients.
     ranges: Vec<std::ops::Range<usize>>,
+    /// Effects whose own code adds rates ([`crate::Effect::add_rates`]).
     rate_effects: Vec<usize>,
+    /// Every effect's declared linear rate terms, in the model's order.
+    linear_rates: Vec<StateLinearRate>,
     meas_effects: Vec<usize>,
     names: Vec<String>,
     units: Vec<String>,
@@ -119,6 +123,17 @@ impl PlatformModel {
         let rate_effects = (0..effects.len())
             .filter(|&i| effects[i].terms().rates)
             .collect();
+        let linear_rates = effects
+            .iter()
+            .zip(&offsets)
+            .flat_map(|(e, &off)| {
+                e.terms().linear_rates.iter().map(move |t| StateLinearRate {
+                    row: t.row,
+                    state: off + t.coefficient,
+                    feature: t.feature,
+                })
+            })
+            .collect();
         let meas_effects = (0..effects.len())
             .filter(|&i| effects[i].terms().measurement != MeasurementTerm::None)
             .collect();
@@ -135,6 +150,7 @@ impl PlatformModel {
             offsets,
             ranges,
             rate_effects,
+            linear_rates,
             meas_effects,
             names,
             units,
@@ -216,9 +232,22 @@ impl PlatformModel {
         r
     }
 
-    /// Whether any switched-on effect adds rates.
+    /// Whether any switched-on effect adds rates (declared linear terms or its own code).
     #[inline(always)]
     pub fn has_rate_effects(&self) -> bool {
+        !self.rate_effects.is_empty() || !self.linear_rates.is_empty()
+    }
+
+    /// Whether any switched-on effect declares linear rate terms ([`crate::linear_rates`]).
+    #[inline(always)]
+    pub fn has_linear_rates(&self) -> bool {
+        !self.linear_rates.is_empty()
+    }
+
+    /// Whether any switched-on effect adds rates through its own code
+    /// ([`crate::Effect::add_rates`]), which the batch reaches only through its vtable.
+    #[inline(always)]
+    pub fn has_coded_rate_effects(&self) -> bool {
         !self.rate_effects.is_empty()
     }
 
@@ -271,16 +300,35 @@ impl PlatformModel {
         ]
     }
 
-    /// Adds the switched-on effects' rate terms to `r`, at one state.
+    /// Adds the switched-on effects' rate terms to `r`, at one state: the declared linear
+    /// terms, then the effects' own code.
     #[inline(always)]
     pub fn add_effect_rates(&self, x: &[f64], k: &Kinematics, r: &mut [f64; NAV_DIM]) {
+        self.add_linear_rates(x, k, r);
         for &i in &self.rate_effects {
             let c = &x[self.ranges[i].clone()];
             self.effects[i].add_rates(k, c, r);
         }
     }
 
-    /// [`PlatformModel::add_effect_rates`] on a group of batches, one call per effect.
+    /// Adds the effects' declared linear rate terms ([`crate::linear_rates`]) to `r`, on one
+    /// state or a batch: the batch evaluates them inline, with no call per effect.
+    #[inline(always)]
+    pub fn add_linear_rates<T: Real>(&self, x: &[T], k: &Kinematics<T>, r: &mut [T; NAV_DIM]) {
+        if self.linear_rates.is_empty() {
+            return;
+        }
+        // Through copies, as in `nav_rates`: neither `k` nor `r` has its address taken.
+        let k = *k;
+        let mut with = *r;
+        for t in &self.linear_rates {
+            t.add(x, &k, &mut with);
+        }
+        *r = with;
+    }
+
+    /// The effects' own rate code ([`crate::Effect::add_rates`]) on a group of batches, one
+    /// call per effect (the declared linear terms are not included).
     #[inline(always)]
     pub fn add_effect_rates_blocks(&self, group: &BlockGroup<'_>, r: &mut [[Lanes; NAV_DIM]]) {
         for &i in &self.rate_effects {
@@ -381,9 +429,12 @@ impl PlatformModel {
     /// apart in `jac`.
     #[inline(always)]
     fn add_effect_rate_partials(&self, x: &[f64], k: &Kinematics, jac: &mut [f64], n: usize) {
-        if !self.rate_effects.is_empty() {
+        if self.has_rate_effects() {
             let mut p = Partials::new(&mut jac[..NAV_DIM * n], n);
             let k = *k; // a copy, as in `nav_rates`
+            for t in &self.linear_rates {
+                t.add_partials(x, &k, &mut p);
+            }
             for &i in &self.rate_effects {
                 let c = self.effect_coeffs(i, x);
                 self.effects[i].add_rate_partials(&k, c, self.offsets[i], &mut p);
@@ -555,6 +606,15 @@ fn check_declared_terms(e: &dyn DynEffect, offset: usize, dim: usize) -> Result<
             e.name()
         ))
     };
+    for t in terms.linear_rates {
+        if t.row >= NAV_DIM || t.coefficient >= count || t.feature.axis() >= 3 {
+            return Err(DynamicsError::Effect(format!(
+                "effect `{}` declares a linear rate term {t:?}: its row must be a navigation \
+                 state (< {NAV_DIM}), its coefficient one of its {count}, its axis 0, 1 or 2",
+                e.name()
+            )));
+        }
+    }
     if !terms.rates {
         let mut r = [0.0; NAV_DIM];
         e.add_rates(&k, c, &mut r);

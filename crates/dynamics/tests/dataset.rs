@@ -991,6 +991,7 @@ fn a_users_own_effect_coefficient_is_accepted_with_its_registry() {
         fn terms(&self) -> navkf_dynamics::Terms {
             navkf_dynamics::Terms {
                 rates: false,
+                linear_rates: &[],
                 measurement: navkf_dynamics::MeasurementTerm::None,
                 noise: false,
             }

@@ -153,6 +153,7 @@ impl Effect for TorquerScaleMissingTerm {
     fn terms(&self) -> navkf_dynamics::Terms {
         navkf_dynamics::Terms {
             rates: true,
+            linear_rates: &[],
             measurement: navkf_dynamics::MeasurementTerm::None,
             noise: false,
         }

@@ -31,6 +31,7 @@ impl Effect for GyroMisalignment {
     fn terms(&self) -> navkf_dynamics::Terms {
         navkf_dynamics::Terms {
             rates: true,
+            linear_rates: &[],
             measurement: navkf_dynamics::MeasurementTerm::None,
             noise: false,
         }
@@ -248,6 +249,7 @@ impl Effect for Clashing {
     fn terms(&self) -> navkf_dynamics::Terms {
         navkf_dynamics::Terms {
             rates: false,
+            linear_rates: &[],
             measurement: navkf_dynamics::MeasurementTerm::None,
             noise: false,
         }
@@ -345,6 +347,7 @@ fn a_term_the_effect_adds_but_does_not_declare_is_refused() {
     use navkf_dynamics::{MeasurementTerm, Terms};
     let all = Terms {
         rates: true,
+        linear_rates: &[],
         measurement: MeasurementTerm::NonLinear,
         noise: true,
     };
@@ -375,5 +378,116 @@ fn a_term_the_effect_adds_but_does_not_declare_is_refused() {
     ] {
         let msg = effect_error(PlatformModel::new(vec![Box::new(Undeclared(terms))], &cfg));
         assert!(msg.contains("undeclared") && msg.contains(what), "{msg}");
+    }
+}
+
+/// A user's effect declared as linear rate terms only, no code: `v_x' += c0 fz`,
+/// `phi_z' += c1 w_cmd_z`.
+#[derive(Debug)]
+struct DeclaredOnly(&'static [navkf_dynamics::LinearRate]);
+
+impl Effect for DeclaredOnly {
+    fn name(&self) -> &str {
+        "declared-only"
+    }
+    fn description(&self) -> &str {
+        "v_x' += c0 fz, phi_z' += c1 w_cmd_z"
+    }
+    fn coefficient_names(&self) -> &[&str] {
+        &["c0", "c1"]
+    }
+    fn coefficient_units(&self) -> &[&str] {
+        &["1"; 2]
+    }
+    fn coefficient_sigma(&self) -> &[f64] {
+        &[1e-4; 2]
+    }
+    fn terms(&self) -> navkf_dynamics::Terms {
+        navkf_dynamics::Terms::linear(self.0)
+    }
+}
+
+const DECLARED: &[navkf_dynamics::LinearRate] = &[
+    navkf_dynamics::LinearRate {
+        row: V_X,
+        coefficient: 0,
+        feature: navkf_dynamics::Feature::SpecificForce(2),
+    },
+    navkf_dynamics::LinearRate {
+        row: PHI_Z,
+        coefficient: 1,
+        feature: navkf_dynamics::Feature::CommandedRate(2),
+    },
+];
+
+/// Catches: declared linear terms not evaluated, evaluated on the wrong coefficient or row,
+/// or without their partials (the commanded rate's depend on v_x and L), also behind the
+/// whole catalogue.
+#[test]
+fn a_users_declared_linear_terms_enter_the_rates_and_the_jacobian() {
+    let cfg = NoiseConfig::default();
+    let m = PlatformModel::new(vec![Box::new(DeclaredOnly(DECLARED))], &cfg).unwrap();
+    let b = PlatformModel::base(&cfg);
+    let mut gen = rng(72);
+    for k in 0..8 {
+        let x = random_state(&m, &mut gen);
+        let u = random_input(&mut gen);
+        let (mut r, mut rb) = (vec![0.0; 7], vec![0.0; 7]);
+        m.rates(&x, &u, &mut r);
+        b.rates(&x[..20], &u, &mut rb);
+        let (s, c) = x[LAT].sin_cos();
+        let rn = navkf_dynamics::earth::prime_vertical_radius(s);
+        let w3 = WIE * s + x[V_X] * s / c / rn;
+        let mut want = rb.clone();
+        want[V_X] += x[20] * u[2];
+        want[PHI_Z] += x[21] * w3;
+        for i in 0..7 {
+            assert!(
+                (r[i] - want[i]).abs() <= 1e-13 * (want[i].abs() + 1e-6 * WIE),
+                "state #{k}, rate {i}: {} vs {}",
+                r[i],
+                want[i]
+            );
+        }
+        check_rate_jacobian(&m, &x, &u).unwrap_or_else(|e| panic!("state #{k}:\n{e}"));
+    }
+    let mut effects = registry().build_all(&registry().names()).unwrap();
+    effects.push(Box::new(DeclaredOnly(DECLARED)));
+    let all = PlatformModel::new(effects, &cfg).unwrap();
+    let mut gen2 = rng(73);
+    for k in 0..4 {
+        let x = random_state(&all, &mut gen2);
+        let u = random_input(&mut gen2);
+        check_rate_jacobian(&all, &x, &u).unwrap_or_else(|e| panic!("all, state #{k}:\n{e}"));
+    }
+}
+
+/// Catches: a declared term on a row that is not a navigation state, on a coefficient the
+/// effect does not have, or about a fourth axis, accepted (and indexing out of bounds later).
+#[test]
+fn a_malformed_linear_declaration_is_refused() {
+    use navkf_dynamics::{Feature, LinearRate};
+    const BAD_ROW: &[LinearRate] = &[LinearRate {
+        row: NAV_DIM,
+        coefficient: 0,
+        feature: Feature::SpecificForce(0),
+    }];
+    const BAD_COEFFICIENT: &[LinearRate] = &[LinearRate {
+        row: V_X,
+        coefficient: 2,
+        feature: Feature::SpecificForce(0),
+    }];
+    const BAD_AXIS: &[LinearRate] = &[LinearRate {
+        row: V_X,
+        coefficient: 0,
+        feature: Feature::CommandedRate(3),
+    }];
+    for bad in [BAD_ROW, BAD_COEFFICIENT, BAD_AXIS] {
+        let r = PlatformModel::new(vec![Box::new(DeclaredOnly(bad))], &NoiseConfig::default());
+        let msg = effect_error(r);
+        assert!(
+            msg.contains("declared-only") && msg.contains("linear rate term"),
+            "{msg}"
+        );
     }
 }

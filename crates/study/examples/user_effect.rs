@@ -28,6 +28,7 @@ impl Effect for Drag {
     fn terms(&self) -> navkf_dynamics::Terms {
         navkf_dynamics::Terms {
             rates: true,
+            linear_rates: &[],
             measurement: navkf_dynamics::MeasurementTerm::None,
             noise: false,
         }

@@ -1,10 +1,23 @@
 //! `accel-quadratic`: accelerometer second-order scale error,
 //! `nab_x += Ka2x fx^2`, `nab_y += Ka2y fy^2`.
 
-use crate::effect::{Effect, Partials, Terms};
-use crate::kinematics::Kinematics;
-use crate::real::Real;
-use crate::state::{NAV_DIM, V_X, V_Y};
+use crate::effect::{Effect, Terms};
+use crate::linear_rates::{Feature, LinearRate};
+use crate::state::{V_X, V_Y};
+
+/// `nab_x += Ka2x fx^2`, `nab_y += Ka2y fy^2`.
+const TERMS: &[LinearRate] = &[
+    LinearRate {
+        row: V_X,
+        coefficient: 0,
+        feature: Feature::SpecificForceSquared(0),
+    },
+    LinearRate {
+        row: V_Y,
+        coefficient: 1,
+        feature: Feature::SpecificForceSquared(1),
+    },
+];
 
 /// See the module documentation.
 #[derive(Debug, Default, Clone)]
@@ -18,7 +31,7 @@ impl Effect for AccelQuadratic {
         "nab_x += Ka2x fx^2, nab_y += Ka2y fy^2 (second-order accelerometer scale error)"
     }
     fn terms(&self) -> Terms {
-        Terms::RATES
+        Terms::linear(TERMS)
     }
     fn coefficient_names(&self) -> &[&str] {
         &["Ka2x", "Ka2y"]
@@ -29,13 +42,5 @@ impl Effect for AccelQuadratic {
     fn coefficient_sigma(&self) -> &[f64] {
         // 50 ug/g^2 = 4.9e-4 m/s^2 per (9.81 m/s^2)^2.
         &[5.1e-6; 2]
-    }
-    fn add_rates<T: Real>(&self, k: &Kinematics<T>, c: &[T], rates: &mut [T; NAV_DIM]) {
-        rates[V_X] += c[0] * k.f[0] * k.f[0];
-        rates[V_Y] += c[1] * k.f[1] * k.f[1];
-    }
-    fn add_rate_partials(&self, k: &Kinematics, _c: &[f64], offset: usize, p: &mut Partials) {
-        p.add(V_X, offset, k.f[0] * k.f[0]);
-        p.add(V_Y, offset + 1, k.f[1] * k.f[1]);
     }
 }

@@ -4,10 +4,28 @@
 //! On a level vehicle `fz` is nearly constant (gravity), so on a flat trajectory this term is
 //! almost indistinguishable from the constant drift `Kg0i`: the diagnosis reports that.
 
-use crate::effect::{Effect, Partials, Terms};
-use crate::kinematics::Kinematics;
-use crate::real::Real;
-use crate::state::{NAV_DIM, PHI_X};
+use crate::effect::{Effect, Terms};
+use crate::linear_rates::{Feature, LinearRate};
+use crate::state::{PHI_X, PHI_Y, PHI_Z};
+
+/// `eps_i += Kg13i fz`.
+const TERMS: &[LinearRate] = &[
+    LinearRate {
+        row: PHI_X,
+        coefficient: 0,
+        feature: Feature::SpecificForce(2),
+    },
+    LinearRate {
+        row: PHI_Y,
+        coefficient: 1,
+        feature: Feature::SpecificForce(2),
+    },
+    LinearRate {
+        row: PHI_Z,
+        coefficient: 2,
+        feature: Feature::SpecificForce(2),
+    },
+];
 
 /// See the module documentation.
 #[derive(Debug, Default, Clone)]
@@ -21,7 +39,7 @@ impl Effect for GyroFz {
         "eps_i += Kg13i fz (gyro drift per unit vertical specific force)"
     }
     fn terms(&self) -> Terms {
-        Terms::RATES
+        Terms::linear(TERMS)
     }
     fn coefficient_names(&self) -> &[&str] {
         &["Kg13x", "Kg13y", "Kg13z"]
@@ -32,15 +50,5 @@ impl Effect for GyroFz {
     fn coefficient_sigma(&self) -> &[f64] {
         // 0.02 deg/h per g.
         &[9.9e-9; 3]
-    }
-    fn add_rates<T: Real>(&self, k: &Kinematics<T>, c: &[T], rates: &mut [T; NAV_DIM]) {
-        for i in 0..3 {
-            rates[PHI_X + i] += c[i] * k.f[2];
-        }
-    }
-    fn add_rate_partials(&self, k: &Kinematics, _c: &[f64], offset: usize, p: &mut Partials) {
-        for i in 0..3 {
-            p.add(PHI_X + i, offset + i, k.f[2]);
-        }
     }
 }

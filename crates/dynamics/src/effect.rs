@@ -130,9 +130,10 @@ impl Terms {
 /// others default to adding nothing. Rate terms that are a coefficient times a kinematic
 /// quantity ([`crate::Feature`]) are better declared as data in [`Terms::linear_rates`], with
 /// no code: the model evaluates and differentiates them, and the UKFs' batch evaluates them
-/// inline ([`crate::linear_rates`]); `add_rates` is for the rest. `c` is always the slice of the state holding this
-/// effect's own coefficients, in the order of [`Effect::coefficient_names`]; `offset` is the
-/// index of the first of them in the full state (for writing partials).
+/// inline ([`crate::linear_rates`]); `add_rates` is for the rest. `c` is always the slice of
+/// the state holding this effect's own coefficients, in the order of
+/// [`Effect::coefficient_names`]; `offset` is the index of the first of them in the full state
+/// (for writing partials).
 ///
 /// ```
 /// use navkf_dynamics::{Effect, Kinematics, Partials, PlatformModel, NoiseConfig, Real, Terms};

@@ -210,8 +210,9 @@ impl PlatformModel {
 
     /// Derivative of the seven navigation states (model.md eqs 1-12 plus the effects' terms)
     /// at the full state `x`, given its kinematics, for one state: the truth and the EKF.
-    /// [`PlatformModel::base_rates`] and the effects' generic [`crate::Effect::add_rates`] are
-    /// the one source: the UKFs' batches call the first on [`crate::Lanes`] and the second
+    /// [`PlatformModel::base_rates`], the effects' declared linear terms
+    /// ([`PlatformModel::add_linear_rates`]) and their generic [`crate::Effect::add_rates`] are
+    /// the one source: the UKFs' batches call the first two on [`crate::Lanes`] and the third
     /// through [`PlatformModel::add_effect_rates_blocks`].
     // Inlined into its callers, the result stays in registers: returned through memory, its
     // seven scalar stores were read back as vectors, a store-forwarding stall per call.

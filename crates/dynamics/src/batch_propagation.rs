@@ -14,7 +14,7 @@
 //! [`crate::integrate::propagate_generic`] does, operation for operation, including noise held
 //! over the window and coefficients that a noise channel drives moving linearly.
 //!
-//! Blocks go through each stage in groups of four ([`GROUP`]): one RK4 stage depends on the
+//! Blocks go through each stage in groups of four (`GROUP`): one RK4 stage depends on the
 //! previous one, so a single block is a chain of dependent operations (the latitude series,
 //! a division, the rates) that leaves the core waiting; four independent chains in flight keep
 //! it busy. The base model and the effects' declared linear terms ([`crate::linear_rates`])

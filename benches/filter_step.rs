@@ -1,6 +1,6 @@
 //! Cost of one filter step (predict over 1 s with 10 input sub-steps, then update) for the
 //! 20-state base model and for the model with two effects that add rates
-//! ([`WITH_EFFECTS`], 25 states), and for the exact-attitude variant of the base model, per
+//! ([`navkf_benches::RATE_EFFECTS`], 25 states), and for the exact-attitude variant of the base model, per
 //! filter; and the model evaluation on its own.
 //!
 //! `cargo bench -p navkf-benches` (add `-- --quick` for a short run).
@@ -11,14 +11,14 @@ use navkf_dynamics::{PropagationScratch, SystemModel};
 use navkf_filters::Observation;
 use std::hint::black_box;
 
-/// Two catalogued effects that add rates (every candidate fit of a diagnosis carries some).
-const WITH_EFFECTS: [&str; 2] = ["accel-cross-axis", "torquer-scale"];
-
 fn filter_steps(c: &mut Criterion) {
     let mut group = c.benchmark_group("predict_update");
     for (label, sc) in [
         ("base", Scenario::new()),
-        ("with_rate_effects", Scenario::with_effects(&WITH_EFFECTS)),
+        (
+            "with_rate_effects",
+            Scenario::with_effects(&navkf_benches::RATE_EFFECTS),
+        ),
         ("exact_attitude", Scenario::exact_attitude()),
     ] {
         let (window, z, sigma, avail) = sc.window_at(300.0);

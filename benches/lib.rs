@@ -7,6 +7,10 @@ use navkf_dynamics::*;
 use navkf_filters::*;
 use std::sync::Arc;
 
+/// Two catalogued effects that add rates, the benchmarks' with-effects case (every candidate
+/// fit of a diagnosis carries some).
+pub const RATE_EFFECTS: [&str; 2] = ["accel-cross-axis", "torquer-scale"];
+
 /// A filter warmed up on 300 s of a simulated run, with the next window (1 s, 10 input
 /// sub-steps, cruising) and its measurement.
 pub struct Scenario {
@@ -121,7 +125,7 @@ impl Scenario {
 }
 
 /// An effect that adds five coefficients and nothing else: what a larger state costs the
-/// filters without any physics (`step_timing --idle-coefficients`).
+/// filters without any physics (`step_timing --idle-coefficients`, `prop_timing --idle`).
 #[derive(Debug)]
 pub struct IdleCoefficients;
 

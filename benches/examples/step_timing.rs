@@ -32,7 +32,7 @@ fn main() {
     let sc = if exact {
         Scenario::exact_attitude()
     } else if effects {
-        Scenario::with_effects(&["accel-cross-axis", "torquer-scale"])
+        Scenario::with_effects(&navkf_benches::RATE_EFFECTS)
     } else if idle {
         Scenario::with_effect_objects(vec![Box::new(navkf_benches::IdleCoefficients)])
     } else {

@@ -24,7 +24,7 @@
 //! the whole group ([`crate::DynEffect::add_rates_blocks`]). What they receive is each block's
 //! [`LatitudeTerms`], from which they rebuild the kinematics they read ([`BlockGroup`]).
 //!
-//! What was measured (`cargo run --release -p navkf-dynamics --example prop_timing`, 51
+//! What was measured (`cargo run --release -p navkf-benches --example prop_timing`, 51
 //! points, minima of interleaved runs on a Zen 4 EPYC):
 //! - Effects called per block with the whole kinematics cost 18.0 us against 11.8 us for 25
 //!   states with no physics; the grouped pass with the latitude terms 15.1 us, and 13.2 us
@@ -260,7 +260,7 @@ fn blocks<'a>(
 }
 
 /// [`propagate`], [`GROUP`] blocks at a time. `EXACT` selects the exact-attitude variant
-/// ([`crate::attitude`]).
+/// ([`crate::attitude`]); `LINEAR`, whether the model has declared linear rate terms.
 fn propagate_groups<const EXACT: bool, const LINEAR: bool>(
     model: &PlatformModel,
     points: &mut [f64],

@@ -36,8 +36,9 @@ impl Feature {
     /// The axis the feature is about.
     pub fn axis(self) -> usize {
         match self {
-            Feature::SpecificForce(a) | Feature::SpecificForceSquared(a) => a,
-            Feature::CommandedRate(a) => a,
+            Feature::SpecificForce(a)
+            | Feature::SpecificForceSquared(a)
+            | Feature::CommandedRate(a) => a,
         }
     }
 

@@ -142,7 +142,7 @@ impl Real for Lanes {
 // them as calls, one per lane, once the exact-attitude kernel grew (it then cost twice as
 // much).
 macro_rules! lane_op {
-    ($trait:ident, $method:ident, $op:tt, $aop:tt, $assign:ident, $assign_method:ident) => {
+    ($trait:ident, $method:ident, $aop:tt, $assign:ident, $assign_method:ident) => {
         impl $trait for Lanes {
             type Output = Lanes;
             #[inline(always)]
@@ -167,16 +167,16 @@ macro_rules! lane_op {
             #[inline(always)]
             fn $assign_method(&mut self, rhs: Lanes) {
                 for (a, b) in self.0.iter_mut().zip(rhs.0) {
-                    *a = *a $op b;
+                    *a $aop b;
                 }
             }
         }
     };
 }
 
-lane_op!(Add, add, +, +=, AddAssign, add_assign);
-lane_op!(Sub, sub, -, -=, SubAssign, sub_assign);
-lane_op!(Mul, mul, *, *=, MulAssign, mul_assign);
+lane_op!(Add, add, +=, AddAssign, add_assign);
+lane_op!(Sub, sub, -=, SubAssign, sub_assign);
+lane_op!(Mul, mul, *=, MulAssign, mul_assign);
 
 impl Div for Lanes {
     type Output = Lanes;

@@ -4,33 +4,11 @@
 //! exact-attitude variant; `--noise` adds noise held over the window on every channel (as the
 //! standard UKF's points carry). The point count is the same in every case, so the three compare
 //! the cost of the rates per block.
-use navkf_dynamics::effects::Registry;
+//! `cargo run --release -p navkf-benches --example prop_timing -- [--idle | --rate-effects]
+//! [--exact] [--noise]`
+use navkf_benches::{IdleCoefficients, RATE_EFFECTS};
 use navkf_dynamics::state::*;
 use navkf_dynamics::*;
-
-/// Five coefficients no term reads.
-#[derive(Debug)]
-struct Idle;
-impl Effect for Idle {
-    fn name(&self) -> &str {
-        "idle"
-    }
-    fn description(&self) -> &str {
-        "nothing"
-    }
-    fn coefficient_names(&self) -> &[&str] {
-        &["i1", "i2", "i3", "i4", "i5"]
-    }
-    fn coefficient_units(&self) -> &[&str] {
-        &["1"; 5]
-    }
-    fn coefficient_sigma(&self) -> &[f64] {
-        &[1e-4; 5]
-    }
-    fn terms(&self) -> Terms {
-        Terms::default()
-    }
-}
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -41,12 +19,10 @@ fn main() {
         Attitude::SmallAngle
     };
     let (effects, label): (Vec<Box<dyn DynEffect>>, &str) = if has("--rate-effects") {
-        let registry = Registry::catalogue();
-        let names = ["accel-cross-axis", "torquer-scale"];
-        let effects = names.iter().map(|n| registry.build(n).expect("catalogued"));
-        (effects.collect(), "rate effects")
+        let effects = Registry::catalogue().build_all(&RATE_EFFECTS);
+        (effects.expect("catalogued"), "rate effects")
     } else if has("--idle") {
-        (vec![Box::new(Idle)], "idle coefficients")
+        (vec![Box::new(IdleCoefficients)], "idle coefficients")
     } else {
         (Vec::new(), "base")
     };
@@ -76,9 +52,7 @@ fn main() {
     // `--noise`: noise held over the window on every channel, as the standard UKF's points carry.
     let channels = model.noise_channels().len();
     let noise: Vec<f64> = (0..51 * channels).map(|i| 1e-9 * (i % 7) as f64).collect();
-    let noise = std::env::args()
-        .any(|a| a == "--noise")
-        .then_some(&noise[..]);
+    let noise = has("--noise").then_some(&noise[..]);
     let reps = 20000;
     let mut best = f64::INFINITY;
     for _ in 0..5 {

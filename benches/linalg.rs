@@ -10,6 +10,7 @@ use faer::linalg::matmul::triangular::BlockStructure;
 use faer::{Accum, Mat, Par};
 use nalgebra::{DMatrix, SMatrix};
 use navkf_filters::linalg::{cholesky_in_place, row_dots, weighted_outer_sum, DOT_BLOCK};
+use navkf_filters::triangular::{householder_r, outer_of_lower};
 use navkf_filters::view::RowMajor;
 use std::hint::black_box;
 
@@ -239,9 +240,84 @@ fn product(c: &mut Criterion) {
     g.finish();
 }
 
+/// The square-root UKF's kernels at its sizes: the triangularisation of the prediction's tall
+/// matrix `[sqrt(Wi) (X_i - x^-) ; sqrt(Q)]` ((2n + 5) x n: n = 20 for the base model, 25
+/// with two rate effects), and `P = S S^T` from the lower factor.
+fn square_root(c: &mut Criterion) {
+    let mut g = c.benchmark_group("square_root");
+    for n in [20usize, 25] {
+        let m = 2 * n + 5;
+        let mut a = deviations(n, m);
+        for ch in 0..5 {
+            a[(2 * n + ch) + ch * m] += 0.5;
+        }
+        let mut t = a.clone();
+        g.bench_function(BenchmarkId::new("householder_r_hand", n), |b| {
+            b.iter(|| {
+                t.copy_from_slice(black_box(&a));
+                householder_r(&mut t, m, n);
+                black_box(t[n * m - 1]);
+            })
+        });
+        let fa = Mat::<f64>::from_fn(m, n, |i, j| a[i + j * m]);
+        let mut ft = fa.clone();
+        let bs = faer::linalg::qr::no_pivoting::factor::recommended_block_size::<f64>(m, n);
+        let mut coeff = Mat::<f64>::zeros(bs, n);
+        let req = faer::linalg::qr::no_pivoting::factor::qr_in_place_scratch::<f64>(
+            m,
+            n,
+            bs,
+            Par::Seq,
+            Default::default(),
+        );
+        let mut buf = MemBuffer::new(req);
+        g.bench_function(BenchmarkId::new("qr_faer", n), |b| {
+            b.iter(|| {
+                ft.copy_from(black_box(&fa));
+                faer::linalg::qr::no_pivoting::factor::qr_in_place(
+                    ft.as_mut(),
+                    coeff.as_mut(),
+                    Par::Seq,
+                    MemStack::new(&mut buf),
+                    Default::default(),
+                );
+                black_box(ft[(n - 1, n - 1)]);
+            })
+        });
+        let mut s = spd(n);
+        cholesky_in_place(&mut s, n).unwrap();
+        let mut p = vec![0.0; n * n];
+        g.bench_function(BenchmarkId::new("outer_of_lower_hand", n), |b| {
+            b.iter(|| {
+                outer_of_lower(black_box(&s), n, &mut p);
+                black_box(p[7]);
+            })
+        });
+        let fs = Mat::<f64>::from_fn(n, n, |i, j| s[i + j * n]);
+        let mut fp = Mat::<f64>::zeros(n, n);
+        g.bench_function(BenchmarkId::new("outer_of_lower_faer", n), |b| {
+            b.iter(|| {
+                faer::linalg::matmul::triangular::matmul(
+                    fp.as_mut(),
+                    BlockStructure::TriangularLower,
+                    Accum::Replace,
+                    black_box(&fs),
+                    BlockStructure::TriangularLower,
+                    fs.transpose(),
+                    BlockStructure::TriangularUpper,
+                    1.0,
+                    Par::Seq,
+                );
+                black_box(fp[(7, 0)]);
+            })
+        });
+    }
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(30).measurement_time(std::time::Duration::from_secs(1)).warm_up_time(std::time::Duration::from_millis(300));
-    targets = cholesky, rank_k, product
+    targets = cholesky, rank_k, product, square_root
 }
 criterion_main!(benches);

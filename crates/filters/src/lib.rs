@@ -14,6 +14,7 @@ pub mod kind;
 pub mod linalg;
 pub mod runner;
 pub mod sigma_points;
+mod simd;
 pub mod square_root_ukf;
 mod tangent;
 pub mod triangular;

@@ -357,8 +357,8 @@ impl<M: SystemModel + ?Sized> Filter for SquareRootUkf<M> {
         let sign = if sp.wc0 >= 0.0 { 1.0 } else { -1.0 };
         rank_one_update(&mut self.s, n, &mut self.d0[..n], sign)
             .map_err(|e| self.not_pd("S (prediction)", n, e))?;
-        outer_of_lower(&self.s, n, &mut self.est.p, &mut self.tall);
-        self.est.finish("state after prediction")
+        outer_of_lower(&self.s, n, &mut self.est.p);
+        self.est.finish_symmetric("state after prediction")
     }
 
     fn update(&mut self, obs: &Observation) -> Result<&UpdateReport, FilterError> {
@@ -371,8 +371,8 @@ impl<M: SystemModel + ?Sized> Filter for SquareRootUkf<M> {
         } else {
             self.update_sigma(obs)?;
         }
-        outer_of_lower(&self.s, self.est.n, &mut self.est.p, &mut self.tall);
-        self.est.finish("state after update")?;
+        outer_of_lower(&self.s, self.est.n, &mut self.est.p);
+        self.est.finish_symmetric("state after update")?;
         Ok(&self.gain.report)
     }
 }

@@ -2,6 +2,13 @@
 //! (Householder QR, keeping only `R`) and rank-one updates and downdates of a Cholesky factor.
 //!
 //! Both work in place on column-major slices and allocate nothing.
+//!
+//! The QR and `S S^T` are hand kernels on `F64x4` (`simd.rs`) because they beat faer's at the
+//! square-root UKF's sizes (`cargo bench -p navkf-benches --bench linalg -- square_root`;
+//! README, Speed). Grouping columns or rows changes no result: every entry keeps the
+//! arithmetic of the scalar `dot`, which the tests check bit for bit.
+
+use crate::simd::F64x4;
 
 /// Triangularises the column-major `m x n` matrix `a` (`m >= n`): on return its top `n` rows
 /// hold the upper-triangular `R` of `A = Q R` with a non-negative diagonal (rows below and
@@ -36,12 +43,14 @@ pub fn householder_r(a: &mut [f64], m: usize, n: usize) {
         let vtv = v0 * v0 + tail_sq;
         let beta = 2.0 / vtv;
         v[0] = v0;
-        for c in tail.chunks_exact_mut(m).take(n - j - 1) {
-            let col = &mut c[j..m];
-            let f = beta * dot(col, v);
-            for (ci, vi) in col.iter_mut().zip(v.iter()) {
-                *ci -= f * vi;
-            }
+        let width = n - j - 1;
+        let grouped = width / REFLECT_GROUP * REFLECT_GROUP * m;
+        let (grouped, rest) = tail[..width * m].split_at_mut(grouped);
+        for block in grouped.chunks_exact_mut(REFLECT_GROUP * m) {
+            reflect_columns::<REFLECT_GROUP>(block, m, j, v, beta);
+        }
+        for block in rest.chunks_exact_mut(m) {
+            reflect_columns::<1>(block, m, j, v, beta);
         }
         v[0] = alpha;
         v[1..].fill(0.0);
@@ -52,6 +61,56 @@ pub fn householder_r(a: &mut [f64], m: usize, n: usize) {
             for c in j..n {
                 a[j + c * m] = -a[j + c * m];
             }
+        }
+    }
+}
+
+/// Columns reflected per pass over the Householder vector in [`householder_r`].
+const REFLECT_GROUP: usize = 4;
+
+/// Applies the reflector `I - beta v v^T` to the `K` consecutive columns of `block`
+/// (column-major, `m` rows; rows `j..` change, `v` has `m - j` entries): `c -= (beta v.c) v`.
+///
+/// Each column's arithmetic is that of [`dot`] and of the scalar `c_i -= f v_i`, so `K` does
+/// not change the results. Written on [`F64x4`] because LLVM vectorises the `K` dot
+/// products across the columns (a transpose of four columns per step); with `K` columns
+/// sharing each load of `v`, `householder_r` at the square-root UKF's sizes is measured in
+/// `benches/linalg.rs` (`square_root` group, against faer's QR and the scalar loop).
+#[inline(always)]
+fn reflect_columns<const K: usize>(block: &mut [f64], m: usize, j: usize, v: &[f64], beta: f64) {
+    let len = m - j;
+    let mut columns = block.chunks_exact_mut(m);
+    let cols: [&mut [f64]; K] = std::array::from_fn(|_| &mut columns.next().unwrap()[j..m]);
+    let (v_body, v_tail) = v[..len].as_chunks::<4>();
+    let body = v_body.len();
+    let mut acc = [F64x4::splat(0.0); K];
+    for (c, y) in v_body.iter().enumerate() {
+        let y = F64x4::load(y);
+        for k in 0..K {
+            let x = F64x4::load(cols[k][4 * c..4 * c + 4].try_into().unwrap());
+            acc[k] = x.mul_add(y, acc[k]);
+        }
+    }
+    let f: [F64x4; K] = std::array::from_fn(|k| {
+        let tail: f64 = cols[k][4 * body..]
+            .iter()
+            .zip(v_tail)
+            .map(|(x, y)| x * y)
+            .sum();
+        let a = acc[k].to_array();
+        F64x4::splat(beta * ((a[0] + a[2]) + (a[1] + a[3]) + tail))
+    });
+    for (c, y) in v_body.iter().enumerate() {
+        let y = F64x4::load(y);
+        for k in 0..K {
+            let x: &mut [f64; 4] = (&mut cols[k][4 * c..4 * c + 4]).try_into().unwrap();
+            F64x4::load(x).sub(f[k].mul(y)).store(x);
+        }
+    }
+    for k in 0..K {
+        let fk = f[k].to_array()[0];
+        for (ci, vi) in cols[k][4 * body..].iter_mut().zip(v_tail) {
+            *ci -= fk * vi;
         }
     }
 }
@@ -115,24 +174,68 @@ pub fn rank_one_update(
     Ok(())
 }
 
-/// `P = S S^T` for a lower-triangular `S` (column-major `n x n`), written in full. `rows`
-/// (at least `n * n`) receives the rows of `S` contiguously, so each entry is one dot
-/// product over contiguous memory.
-pub fn outer_of_lower(s: &[f64], n: usize, p: &mut [f64], rows: &mut [f64]) {
+/// `P = S S^T` for a lower-triangular `S` (column-major `n x n`), written in full.
+///
+/// Entry `(i, j)`, `i >= j`, is the dot product of rows `i` and `j` of `S` over columns
+/// `0..=j`, summed in four interleaved partial sums and a tail. Four rows `i` are formed at
+/// once on four-lane vectors, from contiguous pieces of the columns of `S` (measured in
+/// `benches/linalg.rs`, `square_root` group); rows left over take the same order in scalars.
+///
+/// ```
+/// use navkf_filters::triangular::outer_of_lower;
+/// // S = [2 0; 1 3] (column-major): S S^T = [4 2; 2 10].
+/// let mut p = [0.0; 4];
+/// outer_of_lower(&[2.0, 1.0, 0.0, 3.0], 2, &mut p);
+/// assert_eq!(p, [4.0, 2.0, 2.0, 10.0]);
+/// ```
+pub fn outer_of_lower(s: &[f64], n: usize, p: &mut [f64]) {
+    assert!(s.len() >= n * n && p.len() >= n * n);
     for j in 0..n {
-        for i in 0..n {
-            rows[j + i * n] = s[i + j * n];
+        let len = j + 1;
+        let body = len / 4;
+        let mut i = j;
+        while i + 4 <= n {
+            let column = |c: usize| F64x4::load(s[i + c * n..i + c * n + 4].try_into().unwrap());
+            let mut acc = [F64x4::splat(0.0); 4];
+            for b in 0..body {
+                for (l, a) in acc.iter_mut().enumerate() {
+                    let c = 4 * b + l;
+                    *a = column(c).mul_add(F64x4::splat(s[j + c * n]), *a);
+                }
+            }
+            // `Iterator::sum` folds from -0.0; so does this tail, lane by lane.
+            let mut tail = F64x4::splat(-0.0);
+            for c in 4 * body..len {
+                tail = tail.add(column(c).mul(F64x4::splat(s[j + c * n])));
+            }
+            let v = acc[0].add(acc[2]).add(acc[1].add(acc[3])).add(tail);
+            v.store((&mut p[i + j * n..i + j * n + 4]).try_into().unwrap());
+            for (l, vl) in v.to_array().into_iter().enumerate() {
+                p[j + (i + l) * n] = vl;
+            }
+            i += 4;
         }
-    }
-    for j in 0..n {
-        let rj = &rows[j * n..j * n + j + 1];
-        for i in j..n {
-            // (S S^T)[i, j] = sum_{c <= j} S[i, c] S[j, c].
-            let v = dot(&rows[i * n..i * n + j + 1], rj);
+        for i in i..n {
+            let v = lower_row_dot(s, n, i, j);
             p[i + j * n] = v;
             p[j + i * n] = v;
         }
     }
+}
+
+/// `sum_{c <= j} S[i, c] S[j, c]` in [`dot`]'s order, on the column-major `S`.
+fn lower_row_dot(s: &[f64], n: usize, i: usize, j: usize) -> f64 {
+    let len = j + 1;
+    let body = len / 4;
+    let mut acc = [0.0; 4];
+    for b in 0..body {
+        for (l, a) in acc.iter_mut().enumerate() {
+            let c = 4 * b + l;
+            *a = crate::linalg::fmadd(s[i + c * n], s[j + c * n], *a);
+        }
+    }
+    let tail: f64 = (4 * body..len).map(|c| s[i + c * n] * s[j + c * n]).sum();
+    (acc[0] + acc[2]) + (acc[1] + acc[3]) + tail
 }
 
 #[cfg(test)]
@@ -183,6 +286,52 @@ mod tests {
         }
     }
 
+    /// [`householder_r`] one column at a time with plain loops: the arithmetic the grouped
+    /// kernel must keep.
+    fn householder_r_one_column_at_a_time(a: &mut [f64], m: usize, n: usize) {
+        for j in 0..n {
+            let (head, tail) = a.split_at_mut((j + 1) * m);
+            let v = &mut head[j * m + j..(j + 1) * m];
+            let (x0, tail_sq) = (v[0], dot(&v[1..], &v[1..]));
+            if tail_sq == 0.0 {
+                continue;
+            }
+            let norm = (x0 * x0 + tail_sq).sqrt();
+            let alpha = if x0 > 0.0 { -norm } else { norm };
+            let v0 = x0 - alpha;
+            let beta = 2.0 / (v0 * v0 + tail_sq);
+            v[0] = v0;
+            for c in tail.chunks_exact_mut(m).take(n - j - 1) {
+                let col = &mut c[j..m];
+                let f = beta * dot(col, v);
+                for (ci, vi) in col.iter_mut().zip(v.iter()) {
+                    *ci -= f * vi;
+                }
+            }
+            v[0] = alpha;
+            v[1..].fill(0.0);
+        }
+        for j in 0..n {
+            if a[j + j * m] < 0.0 {
+                for c in j..n {
+                    a[j + c * m] = -a[j + c * m];
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn householder_r_groups_columns_without_changing_a_bit() {
+        for (m, n) in [(45, 20), (55, 25), (13, 13), (30, 9), (7, 2)] {
+            let a = tall(m, n);
+            let (mut grouped, mut single) = (a.clone(), a);
+            householder_r(&mut grouped, m, n);
+            householder_r_one_column_at_a_time(&mut single, m, n);
+            let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&grouped), bits(&single), "{m}x{n}");
+        }
+    }
+
     #[test]
     fn rank_one_update_and_downdate_match_a_fresh_factorisation() {
         let n = 6;
@@ -213,6 +362,30 @@ mod tests {
     }
 
     #[test]
+    fn outer_of_lower_gives_the_scalar_dot_bits_in_every_entry() {
+        // The four-row blocks and the rows left over must agree bit for bit with one dot
+        // order, whatever n mod 4 (signed zeros included).
+        for n in 1..=11 {
+            let mut s = tall(n, n);
+            for j in 0..n {
+                for i in 0..j {
+                    s[i + j * n] = 0.0;
+                }
+            }
+            s[n - 1] = -0.0;
+            let mut p = vec![f64::NAN; n * n];
+            outer_of_lower(&s, n, &mut p);
+            for j in 0..n {
+                for i in j..n {
+                    let want = lower_row_dot(&s, n, i, j).to_bits();
+                    assert_eq!(p[i + j * n].to_bits(), want, "n {n}: P[{i},{j}]");
+                    assert_eq!(p[j + i * n].to_bits(), want, "n {n}: P[{j},{i}]");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn outer_of_lower_rebuilds_the_matrix() {
         let n = 5;
         let a = tall(8, n);
@@ -220,7 +393,7 @@ mod tests {
         let mut l = p.clone();
         cholesky_in_place(&mut l, n).unwrap();
         let mut back = vec![0.0; n * n];
-        outer_of_lower(&l, n, &mut back, &mut vec![0.0; n * n]);
+        outer_of_lower(&l, n, &mut back);
         for (b, q) in back.iter().zip(&p) {
             assert!((b - q).abs() < 1e-12 * q.abs().max(1.0));
         }

@@ -44,8 +44,6 @@ pub struct Ekf<M: SystemModel + ?Sized> {
     p_pad: ChunkBuf,
     /// `Phi P`'s dynamic rows.
     tmp_rows: ChunkBuf,
-    /// Update scratch.
-    hsel: Vec<f64>,
     mom: MeasurementMoments,
     gain: GainWorkspace,
 }
@@ -69,7 +67,6 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
             k: std::array::from_fn(|_| vec![0.0; d]),
             xs: vec![0.0; n],
             p_pad: ChunkBuf::new(n * nc),
-            hsel: vec![0.0; nz * n],
             mom: MeasurementMoments::new(n, nz),
             gain: GainWorkspace::new(n, nz),
             model,
@@ -214,10 +211,6 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
         }
         self.mom
             .linear_gain(&*self.model, &mut self.est, &mut self.gain, obs)?;
-        // Selected rows of H, row-major k x n.
-        for (a, &ch) in self.gain.report.channels.iter().enumerate() {
-            self.hsel[a * n..(a + 1) * n].copy_from_slice(&self.mom.h[ch * n..(ch + 1) * n]);
-        }
         // Joseph form as two rank-k corrections:
         // T = (I - K H) P = P - K Pxz^T;  P+ = T - (T H^T) K^T + K R K^T.
         let g = &self.gain.gain;
@@ -234,24 +227,29 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
                 }
             }
         }
-        // th = T H^T (n x k), reusing pxz.
-        let hsel = RowMajor::new(&self.hsel, k, n);
-        for a in 0..k {
+        // th = T H^T (n x k), reusing pxz; H's rows are those of the selected channels.
+        let h = RowMajor::new(&self.mom.h, self.model.meas_dim(), n);
+        for (a, &ch) in self.gain.report.channels.iter().enumerate() {
             sparse_row_product(
                 ColMajor::new(p, n, n),
-                hsel.row(a),
+                h.row(ch),
                 &mut self.mom.pxz[a * n..(a + 1) * n],
             );
         }
-        // P+ = T - th K^T + K R K^T, column j: P[:, j] += K[j, a] (R_a K[:, a] - th[:, a]).
+        // P+ = T - th K^T + K R K^T, column j: P[:, j] += K[j, a] (R_a K[:, a] - th[:, a]),
+        // with R_a K[:, a] formed once per channel (the same products as inside the loop).
+        let r_k = &mut self.gain.tmp[..n];
         for a in 0..k {
             let sig = obs.sigma[self.gain.report.channels[a]];
             let r = sig * sig;
             let ka = &g[a * n..(a + 1) * n];
+            for (rk, ki) in r_k.iter_mut().zip(ka) {
+                *rk = r * ki;
+            }
             let th = &self.mom.pxz[a * n..(a + 1) * n];
             for (pj, &kj) in p.chunks_exact_mut(n).zip(ka) {
-                for ((pi, ki), ti) in pj.iter_mut().zip(ka).zip(th) {
-                    *pi += -ti * kj + r * ki * kj;
+                for ((pi, rk), ti) in pj.iter_mut().zip(&*r_k).zip(th) {
+                    *pi += -ti * kj + rk * kj;
                 }
             }
         }

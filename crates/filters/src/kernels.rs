@@ -73,6 +73,7 @@ pub fn weighted_mean(points: ColMajor, weights: impl IntoIterator<Item = f64>, o
 /// `U`: row `i` of the result solves `L u_i = U[i, :]`. All rows at once, column by column:
 /// `U[:, a] = (U[:, a] - sum_{b<a} L[a, b] U[:, b]) / L[a, a]`. With `U = Pxz` and
 /// `S = L L^T` this is the gain's half `Pxz L^-T`, whose outer product is `K S K^T`.
+#[inline]
 pub fn solve_lower_transposed_right(l: ColMajor, u: &mut ColMajorMut) {
     for a in 0..l.cols() {
         let (done, ua) = u.split_at_col(a);
@@ -92,6 +93,7 @@ pub fn solve_lower_transposed_right(l: ColMajor, u: &mut ColMajorMut) {
 /// `G := G L^-1` in place (row `i` of the result solves `L^T g_i = G[i, :]`), columns last
 /// first: `G[:, a] = (G[:, a] - sum_{b>a} L[b, a] G[:, b]) / L[a, a]`. After
 /// [`solve_lower_transposed_right`] this completes the gain `K = Pxz S^-1`.
+#[inline]
 pub fn solve_lower_right(l: ColMajor, g: &mut ColMajorMut) {
     let k = l.cols();
     for a in (0..k).rev() {
@@ -125,6 +127,7 @@ pub fn solve_lower_right(l: ColMajor, g: &mut ColMajorMut) {
 /// let want = -0.5 * (2.0 + 4f64.ln() + 2.0 * (2.0 * std::f64::consts::PI).ln());
 /// assert!((ll - want).abs() < 1e-15);
 /// ```
+#[inline]
 pub fn innovation_statistics(l: ColMajor, innovation: &[f64], w: &mut [f64]) -> (f64, f64) {
     let k = l.cols();
     let w = &mut w[..k];
@@ -138,6 +141,7 @@ pub fn innovation_statistics(l: ColMajor, innovation: &[f64], w: &mut [f64]) -> 
 
 /// `out = A h^T = sum_m h_m A[:, m]` for one row `h` of a measurement Jacobian, skipping
 /// its zeros (a measurement reads a few of the states, so most columns are skipped).
+#[inline]
 pub fn sparse_row_product(a: ColMajor, h: &[f64], out: &mut [f64]) {
     out.fill(0.0);
     for (m, &hm) in h.iter().enumerate() {

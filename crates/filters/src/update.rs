@@ -184,22 +184,20 @@ impl GainWorkspace {
         Ok(())
     }
 
-    /// `P -= K S K^T = U U^T` (the UKF's covariance update).
+    /// `P -= K S K^T = U U^T` (the UKF's covariance update), on a `P` that is exactly
+    /// symmetric (every filter's is between steps: [`Estimate::finish`] and `reset` make it
+    /// so). Whole columns at a time: entry `(r, c)` loses `U[r, a] U[c, a]` for each channel
+    /// `a` in order, the same products in the same order as entry `(c, r)`, so `P` stays
+    /// exactly symmetric without a mirroring pass.
     pub fn subtract_gain_cov(&self, p: &mut [f64]) {
         let n = self.n;
         let k = self.report.channels.len();
-        for a in 0..k {
-            let col = &self.u[a * n..(a + 1) * n];
-            for j in 0..n {
-                let f = col[j];
-                for i in j..n {
-                    p[i + j * n] -= col[i] * f;
+        debug_assert!((0..n).all(|j| (0..j).all(|i| p[i + j * n] == p[j + i * n])));
+        for col in self.u[..k * n].chunks_exact(n) {
+            for (pj, &f) in p[..n * n].chunks_exact_mut(n).zip(col) {
+                for (pi, ci) in pj.iter_mut().zip(col) {
+                    *pi -= ci * f;
                 }
-            }
-        }
-        for j in 0..n {
-            for i in j + 1..n {
-                p[j + i * n] = p[i + j * n];
             }
         }
     }
@@ -273,6 +271,47 @@ fn linear_moments(p: ColMajor, h: RowMajor, channels: &[usize], pxz: &mut [f64],
     for (a, &ca) in channels.iter().enumerate() {
         for b in 0..k {
             pzz[a + b * k] = h_dot(h.row(ca), &pxz[b * n..(b + 1) * n]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn subtract_gain_cov_keeps_p_exactly_symmetric_with_the_lower_triangles_bits() {
+        let (n, k) = (7, 3);
+        let mut gain = GainWorkspace::new(n, k);
+        gain.report.channels.extend(0..k);
+        for (i, u) in gain.u.iter_mut().enumerate() {
+            *u = ((i * 37 % 23) as f64 - 11.0) / 7.0;
+        }
+        let mut p = vec![0.0; n * n];
+        for j in 0..n {
+            for i in j..n {
+                let v = ((i * 13 + j * 5) % 17) as f64 / 3.0 + if i == j { 40.0 } else { 0.0 };
+                p[i + j * n] = v;
+                p[j + i * n] = v;
+            }
+        }
+        // The lower triangle, one product at a time, then mirrored.
+        let mut want = p.clone();
+        for a in 0..k {
+            let u = &gain.u[a * n..(a + 1) * n];
+            for j in 0..n {
+                for i in j..n {
+                    want[i + j * n] -= u[i] * u[j];
+                }
+            }
+        }
+        gain.subtract_gain_cov(&mut p);
+        for j in 0..n {
+            for i in j..n {
+                let w = want[i + j * n].to_bits();
+                assert_eq!(p[i + j * n].to_bits(), w, "P[{i},{j}]");
+                assert_eq!(p[j + i * n].to_bits(), w, "P[{j},{i}]");
+            }
         }
     }
 }

@@ -465,7 +465,8 @@ impl<M: SystemModel + ?Sized> Filter for Ukf<M> {
                 self.have_points = true;
             }
         }
-        self.est.finish("state after prediction")
+        // Exactly symmetric already: both triangles get each value, and the noise is diagonal.
+        self.est.finish_symmetric("state after prediction")
     }
 
     fn update(&mut self, obs: &Observation) -> Result<&UpdateReport, FilterError> {
@@ -487,7 +488,8 @@ impl<M: SystemModel + ?Sized> Filter for Ukf<M> {
             self.update_sigma(obs, sp.count(), sp, false)?;
         }
         self.have_points = false;
-        self.est.finish("state after update")?;
+        // Exactly symmetric already (`subtract_gain_cov` keeps it so).
+        self.est.finish_symmetric("state after update")?;
         Ok(&self.gain.report)
     }
 }

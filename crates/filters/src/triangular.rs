@@ -43,6 +43,13 @@ pub fn householder_r(a: &mut [f64], m: usize, n: usize) {
         let vtv = v0 * v0 + tail_sq;
         let beta = 2.0 / vtv;
         v[0] = v0;
+        // The reflection leaves the rows past `v`'s last non-zero entry as they are; skip
+        // them (a sparse H leaves most of the update's pre-array below its first rows zero).
+        // Cut at a whole chunk of four, so every product lands in the partial sum it would
+        // have over the whole column: only zero products, which change no sum, are dropped.
+        let nonzero = v.iter().rposition(|&x| x != 0.0).map_or(0, |r| r + 1);
+        let reach = nonzero.next_multiple_of(4).min(v.len());
+        let v = &v[..reach];
         let width = n - j - 1;
         let grouped = width / REFLECT_GROUP * REFLECT_GROUP * m;
         let (grouped, rest) = tail[..width * m].split_at_mut(grouped);
@@ -52,6 +59,7 @@ pub fn householder_r(a: &mut [f64], m: usize, n: usize) {
         for block in rest.chunks_exact_mut(m) {
             reflect_columns::<1>(block, m, j, v, beta);
         }
+        let v = &mut head[j * m + j..(j + 1) * m];
         v[0] = alpha;
         v[1..].fill(0.0);
     }
@@ -69,7 +77,7 @@ pub fn householder_r(a: &mut [f64], m: usize, n: usize) {
 const REFLECT_GROUP: usize = 4;
 
 /// Applies the reflector `I - beta v v^T` to the `K` consecutive columns of `block`
-/// (column-major, `m` rows; rows `j..` change, `v` has `m - j` entries): `c -= (beta v.c) v`.
+/// (column-major, `m` rows; rows `j..j + v.len()` change): `c -= (beta v.c) v`.
 ///
 /// Each column's arithmetic is that of [`dot`] and of the scalar `c_i -= f v_i`, so `K` does
 /// not change the results. Written on [`F64x4`] because LLVM vectorises the `K` dot
@@ -78,10 +86,10 @@ const REFLECT_GROUP: usize = 4;
 /// `benches/linalg.rs` (`square_root` group, against faer's QR and the scalar loop).
 #[inline(always)]
 fn reflect_columns<const K: usize>(block: &mut [f64], m: usize, j: usize, v: &[f64], beta: f64) {
-    let len = m - j;
+    let rows = j..j + v.len();
     let mut columns = block.chunks_exact_mut(m);
-    let cols: [&mut [f64]; K] = std::array::from_fn(|_| &mut columns.next().unwrap()[j..m]);
-    let (v_body, v_tail) = v[..len].as_chunks::<4>();
+    let cols: [&mut [f64]; K] = std::array::from_fn(|_| &mut columns.next().unwrap()[rows.clone()]);
+    let (v_body, v_tail) = v.as_chunks::<4>();
     let body = v_body.len();
     let mut acc = [F64x4::splat(0.0); K];
     for (c, y) in v_body.iter().enumerate() {
@@ -322,13 +330,31 @@ mod tests {
 
     #[test]
     fn householder_r_groups_columns_without_changing_a_bit() {
-        for (m, n) in [(45, 20), (55, 25), (13, 13), (30, 9), (7, 2)] {
-            let a = tall(m, n);
+        for (m, n, sparse) in [
+            (45, 20, false),
+            (55, 25, false),
+            (13, 13, false),
+            (30, 9, false),
+            (7, 2, false),
+            (29, 29, true),
+            (24, 24, true),
+            (33, 10, true),
+        ] {
+            let mut a = tall(m, n);
+            if sparse {
+                // The update's pre-array: the first columns non-zero only in their first
+                // rows, the rest upper triangular below them (rows past the reflectors'
+                // reach are skipped).
+                for c in 0..n {
+                    let last = if c < 4 { 11 } else { c + 1 };
+                    a[c * m + last.min(m)..(c + 1) * m].fill(0.0);
+                }
+            }
             let (mut grouped, mut single) = (a.clone(), a);
             householder_r(&mut grouped, m, n);
             householder_r_one_column_at_a_time(&mut single, m, n);
             let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(&grouped), bits(&single), "{m}x{n}");
+            assert_eq!(bits(&grouped), bits(&single), "{m}x{n}, sparse {sparse}");
         }
     }
 

@@ -113,6 +113,16 @@ impl Real for Lanes {
     fn sin_cos(self) -> (Lanes, Lanes) {
         let mut s = Lanes::default();
         let mut c = Lanes::default();
+        // Small angles (the level errors always, the azimuth error mostly) need no reduction:
+        // the same bits in half the operations (`trig::sin_cos_quarter`). One test for the
+        // whole batch keeps the loops branch-free.
+        let mut small = true;
+        for l in 0..LANES {
+            small &= self.0[l].abs() <= crate::trig::QUARTER_TURN_FREE;
+        }
+        if small {
+            return crate::trig::sin_cos_quarter(self);
+        }
         let mut wild = false;
         // Branch-free per lane, so the loop vectorises; the rare lane beyond the reduction's
         // range (or NaN) is redone by libm after it, as one f64 would be.

@@ -58,7 +58,7 @@ const RECIPROCAL_FACTORIALS: [f64; 19] = {
 /// Largest `|x|` [`sin_cos_angle`] reduces itself; beyond it libm answers.
 pub const ANGLE_LIMIT: f64 = 1.0e5;
 
-/// `(sin x, cos x)` of any angle, without branches for `|x| <= ANGLE_LIMIT` (libm beyond, and
+/// `(sin x, cos x)` of any angle, computed here for `|x| <= ANGLE_LIMIT` (libm beyond, and
 /// for NaN): the attitude angles of the exact-attitude model, which may be anything. The
 /// angle is reduced by the nearest multiple `k` of pi/2 (Cody-Waite, pi/2 in two parts whose
 /// first has 33 significant bits, so `k PIO2_1` is exact for `|k| < 2^20`) to `|r| <= pi/4`,
@@ -66,7 +66,9 @@ pub const ANGLE_LIMIT: f64 = 1.0e5;
 /// form with fused multiply-adds give both; the quadrant picks the signs by selects. So eight
 /// lanes of it vectorise ([`crate::Real::sin_cos`] on [`crate::Lanes`] runs this per lane,
 /// and bit for bit agrees with one `f64`), at about half the operations of the latitude's
-/// [`sin_cos`] (whose unfused Estrin form the base model's results are pinned to).
+/// [`sin_cos`] (whose unfused Estrin form the base model's results are pinned to). Angles
+/// within `QUARTER_TURN_FREE` (0.78 rad) skip the reduction, which would leave them as they
+/// are: the same bits for half the work (a batch does so when all its lanes are).
 ///
 /// ```
 /// use navkf_dynamics::trig::sin_cos_angle;
@@ -77,11 +79,18 @@ pub const ANGLE_LIMIT: f64 = 1.0e5;
 /// ```
 #[inline(always)]
 pub fn sin_cos_angle(x: f64) -> (f64, f64) {
+    if x.abs() <= QUARTER_TURN_FREE {
+        return sin_cos_quarter(x);
+    }
     if !(x.abs() <= ANGLE_LIMIT) {
         return x.sin_cos();
     }
     sin_cos_quadrant(x)
 }
+
+/// Largest `|x|` that [`sin_cos_quadrant`] reduces to itself (`k = 0`, `r = x`), with room
+/// below pi/4 so that `x 2/pi` rounds to zero however the product rounds.
+pub(crate) const QUARTER_TURN_FREE: f64 = 0.78;
 
 /// [`sin_cos_angle`] without the libm fallback: valid for `|x| <= ANGLE_LIMIT` only.
 #[inline(always)]
@@ -89,26 +98,9 @@ pub(crate) fn sin_cos_quadrant(x: f64) -> (f64, f64) {
     // fdlibm's split of pi/2: the first 33 bits, and the rest.
     const PIO2_1: f64 = 1.570_796_326_734_125_6;
     const PIO2_1T: f64 = 6.077_100_506_506_192e-11;
-    const F: [f64; 19] = RECIPROCAL_FACTORIALS;
     let k = (x * std::f64::consts::FRAC_2_PI).round_ties_even();
     let r = (-k).mul_add(PIO2_1T, (-k).mul_add(PIO2_1, x));
-    let r2 = r * r;
-    // sin r = r + r^3 (-1/3! + r^2 (1/5! - ... - r^12/15!))
-    let mut sp = -F[15];
-    for n in [13, 11, 9, 7, 5] {
-        let sign = if n % 4 == 1 { 1.0 } else { -1.0 };
-        sp = sp.mul_add(r2, sign * F[n]);
-    }
-    let sp = sp.mul_add(r2, -F[3]);
-    let s = (r * r2).mul_add(sp, r);
-    // cos r = 1 - r^2/2 + r^4 (1/4! - r^2 (1/6! - ... + r^12/16!))
-    let mut cq = F[16];
-    for n in [14, 12, 10, 8, 6] {
-        let sign = if n % 4 == 0 { 1.0 } else { -1.0 };
-        cq = cq.mul_add(r2, sign * F[n]);
-    }
-    let cq = cq.mul_add(r2, F[4]);
-    let c = (r2 * r2).mul_add(cq, (-0.5f64).mul_add(r2, 1.0));
+    let (s, c) = sin_cos_quarter(r);
     // The quadrant k mod 4, in floating point (exact: k is an integer below 2^20).
     let m = (-4.0f64).mul_add((k * 0.25).floor(), k);
     let odd = (m == 1.0) | (m == 3.0);
@@ -119,6 +111,37 @@ pub(crate) fn sin_cos_quadrant(x: f64) -> (f64, f64) {
     } else {
         (s1, c1)
     }
+}
+
+/// `(sin r, cos r)` for `|r| <= pi/4`: the polynomials of [`sin_cos_quadrant`] after its
+/// reduction. For `|x| <= QUARTER_TURN_FREE` the reduction is the identity (`k = 0`, so
+/// `r = x` exactly and the quadrant selects keep both), and this alone gives the same bits,
+/// in about half the operations: what a batch of small attitude angles takes.
+///
+/// Generic so that a batch runs it as whole-vector operations (lane by lane, LLVM packed it
+/// two lanes to a register).
+#[inline(always)]
+pub(crate) fn sin_cos_quarter<T: crate::real::Real>(r: T) -> (T, T) {
+    const F: [f64; 19] = RECIPROCAL_FACTORIALS;
+    let c = T::splat;
+    let r2 = r * r;
+    // sin r = r + r^3 (-1/3! + r^2 (1/5! - ... - r^12/15!))
+    let mut sp = c(-F[15]);
+    for n in [13, 11, 9, 7, 5] {
+        let sign = if n % 4 == 1 { 1.0 } else { -1.0 };
+        sp = sp.mul_add(r2, c(sign * F[n]));
+    }
+    let sp = sp.mul_add(r2, c(-F[3]));
+    let sin = (r * r2).mul_add(sp, r);
+    // cos r = 1 - r^2/2 + r^4 (1/4! - r^2 (1/6! - ... + r^12/16!))
+    let mut cq = c(F[16]);
+    for n in [14, 12, 10, 8, 6] {
+        let sign = if n % 4 == 0 { 1.0 } else { -1.0 };
+        cq = cq.mul_add(r2, c(sign * F[n]));
+    }
+    let cq = cq.mul_add(r2, c(F[4]));
+    let cos = (r2 * r2).mul_add(cq, c(-0.5).mul_add(r2, c(1.0)));
+    (sin, cos)
 }
 
 /// Taylor series of sin and cos for `|r| <= 1`, in Estrin's scheme.
@@ -206,6 +229,37 @@ mod tests {
         }
         let (s, c) = sin_cos_angle(f64::NAN);
         assert!(s.is_nan() && c.is_nan());
+    }
+
+    #[test]
+    fn small_angles_skip_the_reduction_with_the_same_bits() {
+        let bits = |(s, c): (f64, f64)| (s.to_bits(), c.to_bits());
+        let mut xs: Vec<f64> = (0..=100_000)
+            .map(|i| QUARTER_TURN_FREE * (i as f64 / 50_000.0 - 1.0))
+            .collect();
+        xs.extend([0.0, -0.0, 1e-300, -1e-300, 5e-324, QUARTER_TURN_FREE]);
+        xs.push(-QUARTER_TURN_FREE);
+        for x in xs {
+            assert_eq!(bits(sin_cos_quarter(x)), bits(sin_cos_quadrant(x)), "{x:e}");
+        }
+        // Where the reduction works (k = 1), the two differ.
+        assert_ne!(bits(sin_cos_quarter(1.2)), bits(sin_cos_quadrant(1.2)));
+    }
+
+    #[test]
+    fn a_batch_gives_each_lane_the_bits_of_one_number() {
+        use crate::real::{Lanes, Real, LANES};
+        let small = [0.0, -0.0, 1e-4, -2e-4, 0.3, -0.7, 0.78, 1e-300];
+        let mixed = [0.1, 2.0, -5.0, 0.78, 0.79, -40.0, 1e-9, 3.2];
+        let wild = [0.1, f64::NAN, 2.0e5, -0.5, f64::INFINITY, 1.0, -1.0, 7.0];
+        for lanes in [small, mixed, wild] {
+            let (s, c) = Lanes(lanes).sin_cos();
+            for l in 0..LANES {
+                let (s1, c1) = sin_cos_angle(lanes[l]);
+                assert_eq!(s.0[l].to_bits(), s1.to_bits(), "sin {}", lanes[l]);
+                assert_eq!(c.0[l].to_bits(), c1.to_bits(), "cos {}", lanes[l]);
+            }
+        }
     }
 
     #[test]

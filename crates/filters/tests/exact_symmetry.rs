@@ -10,8 +10,6 @@ mod common;
 
 use navkf_dynamics::*;
 use navkf_filters::*;
-use std::collections::BTreeMap;
-use std::sync::Arc;
 
 fn asymmetry(p: &[f64], n: usize) -> Option<(usize, usize)> {
     (0..n)
@@ -74,19 +72,11 @@ fn ukf_covariances_are_exactly_symmetric_on_the_base_model() {
 
 #[test]
 fn ukf_covariances_are_exactly_symmetric_with_rate_effects_and_a_non_linear_measurement() {
-    let noise = NoiseConfig::default();
-    let fx = Registry::catalogue()
-        .build_all(&["accel-cross-axis", "torquer-scale", "odometer-scale"])
-        .unwrap();
-    let model = Arc::new(PlatformModel::new(fx, &noise).unwrap());
-    assert!(!model.measurement_is_linear());
-    let traj = Arc::new(Trajectory::build(&common::short_config(600.0)).unwrap());
-    let mut coefficients = BTreeMap::new();
-    coefficients.insert("kod".to_string(), simulate::Prior::fixed(0.003));
-    let cfg = TruthConfig {
-        coefficients,
-        ..Default::default()
-    };
-    let sim = Simulator::new(model, traj, cfg, noise).unwrap();
+    let sim = common::simulator_with(
+        &["accel-cross-axis", "torquer-scale", "odometer-scale"],
+        &[("kod", 0.003)],
+        600.0,
+    );
+    assert!(!sim.model().measurement_is_linear());
     check_every_filter(&sim, "effects + odometer-scale");
 }

@@ -9,8 +9,6 @@ mod common;
 use navkf_dynamics::state::*;
 use navkf_dynamics::*;
 use navkf_filters::*;
-use std::collections::BTreeMap;
-use std::sync::Arc;
 
 /// Largest disagreement, in posterior sigmas, of state and sigma over one run.
 fn disagreement(sim: &Simulator, seed: u64, extra_sigma: &[f64]) -> (f64, f64) {
@@ -62,21 +60,9 @@ fn square_root_and_simplified_ukf_agree_on_the_base_model() {
 
 #[test]
 fn square_root_and_simplified_ukf_agree_with_a_non_linear_measurement() {
-    let noise = NoiseConfig::default();
-    let fx = Registry::catalogue()
-        .build_all(&["odometer-scale"])
-        .unwrap();
-    let extra: Vec<f64> = fx[0].coefficient_sigma().to_vec();
-    let model = Arc::new(PlatformModel::new(fx, &noise).unwrap());
-    assert!(!model.measurement_is_linear());
-    let traj = Arc::new(Trajectory::build(&common::short_config(600.0)).unwrap());
-    let mut coefficients = BTreeMap::new();
-    coefficients.insert("kod".to_string(), simulate::Prior::fixed(0.003));
-    let cfg = TruthConfig {
-        coefficients,
-        ..Default::default()
-    };
-    let sim = Simulator::new(model, traj, cfg, noise).unwrap();
+    let sim = common::simulator_with(&["odometer-scale"], &[("kod", 0.003)], 600.0);
+    assert!(!sim.model().measurement_is_linear());
+    let extra: Vec<f64> = sim.model().effects()[0].coefficient_sigma().to_vec();
     let (dx, ds) = disagreement(&sim, 2025, &extra);
     eprintln!("odometer-scale: state {dx:.2e} sigma, sigma ratio {ds:.2e}");
     assert!(dx < 1e-6 && ds < 1e-6, "state {dx:e}, sigma {ds:e}");

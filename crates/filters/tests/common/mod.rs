@@ -26,6 +26,23 @@ pub fn base_simulator(duration_s: f64) -> Simulator {
     Simulator::new(model, traj, TruthConfig::default(), noise).unwrap()
 }
 
+/// A simulator on the short path with catalogued `effects`, whose named coefficients in
+/// `fixed` take the given true values (the others are drawn from their priors).
+pub fn simulator_with(effects: &[&str], fixed: &[(&str, f64)], duration_s: f64) -> Simulator {
+    let noise = NoiseConfig::default();
+    let fx = Registry::catalogue().build_all(effects).unwrap();
+    let model = Arc::new(PlatformModel::new(fx, &noise).unwrap());
+    let traj = Arc::new(Trajectory::build(&short_config(duration_s)).unwrap());
+    let cfg = TruthConfig {
+        coefficients: fixed
+            .iter()
+            .map(|&(name, v)| (name.to_string(), simulate::Prior::fixed(v)))
+            .collect(),
+        ..Default::default()
+    };
+    Simulator::new(model, traj, cfg, noise).unwrap()
+}
+
 /// One-sigma of the initial estimate, state by state, matching what the simulator draws:
 /// tilt from `TruthConfig::initial_tilt`, coefficients from `base_coefficient_sigma`,
 /// velocity 0 exactly at the standstill start (1e-3 m/s), position exactly the path's start

@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 pub const BLOCK: usize = 10;
 
 /// What excluded a run: the class of failure, for counting. The detail (step, matrix,
-/// value) is in [`Divergence::reason`].
+/// value) is in [`RunFailure::reason`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum DivergenceCause {

@@ -46,7 +46,8 @@ pub fn householder_r(a: &mut [f64], m: usize, n: usize) {
         // The reflection leaves the rows past `v`'s last non-zero entry as they are; skip
         // them (a sparse H leaves most of the update's pre-array below its first rows zero).
         // Cut at a whole chunk of four, so every product lands in the partial sum it would
-        // have over the whole column: only zero products, which change no sum, are dropped.
+        // have over the whole column: only zero products are dropped, and the skipped rows
+        // would lose `f * 0`. Neither changes a value (at most the sign of a zero).
         let nonzero = v.iter().rposition(|&x| x != 0.0).map_or(0, |r| r + 1);
         let reach = nonzero.next_multiple_of(4).min(v.len());
         let v = &v[..reach];

@@ -64,25 +64,52 @@ fn warn_undrawn(figures: &[navkf_study::plots::FigureOutcome]) {
     }
 }
 
-/// Ctrl-C. A Monte Carlo or diagnosis study stops after the runs in flight, writes nothing
-/// and says what it kept (`navkf_study::interrupt`); a second Ctrl-C, or one during a
-/// command that takes seconds, exits at once (exit code 130).
+/// How long a cooperative stop (a study finishing the runs in flight) may take before the
+/// process stops at once: Ctrl-C always ends navkf within about a second.
+const COOPERATIVE_GRACE: std::time::Duration = std::time::Duration::from_millis(800);
+
+/// Ctrl-C. A Monte Carlo or diagnosis study first stops after the runs in flight, writes
+/// nothing and says what it kept (`navkf_study::interrupt`), exiting 130 from `main`. If it
+/// has not done so within [`COOPERATIVE_GRACE`], on a second Ctrl-C, and at once during any
+/// other command, the handler removes the output folders being written, says that the ones
+/// in place are as they were, and exits 130 itself.
 fn handle_ctrl_c(cooperative: bool) {
     let presses = std::sync::atomic::AtomicUsize::new(0);
     let installed = ctrlc::set_handler(move || {
         let n = presses.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
         if cooperative && n == 0 {
             navkf_study::interrupt::request();
-            eprintln!(
-                "\ninterrupt: stopping after the runs in flight (Ctrl-C again to exit at once)"
-            );
-        } else {
-            std::process::exit(130);
+            eprintln!("\ninterrupt: stopping after the runs in flight");
+            std::thread::sleep(COOPERATIVE_GRACE);
         }
+        let targets = navkf_study::results_dir::live::abandon_all();
+        eprintln!("\n{}", interrupted_message(&targets));
+        std::process::exit(130);
     });
     if let Err(e) = installed {
         eprintln!("warning: Ctrl-C will stop the process without cleaning up: {e}");
     }
+}
+
+/// What an interrupt leaves: each output folder as it was (or not created).
+fn interrupted_message(targets: &[PathBuf]) -> String {
+    if targets.is_empty() {
+        return "interrupted: nothing was written".into();
+    }
+    let each: Vec<String> = targets
+        .iter()
+        .map(|t| {
+            if t.exists() {
+                format!("{} is as it was", t.display())
+            } else {
+                format!("{} was not created", t.display())
+            }
+        })
+        .collect();
+    format!(
+        "interrupted: the partial output was removed; {}",
+        each.join(", ")
+    )
 }
 
 /// `message` safe to print on a terminal: control characters other than line breaks (a
@@ -117,7 +144,12 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {}", terminal_safe(&e.to_string()));
-            ExitCode::FAILURE
+            if navkf_study::interrupt::requested() {
+                // Stopped by Ctrl-C: the shell's code for SIGINT, as for any interrupted tool.
+                ExitCode::from(130)
+            } else {
+                ExitCode::FAILURE
+            }
         }
     }
 }

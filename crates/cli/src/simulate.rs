@@ -4,12 +4,14 @@ use navkf_dynamics::effect_spec::EffectSpec;
 use navkf_dynamics::{
     NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TrajectoryConfig, TruthConfig,
 };
+use navkf_study::output::{FolderKind, ResultsDir};
 use std::path::PathBuf;
 use std::sync::Arc;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Folder to write (created if needed).
+    /// Folder to write: a new one, an empty one, or a dataset `simulate` wrote before
+    /// (replaced whole).
     #[arg(long)]
     out: PathBuf,
     /// Seed of the random streams.
@@ -42,6 +44,16 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
+    // dataset.toml records both as TOML integers, which are signed 64-bit.
+    for (flag, value) in [("--seed", a.seed), ("--run", a.run)] {
+        if value > i64::MAX as u64 {
+            return Err(format!(
+                "{flag} {value}: expected 0 to {} (dataset.toml records it as a TOML integer)",
+                i64::MAX
+            )
+            .into());
+        }
+    }
     let spec = EffectSpec::parse(&a.effects, &Registry::catalogue())?;
     let noise = NoiseConfig::default();
     let effect_names = spec.names();
@@ -66,6 +78,9 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         truth_cfg.initial_tilt.azimuth_rad = s;
     }
     let sim = Simulator::new(model, traj, truth_cfg, noise)?;
+    // Checked before simulating: a new folder, an empty one, or a dataset simulate wrote
+    // there before (never a user's folder, a results folder or a user's own files).
+    let staged = ResultsDir::begin_kind(&a.out, FolderKind::Dataset, &[])?;
     let run = sim.run(a.seed, a.run);
     let name = a
         .out
@@ -76,7 +91,8 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     if !a.truth {
         ds.truth = None;
     }
-    ds.write(&a.out)?;
+    ds.write(staged.path())?;
+    staged.commit()?;
     eprintln!(
         "wrote {} (effects: {})",
         a.out.display(),

@@ -3,7 +3,8 @@
 
 use indicatif::{ProgressBar, ProgressStyle};
 use navkf_study::output::{
-    fold, read_partials, shard_blocks, write_atomic, write_results, Partial, ResultsDir,
+    fold, read_partials, shard_blocks, write_atomic, write_results, FolderKind, Partial,
+    ResultsDir, ShardFolder,
 };
 use navkf_study::{guard, Study, StudyConfig};
 use std::path::PathBuf;
@@ -128,23 +129,16 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             .into());
         }
     }
-    if let Some(t) = a.threads {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(t)
-            .build_global()?;
-    }
+    set_threads(a.threads)?;
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
-    // Shards share their folder (each adds its file); a whole study replaces its folder whole.
-    let staged = match shard {
-        Some(_) => {
-            navkf_study::output::check_output_dir(&out)?;
-            None
-        }
-        None => Some(ResultsDir::begin(&out)?),
-    };
     let study = Study::new(config)?;
+    // Shards share their folder (each adds its file); a whole study replaces its folder whole.
+    let (staged, shard_folder) = match shard {
+        Some(_) => (None, Some(ShardFolder::check(&out)?)),
+        None => (Some(ResultsDir::begin(&out)?), None),
+    };
     let blocks = match shard {
         Some((i, n)) => shard_blocks(study.block_count(), i, n),
         None => 0..study.block_count(),
@@ -194,8 +188,11 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
                 blocks: tallies,
                 example,
             };
-            let path = out.join(format!("partial-{i}-of-{n}.json"));
-            write_atomic(&path, serde_json::to_string(&partial)?.as_bytes())?;
+            let folder = shard_folder.expect("a shard checks its folder");
+            let path = folder.write(
+                &format!("partial-{i}-of-{n}.json"),
+                serde_json::to_string(&partial)?.as_bytes(),
+            )?;
             eprintln!(
                 "shard {i}/{n}: {total_runs} runs in {wall:.1} s, wrote {}",
                 path.display()
@@ -235,8 +232,9 @@ pub fn merge(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
-    let staged = ResultsDir::begin(&out)?;
     let study = Study::new(config)?;
+    // The shard folder itself may take the results: they keep the shard files they came from.
+    let staged = ResultsDir::begin_kind(&out, FolderKind::Results, &[FolderKind::Shards])?;
     let blocks: Vec<_> = parts
         .iter()
         .flat_map(|p| p.blocks.iter().cloned())
@@ -278,11 +276,7 @@ fn run_diagnosis_study(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         Some(r) => r.min(total),
         None => total,
     };
-    if let Some(t) = a.threads {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(t)
-            .build_global()?;
-    }
+    set_threads(a.threads)?;
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
@@ -340,11 +334,7 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
             .into());
         }
     }
-    if let Some(t) = a.threads {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(t)
-            .build_global()?;
-    }
+    set_threads(a.threads)?;
     let key = config.sweep.as_ref().expect("a sweep").key.clone();
     let values = config.sweep.as_ref().expect("a sweep").values.clone();
     let out = a
@@ -352,20 +342,32 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
         .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
     let staged = ResultsDir::begin(&out)?;
     let dir = staged.path();
-    // Every point is built (and so checked) before the first run.
-    let studies = sweep::points(&config)?
-        .into_iter()
-        .enumerate()
-        .map(|(i, p)| {
-            Study::new(p).map_err(|e| format!("sweep point {i} ({key} = {}): {e}", values[i]))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let total: usize = studies.iter().map(|s| s.config.study.runs).sum();
+    // Every point is built, and so checked, before the first run; each is dropped at once
+    // and built again when its turn comes, so memory does not grow with the points.
+    let configs = sweep::points(&config)?;
+    let build = |i: usize, c: StudyConfig| {
+        Study::new(c).map_err(|e| format!("sweep point {i} ({key} = {}): {e}", values[i]))
+    };
+    let check_bar = progress_bar(a.quiet, configs.len(), "points checked");
+    check_bar.set_prefix(config.study.name.clone());
+    let mut total = 0;
+    for (i, c) in configs.iter().enumerate() {
+        if navkf_study::interrupt::requested() {
+            check_bar.finish_and_clear();
+            return Err(interrupted(i, configs.len(), "points checked", &out));
+        }
+        total += build(i, c.clone())?.config.study.runs;
+        check_bar.set_position(i as u64 + 1);
+    }
+    check_bar.finish_and_clear();
     let bar = progress_bar(a.quiet, total, "runs");
     let started = std::time::Instant::now();
     let mut points = Vec::new();
     let mut done_before = 0;
-    for (i, study) in studies.iter().enumerate() {
+    let mut state_count = 0;
+    for (i, c) in configs.into_iter().enumerate() {
+        let study = build(i, c)?;
+        state_count = study.names.len();
         bar.set_prefix(format!("{} {key} = {}", config.study.name, values[i]));
         let example = Mutex::new(None);
         let progress = |done| bar.set_position((done_before + done) as u64);
@@ -380,8 +382,8 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
         done_before += study.config.study.runs;
         let example = example.into_inner().expect("not poisoned");
         let point_dir = dir.join(sweep::point_folder(i));
-        let summary = write_results(study, &tally, example.as_ref(), &point_dir)?;
-        points.push(sweep::point(i, values[i], study, &tally, &summary));
+        let summary = write_results(&study, &tally, example.as_ref(), &point_dir)?;
+        points.push(sweep::point(i, values[i], &study, &tally, &summary));
     }
     bar.finish_and_clear();
     let summary = sweep::SweepSummary {
@@ -391,7 +393,7 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
         filters: config.study.filters.clone(),
         points,
     };
-    let figures = navkf_study::plots::sweep::draw(&summary, studies[0].names.len(), dir);
+    let figures = navkf_study::plots::sweep::draw(&summary, state_count, dir);
     crate::warn_undrawn(&figures);
     write_atomic(
         &dir.join("sweep.json"),
@@ -430,4 +432,29 @@ fn interrupted(
         navkf_study::StudyError::Interrupted { done, total, what }
     )
     .into()
+}
+
+/// Most worker threads `--threads` takes, per core of the machine: more only adds start-up
+/// time and memory (each thread has its own stack), and 100 000 took minutes to start.
+const THREADS_PER_CORE: usize = 8;
+
+/// Sets the worker threads of every parallel loop to `threads` (default: one per core),
+/// refusing a count beyond [`THREADS_PER_CORE`] per core before any work.
+fn set_threads(threads: Option<usize>) -> Result<(), Box<dyn std::error::Error>> {
+    let Some(t) = threads else {
+        return Ok(());
+    };
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let most = (THREADS_PER_CORE * cores).max(16);
+    if t == 0 || t > most {
+        return Err(format!(
+            "--threads {t}: expected 1 to {most} ({THREADS_PER_CORE} per core; this machine has \
+             {cores}); results do not depend on it"
+        )
+        .into());
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(t)
+        .build_global()?;
+    Ok(())
 }

@@ -133,12 +133,18 @@ fn simulate_drives_a_written_test_and_locates_a_bad_one() {
 #[test]
 fn a_results_folder_is_replaced_whole_and_a_users_folder_is_refused() {
     let dir = scratch("replace");
-    // An earlier comparison of eleven designs left design-10/; planning one file replaces
+    // An earlier comparison of two designs left design-01/; planning one file replaces
     // the folder whole, so nothing of the comparison survives beside the new plan.
     let out = dir.join("out");
-    std::fs::create_dir_all(out.join("design-10")).unwrap();
-    std::fs::write(out.join("designs.json"), "{}").unwrap();
-    std::fs::write(out.join("design-10/plan.md"), "old").unwrap();
+    let o = navkf([
+        "plan".as_ref(),
+        PAPER.as_ref(),
+        "../../studies/identify-all.toml".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(out.join("design-01").is_dir() && out.join("designs.json").is_file());
     let o = navkf([
         "plan".as_ref(),
         PAPER.as_ref(),
@@ -147,7 +153,7 @@ fn a_results_folder_is_replaced_whole_and_a_users_folder_is_refused() {
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(out.join("plan.md").is_file());
-    assert!(!out.join("design-10").exists() && !out.join("designs.json").exists());
+    assert!(!out.join("design-01").exists() && !out.join("designs.json").exists());
     // A folder of the user's own is refused before any work, and left as it was.
     let theirs = dir.join("theirs");
     std::fs::create_dir_all(&theirs).unwrap();
@@ -160,7 +166,7 @@ fn a_results_folder_is_replaced_whole_and_a_users_folder_is_refused() {
     ]);
     assert_eq!(o.status.code(), Some(1));
     assert!(
-        text(&o.stderr).contains("something other than navkf results"),
+        text(&o.stderr).contains("a folder navkf did not make"),
         "{}",
         text(&o.stderr)
     );

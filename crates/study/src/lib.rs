@@ -14,7 +14,7 @@ pub mod output;
 pub mod plan;
 pub mod plots;
 pub mod report;
-mod results_dir;
+pub mod results_dir;
 pub mod stats;
 pub mod summary;
 pub mod sweep;

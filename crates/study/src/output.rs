@@ -10,7 +10,8 @@ use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-pub use crate::results_dir::{ResultsDir, MARKER};
+pub use crate::results_dir::marker::FolderKind;
+pub use crate::results_dir::{ResultsDir, ShardFolder, MARKER};
 
 /// Checks that `name` (a study's or dataset's name, the last part of its default results
 /// folder) is a plain name: 1 to 100 ASCII letters, digits, `-`, `_` or `.`, not starting
@@ -47,28 +48,6 @@ pub fn shown(text: &str) -> String {
     } else {
         escaped
     }
-}
-
-/// Makes sure `dir` can take a run's outputs before the run starts: it is a folder, or can be
-/// created as one, and a file can be written in it. A study that would fail only when writing
-/// its results fails here instead, before any computing. Only a shard writes into a folder
-/// this way (several shards share it); every other command writes through [`ResultsDir`].
-pub fn check_output_dir(dir: &Path) -> Result<(), StudyError> {
-    let io = |source| StudyError::Io {
-        path: dir.to_path_buf(),
-        source,
-    };
-    if dir.exists() && !dir.is_dir() {
-        return Err(StudyError::Other(format!(
-            "{}: exists and is not a folder; expected a folder for the results (or a path that does not exist yet)",
-            dir.display()
-        )));
-    }
-    std::fs::create_dir_all(dir).map_err(io)?;
-    let probe = dir.join(format!(".navkf-write-check{}", std::process::id()));
-    std::fs::write(&probe, b"").map_err(io)?;
-    let _ = std::fs::remove_file(&probe);
-    Ok(())
 }
 
 /// Writes `bytes` to `path` atomically.

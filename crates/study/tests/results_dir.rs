@@ -1,11 +1,11 @@
 //! A results folder is all-or-nothing: a run that fails leaves the old folder as it was, a
-//! run that completes replaces it whole, and a folder that holds anything but results is
-//! never replaced.
+//! run that completes replaces it whole, and a folder navkf did not make, or that holds a
+//! file it did not write, is never replaced.
 
 mod common;
 
 use common::temp_dir;
-use navkf_study::output::{ResultsDir, MARKER};
+use navkf_study::output::{FolderKind, ResultsDir, ShardFolder, MARKER};
 use std::fs;
 
 #[test]
@@ -45,15 +45,21 @@ fn a_results_folder_is_replaced_whole_or_not_at_all() {
 }
 
 #[test]
-fn only_a_results_folder_is_replaced() {
+fn only_a_folder_navkf_made_is_replaced() {
     let root = temp_dir("results-dir-refused");
-    // A user's own folder.
+    // A user's own folder, even one holding files named like navkf's results.
     let theirs = root.join("thesis");
-    fs::create_dir_all(&theirs).unwrap();
-    fs::write(theirs.join("chapter1.tex"), "x").unwrap();
+    fs::create_dir_all(theirs.join("photos")).unwrap();
+    fs::write(theirs.join("thesis.tex"), "x").unwrap();
+    fs::write(theirs.join("summary.json"), "{}").unwrap();
+    fs::write(theirs.join("partial-draft.json"), "{}").unwrap();
     let e = ResultsDir::begin(&theirs).unwrap_err().to_string();
-    assert!(e.contains("something other than navkf results"), "{e}");
-    assert!(theirs.join("chapter1.tex").is_file());
+    assert!(e.contains("a folder navkf did not make"), "{e}");
+    assert!(
+        e.contains("`partial-draft.json`") && e.contains("and 1 more"),
+        "{e}"
+    );
+    assert!(theirs.join("thesis.tex").is_file() && theirs.join("photos").is_dir());
     // A file, `.` and `..`.
     fs::write(root.join("file"), "x").unwrap();
     let e = ResultsDir::begin(&root.join("file"))
@@ -68,16 +74,135 @@ fn only_a_results_folder_is_replaced() {
         // Inside a path, `.` names the folder itself: the user's, so refused.
         assert!(ResultsDir::begin(&theirs.join(dot)).is_err());
     }
-    // An empty folder, and results of a version that wrote no marker, are replaced.
-    for (name, file) in [("empty", None), ("older", Some("sweep.json"))] {
-        let dir = root.join(name);
-        fs::create_dir_all(&dir).unwrap();
-        if let Some(f) = file {
-            fs::write(dir.join(f), "{}").unwrap();
-        }
-        ResultsDir::begin(&dir).unwrap().commit().unwrap();
-        assert!(dir.join(MARKER).is_file());
+    // An empty folder is taken; a marker of an earlier version (empty: it listed no files)
+    // is not, since navkf cannot tell its files from the user's there.
+    let empty = root.join("empty");
+    fs::create_dir_all(&empty).unwrap();
+    ResultsDir::begin(&empty).unwrap().commit().unwrap();
+    assert!(empty.join(MARKER).is_file());
+    let older = root.join("older");
+    fs::create_dir_all(&older).unwrap();
+    fs::write(older.join(MARKER), "").unwrap();
+    fs::write(older.join("summary.json"), "{}").unwrap();
+    let e = ResultsDir::begin(&older).unwrap_err().to_string();
+    assert!(e.contains("cannot read"), "{e}");
+    assert!(older.join("summary.json").is_file());
+}
+
+#[test]
+fn the_marker_says_who_made_the_folder_and_lists_its_files() {
+    let root = temp_dir("results-dir-marker");
+    let out = root.join("study");
+    let staged = ResultsDir::begin(&out).unwrap();
+    // Written first, before any output.
+    let first = fs::read_to_string(staged.path().join(MARKER)).unwrap();
+    assert!(first.contains("\"made_by\": \"navkf "), "{first}");
+    assert!(first.contains("\"command\""), "{first}");
+    fs::create_dir_all(staged.path().join("point-00")).unwrap();
+    fs::write(staged.path().join("point-00/summary.json"), "1").unwrap();
+    fs::write(staged.path().join("report.md"), "1").unwrap();
+    staged.commit().unwrap();
+    let marker: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(out.join(MARKER)).unwrap()).unwrap();
+    assert_eq!(marker["kind"], "results");
+    assert_eq!(
+        marker["files"],
+        serde_json::json!(["point-00/summary.json", "report.md"])
+    );
+    // A file the user adds, at the top or inside, makes the folder theirs too: refused,
+    // naming it, and nothing is deleted.
+    for added in ["notes.txt", "point-00/mine.csv"] {
+        fs::write(out.join(added), "mine").unwrap();
+        let e = ResultsDir::begin(&out).unwrap_err().to_string();
+        assert!(
+            e.contains(&format!("`{added}`, which navkf did not write")),
+            "{e}"
+        );
+        assert!(out.join(added).is_file());
+        fs::remove_file(out.join(added)).unwrap();
     }
+    // A file listed but gone (a clean clone lacks the ignored ones) is no obstacle.
+    fs::remove_file(out.join("report.md")).unwrap();
+    ResultsDir::begin(&out).unwrap().commit().unwrap();
+    // A dataset folder that simulate made is not a results folder, and the reverse.
+    let ds = root.join("dataset");
+    ResultsDir::begin_kind(&ds, FolderKind::Dataset, &[])
+        .unwrap()
+        .commit()
+        .unwrap();
+    let e = ResultsDir::begin(&ds).unwrap_err().to_string();
+    assert!(e.contains("a dataset folder navkf simulated"), "{e}");
+    let e = ResultsDir::begin_kind(&out, FolderKind::Dataset, &[])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("a navkf results folder, not a dataset"), "{e}");
+}
+
+#[cfg(unix)]
+#[test]
+fn a_link_is_followed_to_its_folder_and_a_broken_one_refused() {
+    let root = temp_dir("results-dir-link");
+    let real = root.join("real");
+    let link = root.join("link");
+    fs::create_dir_all(&real).unwrap();
+    std::os::unix::fs::symlink(&real, &link).unwrap();
+    // The first run fills the empty folder the link names; the second replaces it. The link
+    // stays a link, and no old results stay at its target.
+    for run in ["1", "2"] {
+        let staged = ResultsDir::begin(&link).unwrap();
+        fs::write(staged.path().join(format!("run-{run}")), run).unwrap();
+        staged.commit().unwrap();
+    }
+    assert!(fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert!(real.join("run-2").is_file() && !real.join("run-1").exists());
+    let dangling = root.join("dangling");
+    std::os::unix::fs::symlink(root.join("nowhere"), &dangling).unwrap();
+    let e = ResultsDir::begin(&dangling).unwrap_err().to_string();
+    assert!(
+        e.contains("a symbolic link to") && e.contains("cannot be followed"),
+        "{e}"
+    );
+    let names: Vec<String> = fs::read_dir(&root)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains(".navkf-"))
+        .collect();
+    assert!(names.is_empty(), "{names:?}");
+}
+
+#[test]
+fn a_shard_folder_is_checked_without_being_created() {
+    let root = temp_dir("results-dir-shards");
+    let out = root.join("shards");
+    let folder = ShardFolder::check(&out).unwrap();
+    assert!(!out.exists(), "a check creates nothing");
+    folder.write("partial-0-of-2.json", b"{}").unwrap();
+    assert!(out.join(".navkf-shards").is_file());
+    // A user's file beside the shards is kept (shards remove nothing) ...
+    fs::write(out.join("notes.txt"), "mine").unwrap();
+    ShardFolder::check(&out)
+        .unwrap()
+        .write("partial-1-of-2.json", b"{}")
+        .unwrap();
+    // ... but then the merged results cannot replace the folder.
+    let e = ResultsDir::begin_kind(&out, FolderKind::Results, &[FolderKind::Shards])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("`notes.txt`, which navkf did not write"), "{e}");
+    fs::remove_file(out.join("notes.txt")).unwrap();
+    ResultsDir::begin_kind(&out, FolderKind::Results, &[FolderKind::Shards])
+        .unwrap()
+        .commit()
+        .unwrap();
+    // A folder with other files and no shard marker is refused.
+    let theirs = root.join("theirs");
+    fs::create_dir_all(&theirs).unwrap();
+    fs::write(theirs.join("notes.txt"), "mine").unwrap();
+    let e = ShardFolder::check(&theirs).unwrap_err().to_string();
+    assert!(e.contains("shards write only into a new folder"), "{e}");
 }
 
 #[test]

@@ -20,6 +20,17 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
+    for f in &a.files {
+        if crate::study::is_diagnosis_study(f)? {
+            return Err(format!(
+                "{}: a diagnosis study ([study] kind = \"diagnosis\"); plan predicts what the \
+                 test of a Monte Carlo study file identifies (e.g. studies/paper.toml), and a \
+                 diagnosis study has no single test to plan",
+                f.display()
+            )
+            .into());
+        }
+    }
     let configs = a
         .files
         .iter()
@@ -75,37 +86,39 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             designs.push((label, None, c));
         }
     }
-    // Built (and so checked) before any planning, then planned two at a time or more.
-    let studies = designs
-        .into_iter()
-        .enumerate()
-        .map(|(i, (label, v, c))| {
-            Study::new(c)
-                .map(|s| (label.clone(), v, s))
-                .map_err(|e| format!("design {i} ({label}): {e}"))
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    let plans = studies
-        .par_iter()
-        .map(|(label, _, s)| plan(s).map_err(|e| format!("design {label}: {e}")))
-        .collect::<Result<Vec<Plan>, _>>()?;
+    // Every design is built, and so checked, before any planning; each is dropped at once
+    // and built again when planned, so memory holds the designs in flight, not all of them.
+    let build = |i: usize, label: &str, c: StudyConfig| {
+        Study::new(c).map_err(|e| format!("design {i} ({label}): {e}"))
+    };
+    for (i, (label, _, c)) in designs.iter().enumerate() {
+        if navkf_study::interrupt::requested() {
+            return Err("interrupted while checking the designs".into());
+        }
+        build(i, label, c.clone())?;
+    }
     // Files are a few designs, each worth its own figure; a sweep's points are many, and
     // its figure is the one across them.
-    for (i, p) in plans.iter().enumerate() {
-        write_plan(
-            p,
-            &dir.join(format!("design-{i:02}")),
-            &command,
-            key.is_none(),
-        )?;
-    }
+    let one_figure_each = key.is_none();
+    let planned = designs
+        .into_par_iter()
+        .enumerate()
+        .map(|(i, (label, v, c))| {
+            let study = build(i, &label, c)?;
+            let p = plan(&study).map_err(|e| format!("design {label}: {e}"))?;
+            write_plan(
+                &p,
+                &dir.join(format!("design-{i:02}")),
+                &command,
+                one_figure_each,
+            )
+            .map_err(|e| e.to_string())?;
+            Ok(Design::of(label, v, &p))
+        })
+        .collect::<Result<Vec<Design>, String>>()?;
     let comparison = Comparison {
         key,
-        designs: studies
-            .iter()
-            .zip(&plans)
-            .map(|((label, v, _), p)| Design::of(label.clone(), *v, p))
-            .collect(),
+        designs: planned,
     };
     let mut md = format!(
         "# Test designs compared\n\nCommand: `{command}`\n\nPredicted final sigma / prior \

@@ -81,7 +81,9 @@ fn progress_bar(quiet: bool, total: usize, what: &str) -> ProgressBar {
 }
 
 /// Whether the study file is a diagnosis study (`[study] kind = "diagnosis"`).
-fn is_diagnosis_study(path: &std::path::Path) -> Result<bool, Box<dyn std::error::Error>> {
+pub(crate) fn is_diagnosis_study(
+    path: &std::path::Path,
+) -> Result<bool, Box<dyn std::error::Error>> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let value: toml::Value = match toml::from_str(&text) {
         Ok(v) => v,

@@ -179,3 +179,15 @@ fn a_results_folder_is_replaced_whole_and_a_users_folder_is_refused() {
         .collect();
     assert!(names.iter().all(|n| !n.contains("navkf-")), "{names:?}");
 }
+
+#[test]
+fn a_diagnosis_study_is_refused_with_what_plan_reads() {
+    let o = navkf(["plan", "../../studies/diagnosis.toml"]);
+    assert_eq!(o.status.code(), Some(1));
+    let e = text(&o.stderr);
+    assert!(
+        e.contains("diagnosis.toml: a diagnosis study") && e.contains("Monte Carlo study file"),
+        "{e}"
+    );
+    assert!(!e.contains("unknown field"), "{e}");
+}

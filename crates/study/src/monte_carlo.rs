@@ -276,7 +276,7 @@ impl Study {
             }
         }
         let tilt = config.truth.initial_tilt;
-        let initial_sigma = (0..filter_model.dim())
+        let initial_sigma: Vec<f64> = (0..filter_model.dim())
             .map(|i| {
                 let s = match i {
                     PHI_X | PHI_Y => tilt.level_rad,
@@ -293,6 +293,22 @@ impl Study {
                 s * init.sigma_scale
             })
             .collect();
+        // A sigma whose square overflows (or a NaN) would stop every run at its first step;
+        // say which setting made it instead.
+        if let Some(i) = initial_sigma.iter().position(|s| !(s * s).is_finite()) {
+            let key = match i {
+                PHI_X | PHI_Y => "truth.initial_tilt.level_rad".to_string(),
+                PHI_Z => "truth.initial_tilt.azimuth_rad".to_string(),
+                V_X | V_Y => "filter.initial.velocity_sigma".to_string(),
+                LAT | LON => "filter.initial.position_sigma_m".to_string(),
+                _ => format!("filter.initial.coefficient_sigma.{}", names[i]),
+            };
+            return Err(StudyError::Other(format!(
+                "the initial sigma of {} is {:e} ({key}, times filter.initial.sigma_scale = \
+                 {:e}): its variance is not a finite number; expected a sigma below 1e150",
+                names[i], initial_sigma[i], init.sigma_scale
+            )));
+        }
         let every = config.study.series_every_s;
         let duration = config.trajectory.duration_s;
         let dt_meas = 1.0 / config.truth.measurement_rate_hz;

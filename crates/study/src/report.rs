@@ -56,19 +56,42 @@ pub fn table(s: &Summary) -> String {
     let _ = writeln!(out, "|---|---|---|---|---|---|---|");
     for n in &names {
         let f = &s.filters[*n];
+        // With no run completed there is no mean and no cost: a dash, never "NaN".
+        let fixed = |v: f64, digits: usize| {
+            if v.is_finite() {
+                format!("{v:.digits$}")
+            } else {
+                "-".into()
+            }
+        };
+        let with_bounds = |mean: f64, bounds: [f64; 2], digits: usize| {
+            if mean.is_finite() {
+                format!(
+                    "{} ({}-{})",
+                    fixed(mean, digits),
+                    fixed(bounds[0], digits),
+                    fixed(bounds[1], digits)
+                )
+            } else {
+                "-".into()
+            }
+        };
+        let cost = |ns: f64| {
+            if ns.is_finite() {
+                format!("{:.1} us", ns / 1e3)
+            } else {
+                "-".into()
+            }
+        };
         let _ = writeln!(
             out,
-            "| {n} | {} | {} | {:.2} ({:.2}-{:.2}) | {:.3} ({:.3}-{:.3}) | {:.1} us | {:.1} us |",
+            "| {n} | {} | {} | {} | {} | {} | {} |",
             f.runs_ok,
             f.diverged,
-            f.nees_mean,
-            f.nees_bounds[0],
-            f.nees_bounds[1],
-            f.nis_mean,
-            f.nis_bounds[0],
-            f.nis_bounds[1],
-            f.step_ns_median / 1e3,
-            f.step_ns_p90 / 1e3
+            with_bounds(f.nees_mean, f.nees_bounds, 2),
+            with_bounds(f.nis_mean, f.nis_bounds, 3),
+            cost(f.step_ns_median),
+            cost(f.step_ns_p90)
         );
     }
     out

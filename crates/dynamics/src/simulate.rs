@@ -24,15 +24,48 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-/// A Gaussian prior `N(mean, sigma^2)`; `sigma = 0` fixes the value.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// A Gaussian prior `N(mean, sigma^2)`; `sigma = 0` fixes the value. In a study file it is
+/// a table, `{ mean = M, sigma = S }` (mean 0 if left out); anything else is refused with
+/// that form in the message (a bare number is ambiguous: a fixed value or a sigma?).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Prior {
     /// Mean.
     #[serde(default)]
     pub mean: f64,
     /// Standard deviation (0: the value is given, not drawn).
     pub sigma: f64,
+}
+
+/// The table form of [`Prior`], as written in a file.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PriorTable {
+    #[serde(default)]
+    mean: f64,
+    sigma: f64,
+}
+
+impl<'de> Deserialize<'de> for Prior {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Table;
+        impl<'de> serde::de::Visitor<'de> for Table {
+            type Value = Prior;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str(
+                    "a prior table `{ mean = M, sigma = S }` (S one standard deviation, 0 to \
+                     fix the value at M; M is 0 if left out)",
+                )
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<Prior, A::Error> {
+                let t = PriorTable::deserialize(serde::de::value::MapAccessDeserializer::new(map))?;
+                Ok(Prior {
+                    mean: t.mean,
+                    sigma: t.sigma,
+                })
+            }
+        }
+        d.deserialize_map(Table)
+    }
 }
 
 impl Prior {

@@ -8,8 +8,17 @@
 //! - `merge`: combine shards.
 
 use clap::{Parser, Subcommand};
+use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
+
+/// `println!` for the results a command prints: a reader that has gone (`navkf inspect d |
+/// head -1`) ends the output quietly instead of panicking with "Broken pipe".
+macro_rules! say {
+    ($($arg:tt)*) => {
+        $crate::write_stdout(&format!($($arg)*))
+    };
+}
 
 mod diagnose;
 mod plan;
@@ -112,6 +121,16 @@ fn interrupted_message(targets: &[PathBuf]) -> String {
     )
 }
 
+/// Writes `text` and a line break to stdout; see [`say!`].
+fn write_stdout(text: &str) {
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = writeln!(out, "{text}").and_then(|()| out.flush()) {
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            eprintln!("warning: could not write the output: {e}");
+        }
+    }
+}
+
 /// `message` safe to print on a terminal: control characters other than line breaks (a
 /// terminal escape sequence echoed from a user's file by a parser) escaped as `\u{1b}`.
 fn terminal_safe(message: &str) -> String {
@@ -161,9 +180,9 @@ fn inspect(dir: &std::path::Path, json: bool) -> Result<(), Box<dyn std::error::
         eprintln!("warning: {w}");
     }
     if json {
-        println!("{}", serde_json::to_string_pretty(&summary)?);
+        say!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
-        println!("{summary}");
+        say!("{summary}");
     }
     Ok(())
 }

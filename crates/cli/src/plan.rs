@@ -48,7 +48,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         let p = plan(&study)?;
         write_plan(&p, dir, &command, true)?;
         staged.commit()?;
-        print!("{}", table(&p));
+        say!("{}", table(&p).trim_end());
         eprintln!(
             "planned {} in {:.2} s, wrote {}",
             p.study,
@@ -140,7 +140,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     )?;
     write_atomic(&dir.join("designs.md"), md.as_bytes())?;
     staged.commit()?;
-    print!("{}", comparison_table(&comparison));
+    say!("{}", comparison_table(&comparison).trim_end());
     eprintln!(
         "planned {} designs in {:.2} s, wrote {}",
         comparison.designs.len(),

@@ -209,10 +209,10 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
                 tally.runs,
                 out.display()
             );
-            print!("{}", navkf_study::report::table(&summary));
+            say!("{}", navkf_study::report::table(&summary).trim_end());
             if let Some((path, base)) = &baseline {
                 let report = guard::compare(base, &summary, guard::DEFAULT_K);
-                print!("{}", report.table());
+                say!("{}", report.table().trim_end());
                 if !report.passed() {
                     return Err(format!(
                         "accuracy guard: {} of {} checks worse than {} (table above)",
@@ -253,7 +253,7 @@ pub fn merge(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
         tally.runs,
         out.display()
     );
-    print!("{}", navkf_study::report::table(&summary));
+    say!("{}", navkf_study::report::table(&summary).trim_end());
     Ok(())
 }
 
@@ -308,7 +308,7 @@ fn run_diagnosis_study(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         out.display()
     );
     for t in &summary.rates.targets {
-        println!(
+        say!(
             "{} {}: {} (target {})",
             if t.met { "met    " } else { "MISSED " },
             t.what,

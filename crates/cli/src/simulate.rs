@@ -108,15 +108,16 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
 
 /// The `[trajectory]` table of the TOML file at `path`, checked; errors name the file and
 /// the line and column (a parse error) or the key (a value the trajectory refuses).
+/// Anything but a regular file of bounded size is refused unread (`read_text`).
 fn read_trajectory(path: &std::path::Path) -> Result<TrajectoryConfig, Box<dyn std::error::Error>> {
     /// The file's other tables (a study file's `[study]`, `[noise]`...) are not read here.
     #[derive(serde::Deserialize)]
     struct TrajectoryFile {
         trajectory: Option<TrajectoryConfig>,
     }
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let file: TrajectoryFile =
-        toml::from_str(&text).map_err(|e: toml::de::Error| format!("{}: {e}", path.display()))?;
+    use navkf_dynamics::input_file::{read_text, toml_error, TextFile};
+    let text = read_text(path, &TextFile::TRAJECTORY)?;
+    let file: TrajectoryFile = toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))?;
     let trajectory = file.trajectory.ok_or_else(|| {
         format!(
             "{}: no [trajectory] table; expected the test to drive there",

@@ -80,11 +80,14 @@ fn progress_bar(quiet: bool, total: usize, what: &str) -> ProgressBar {
     bar
 }
 
-/// Whether the study file is a diagnosis study (`[study] kind = "diagnosis"`).
+/// Whether the study file is a diagnosis study (`[study] kind = "diagnosis"`). The file is
+/// read as the loaders read it: anything but a regular file of bounded size is refused here,
+/// before it is opened.
 pub(crate) fn is_diagnosis_study(
     path: &std::path::Path,
 ) -> Result<bool, Box<dyn std::error::Error>> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    use navkf_dynamics::input_file::{read_text, TextFile};
+    let text = read_text(path, &TextFile::STUDY)?;
     let value: toml::Value = match toml::from_str(&text) {
         Ok(v) => v,
         // Let the full parser report the syntax error with its line.

@@ -109,7 +109,7 @@ fn simulate_drives_a_written_test_and_locates_a_bad_one() {
     assert_eq!(o.status.code(), Some(1));
     let e = text(&o.stderr);
     assert!(
-        e.contains("misspelt.toml") && e.contains("line 3") && e.contains("duratio_s"),
+        e.contains("misspelt.toml:3:1:") && e.contains("duratio_s"),
         "{e}"
     );
     // A value the trajectory refuses: the file and the segment's key.

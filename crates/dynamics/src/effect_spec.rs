@@ -10,6 +10,7 @@
 use crate::effect::DynEffect;
 use crate::effects::Registry;
 use crate::error::DynamicsError;
+use crate::input_file::printable;
 use crate::simulate::Prior;
 use crate::state::{BASE_NAMES, NAV_DIM};
 use std::collections::BTreeMap;
@@ -61,7 +62,7 @@ impl EffectSpec {
             for item in entry.as_ref().split(',').map(str::trim) {
                 if !item.is_empty() {
                     spec.add_item(item, &mut listed, registry)
-                        .map_err(|e| (i, e))?;
+                        .map_err(|e| (i, printable_effect_error(e)))?;
                 }
             }
         }
@@ -170,4 +171,13 @@ fn given_twice(item: &str, what: &str) -> DynamicsError {
     DynamicsError::Effect(format!(
         "`{item}`: {what} is given twice; expected each effect and coefficient once"
     ))
+}
+
+/// `error` with its message made safe to print ([`printable`]): an item comes from a user
+/// (a study file's entry may be a megabyte long) and is quoted in the message.
+fn printable_effect_error(error: DynamicsError) -> DynamicsError {
+    match error {
+        DynamicsError::Effect(message) => DynamicsError::Effect(printable(&message)),
+        other => other,
+    }
 }

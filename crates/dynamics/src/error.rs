@@ -29,13 +29,29 @@ pub enum DynamicsError {
         /// What was found and what was expected.
         message: String,
     },
-    /// A malformed file as a whole (missing column, bad TOML).
+    /// A malformed file as a whole (missing column, not a regular file, too large).
     #[error("{}: {message}", path.display())]
     File {
         /// The file.
         path: PathBuf,
         /// What was found and what was expected.
         message: String,
+    },
+    /// A TOML file the parser refused (bad syntax, an unknown key, a value of the wrong
+    /// type), located; the excerpt is a short cut of the line with a caret under the column
+    /// ([`crate::input_file::toml_error`]), never the line whole.
+    #[error("{}:{line}:{column}: {message}\n{excerpt}", path.display())]
+    Toml {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column, in characters.
+        column: usize,
+        /// The parser's message.
+        message: String,
+        /// The line, cut around the column, and a caret under it.
+        excerpt: String,
     },
     /// An I/O failure, with the file it concerns.
     #[error("{}: {source}", path.display())]

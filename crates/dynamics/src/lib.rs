@@ -14,6 +14,7 @@ pub mod effect;
 pub mod effect_spec;
 pub mod effects;
 pub mod error;
+pub mod input_file;
 pub mod integrate;
 pub mod kinematics;
 pub mod linear_rates;

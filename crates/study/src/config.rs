@@ -8,6 +8,7 @@
 //! errors.
 
 use crate::error::StudyError;
+use navkf_dynamics::input_file::{printable, read_text, toml_error, toml_message, TextFile};
 use navkf_dynamics::simulate::InitialTilt;
 use navkf_dynamics::{Attitude, NoiseConfig, TrajectoryConfig, TruthConfig};
 use navkf_filters::{FilterKind, SigmaScaling};
@@ -300,21 +301,23 @@ pub struct SweepSection {
 }
 
 impl StudyConfig {
-    /// Reads and validates a study file; errors name the file and the key.
+    /// Reads and validates a study file; errors name the file and the key, or the line and
+    /// column. Anything but a regular file of at most
+    /// [`navkf_dynamics::input_file::TOML_MAX_BYTES`] is refused unread
+    /// ([`read_text`]).
     pub fn load(path: &Path) -> Result<Self, StudyError> {
-        let text = std::fs::read_to_string(path).map_err(|source| StudyError::Io {
+        let text = read_text(path, &TextFile::STUDY)?;
+        let cfg: StudyConfig = toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))?;
+        cfg.validate().map_err(|message| StudyError::Config {
             path: path.to_path_buf(),
-            source,
+            message: printable(&message),
         })?;
-        Self::parse(&text).map_err(|message| StudyError::Config {
-            path: path.to_path_buf(),
-            message,
-        })
+        Ok(cfg)
     }
 
     /// Parses and validates study text.
     pub fn parse(text: &str) -> Result<Self, String> {
-        let cfg: StudyConfig = toml::from_str(text).map_err(|e| e.to_string())?;
+        let cfg: StudyConfig = toml::from_str(text).map_err(|e| toml_message(text, &e))?;
         cfg.validate()?;
         Ok(cfg)
     }

@@ -42,6 +42,7 @@
 use crate::config::StudyConfig;
 use crate::error::StudyError;
 use crate::summary::{FilterSummary, Summary};
+use navkf_dynamics::input_file::{printable, read_text, TextFile};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -156,15 +157,14 @@ fn g(v: f64) -> String {
     }
 }
 
-/// Reads a baseline `summary.json`.
+/// Reads a baseline `summary.json`: a regular file of at most
+/// [`navkf_dynamics::input_file::SUMMARY_MAX_BYTES`] ([`read_text`]); the parser's message is
+/// cut ([`printable`]: it may quote a string from the file).
 pub fn load_baseline(path: &Path) -> Result<Summary, StudyError> {
-    let text = std::fs::read_to_string(path).map_err(|source| StudyError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let text = read_text(path, &TextFile::SUMMARY)?;
     serde_json::from_str(&text).map_err(|e| StudyError::Config {
         path: path.to_path_buf(),
-        message: format!("not a study summary.json: {e}"),
+        message: printable(&format!("not a study summary.json: {e}")),
     })
 }
 

@@ -208,10 +208,8 @@ fn example_csv(ex: &ExampleRun) -> String {
 pub fn read_partials(paths: &[PathBuf]) -> Result<Vec<Partial>, StudyError> {
     let mut out: Vec<Partial> = Vec::new();
     for p in paths {
-        let text = std::fs::read_to_string(p).map_err(|source| StudyError::Io {
-            path: p.clone(),
-            source,
-        })?;
+        let text =
+            navkf_dynamics::input_file::read_text(p, &navkf_dynamics::input_file::TextFile::SHARD)?;
         let part: Partial = serde_json::from_str(&text).map_err(|e| StudyError::Config {
             path: p.clone(),
             message: format!("not a shard file: {e}"),

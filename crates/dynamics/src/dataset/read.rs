@@ -14,6 +14,10 @@ use super::{
 use crate::earth::{meridian_radius, prime_vertical_radius};
 use crate::effects::Registry;
 use crate::error::DynamicsError;
+use crate::input_file::{
+    check_regular, other_encoding, printable, read_text, toml_error, LineLimit, LineTooLong,
+    TextFile, CSV_LINE_MAX_BYTES,
+};
 use crate::noise::NoiseConfig;
 use crate::prior::PlatformPrior;
 use crate::state::{BASE_NAMES, NAV_DIM};
@@ -99,46 +103,6 @@ fn data_error(path: &Path, line: usize, column: &str, message: String) -> Dynami
     }
 }
 
-/// Longest stretch of a message without a blank that is shown whole (a cell, a name).
-const LONGEST_WORD: usize = 60;
-
-/// `text` safe to print: control characters (a terminal escape sequence, a NUL) escaped as
-/// `\u{1b}`, and any stretch without a blank longer than [`LONGEST_WORD`] characters (a
-/// megabyte-long cell) cut, with its length shown.
-pub(crate) fn printable(text: &str) -> String {
-    let mut out = String::with_capacity(text.len().min(4096));
-    let mut word = 0usize; // characters of the current stretch without a blank
-    let mut cut = false; // the current stretch is being skipped
-    let chars: Vec<char> = text.chars().collect();
-    for (i, &c) in chars.iter().enumerate() {
-        if c == ' ' || c == '\n' {
-            word = 0;
-            cut = false;
-            out.push(c);
-            continue;
-        }
-        word += 1;
-        if cut {
-            continue;
-        }
-        if word > LONGEST_WORD {
-            let rest = chars[i..]
-                .iter()
-                .take_while(|c| **c != ' ' && **c != '\n')
-                .count();
-            out.push_str(&format!("... ({} characters)", word - 1 + rest));
-            cut = true;
-            continue;
-        }
-        if c.is_control() {
-            out.extend(c.escape_unicode());
-        } else {
-            out.push(c);
-        }
-    }
-    out
-}
-
 /// One CSV line: its 1-based line number and its cells, trimmed of surrounding blanks.
 #[derive(Clone)]
 struct Row {
@@ -152,7 +116,7 @@ struct Row {
 struct Table {
     path: PathBuf,
     header: Row,
-    reader: csv::Reader<std::fs::File>,
+    reader: CsvReader,
     record: csv::ByteRecord,
     /// Line of the last row read (the header's before any).
     last_line: usize,
@@ -179,11 +143,15 @@ impl Table {
     }
 }
 
+/// The CSV parser over a file whose lines are at most [`CSV_LINE_MAX_BYTES`].
+type CsvReader = csv::Reader<LineLimit<std::fs::File>>;
+
 /// Opens a CSV file and reads its header row, without interpreting it. `flexible` so that
 /// rows of the wrong length reach us and are reported with their column; bytes that are not
 /// UTF-8 become U+FFFD and so fail as "not a number" or as a wrong column name, with their
 /// line. Anything but a regular file (a device such as `/dev/zero`, a FIFO, a folder) is
-/// refused before reading: it could hang or never end.
+/// refused before opening: it could hang or never end. A line longer than
+/// [`CSV_LINE_MAX_BYTES`] is refused, with its number, before it is buffered whole.
 fn read_table(path: &Path, expected_header: &str) -> Result<Table, DynamicsError> {
     let not_found = |source: std::io::Error| {
         if source.kind() == ErrorKind::NotFound {
@@ -200,15 +168,13 @@ fn read_table(path: &Path, expected_header: &str) -> Result<Table, DynamicsError
             }
         }
     };
-    regular_file(path).map_err(|e| match e {
-        RegularFile::Io(source) => not_found(source),
-        RegularFile::Not(message) => DynamicsError::File {
-            path: path.to_path_buf(),
-            message,
-        },
+    let what = format!("a CSV file with the header `{expected_header}`");
+    check_regular(path, &what).map_err(|e| match e {
+        DynamicsError::Io { source, .. } => not_found(source),
+        other => other,
     })?;
     let mut file = std::fs::File::open(path).map_err(not_found)?;
-    if let Some(encoding) = other_encoding(&mut file).map_err(not_found)? {
+    if let Some(encoding) = file_encoding(&mut file).map_err(not_found)? {
         return Err(DynamicsError::File {
             path: path.to_path_buf(),
             message: format!(
@@ -219,7 +185,7 @@ fn read_table(path: &Path, expected_header: &str) -> Result<Table, DynamicsError
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
-        .from_reader(file);
+        .from_reader(LineLimit::new(file, CSV_LINE_MAX_BYTES));
     let mut record = csv::ByteRecord::new();
     let Some(mut header) = read_row(path, &mut reader, &mut record, 0)? else {
         return Err(data_error(
@@ -244,10 +210,9 @@ fn read_table(path: &Path, expected_header: &str) -> Result<Table, DynamicsError
     })
 }
 
-/// The encoding of `file` when it is UTF-16 or UTF-32 (by byte-order mark, or by the NUL
-/// bytes every ASCII character carries in them), which would otherwise read as garbled
-/// column names; the file is left at its start.
-fn other_encoding(file: &mut std::fs::File) -> std::io::Result<Option<&'static str>> {
+/// The encoding of `file` when it is UTF-16 or UTF-32 ([`other_encoding`]), which would
+/// otherwise read as garbled column names; the file is left at its start.
+fn file_encoding(file: &mut std::fs::File) -> std::io::Result<Option<&'static str>> {
     use std::io::{Read, Seek};
     let mut head = [0u8; 4];
     let mut n = 0;
@@ -258,19 +223,13 @@ fn other_encoding(file: &mut std::fs::File) -> std::io::Result<Option<&'static s
         }
     }
     file.rewind()?;
-    let head = &head[..n];
-    Ok(match head {
-        [0xFF, 0xFE, 0, 0] | [0, 0, 0xFE, 0xFF] => Some("UTF-32 (byte-order mark)"),
-        [0xFF, 0xFE, ..] | [0xFE, 0xFF, ..] => Some("UTF-16 (byte-order mark)"),
-        [a, 0, b, 0] | [0, a, 0, b] if *a != 0 && *b != 0 => Some("UTF-16 (NUL bytes)"),
-        _ => None,
-    })
+    Ok(other_encoding(&head[..n]))
 }
 
 /// One row of `reader`, its cells trimmed; `previous` is the line of the row before.
 fn read_row(
     path: &Path,
-    reader: &mut csv::Reader<std::fs::File>,
+    reader: &mut CsvReader,
     record: &mut csv::ByteRecord,
     previous: usize,
 ) -> Result<Option<Row>, DynamicsError> {
@@ -289,36 +248,27 @@ fn read_row(
     Ok(Some(Row { line, cells }))
 }
 
-/// Why a path is not a regular file to read.
-enum RegularFile {
-    /// It cannot be looked at (not found, no permission).
-    Io(std::io::Error),
-    /// It is something else; the message says what.
-    Not(String),
-}
-
-/// Checks that `path` (following links) is a regular file.
-fn regular_file(path: &Path) -> Result<(), RegularFile> {
-    let meta = std::fs::metadata(path).map_err(RegularFile::Io)?;
-    if meta.is_file() {
-        return Ok(());
-    }
-    let what = if meta.is_dir() {
-        "a folder"
-    } else {
-        "a device, FIFO or socket"
-    };
-    Err(RegularFile::Not(format!(
-        "is {what}, not a regular file; expected a file (reading it could block or never end)"
-    )))
-}
-
 fn csv_error(path: &Path, e: csv::Error) -> DynamicsError {
     let line = e
         .position()
         .map_or(0, |p| usize::try_from(p.line()).unwrap_or(usize::MAX));
     let message = e.to_string();
     match e.into_kind() {
+        csv::ErrorKind::Io(source) if LineTooLong::inside(&source).is_some() => {
+            let line = LineTooLong::inside(&source)
+                .map_or(line, |t| usize::try_from(t.line).unwrap_or(usize::MAX));
+            data_error(
+                path,
+                line,
+                "-",
+                format!(
+                    "line longer than {} KiB (refused before reading it whole); expected CSV \
+                     rows of a time and a few numbers (the widest, truth.csv's with every \
+                     effect, is under 1 KiB)",
+                    CSV_LINE_MAX_BYTES / 1024
+                ),
+            )
+        }
         csv::ErrorKind::Io(source) => DynamicsError::Io {
             path: path.to_path_buf(),
             source,
@@ -830,20 +780,8 @@ fn known_coefficients(registry: &Registry) -> Vec<String> {
 }
 
 fn read_config(path: &Path, known: &[String]) -> Result<ConfigFile, DynamicsError> {
-    if let Err(RegularFile::Not(message)) = regular_file(path) {
-        return Err(DynamicsError::File {
-            path: path.to_path_buf(),
-            message,
-        });
-    }
-    let text = std::fs::read_to_string(path).map_err(|source| DynamicsError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let config: ConfigFile = toml::from_str(&text).map_err(|e| DynamicsError::File {
-        path: path.to_path_buf(),
-        message: e.to_string().trim_end().to_owned(),
-    })?;
+    let text = read_text(path, &TextFile::DATASET_CONFIG)?;
+    let config: ConfigFile = toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))?;
     if let Err(message) = config.noise.validate() {
         // validate() names the key as `noise.<key>`; point at its line when we can find it.
         let key = message
@@ -854,7 +792,7 @@ fn read_config(path: &Path, known: &[String]) -> Result<ConfigFile, DynamicsErro
             Some(line) => data_error(path, line, &format!("noise.{key}"), message),
             None => DynamicsError::File {
                 path: path.to_path_buf(),
-                message,
+                message: printable(&message),
             },
         });
     }
@@ -865,7 +803,7 @@ fn read_config(path: &Path, known: &[String]) -> Result<ConfigFile, DynamicsErro
             Some(line) => data_error(path, line, &key, message),
             None => DynamicsError::File {
                 path: path.to_path_buf(),
-                message: format!("{key}: {message}"),
+                message: printable(&format!("{key}: {message}")),
             },
         });
     }

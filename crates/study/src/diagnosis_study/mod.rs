@@ -19,6 +19,7 @@ pub mod report;
 use crate::diagnose::{diagnose, FilterChoice, Options, Verdict};
 use crate::error::StudyError;
 use content::{Class, Hidden, Planned};
+use navkf_dynamics::input_file::{printable, read_text, toml_error, toml_message, TextFile};
 use navkf_dynamics::simulate::{Alignment, InitialTilt};
 use navkf_dynamics::{NoiseConfig, Registry, Trajectory, TrajectoryConfig};
 use rayon::prelude::*;
@@ -190,21 +191,22 @@ pub struct DiagnosisStudyConfig {
 impl DiagnosisStudyConfig {
     /// Parses and validates study text; errors name the key.
     pub fn parse(text: &str) -> Result<Self, String> {
-        let cfg: DiagnosisStudyConfig = toml::from_str(text).map_err(|e| e.to_string())?;
+        let cfg: DiagnosisStudyConfig = toml::from_str(text).map_err(|e| toml_message(text, &e))?;
         cfg.validate()?;
         Ok(cfg)
     }
 
-    /// Reads and validates a study file.
+    /// Reads and validates a study file (a regular file of at most
+    /// [`navkf_dynamics::input_file::TOML_MAX_BYTES`], see [`read_text`]).
     pub fn load(path: &Path) -> Result<Self, StudyError> {
-        let text = std::fs::read_to_string(path).map_err(|source| StudyError::Io {
+        let text = read_text(path, &TextFile::STUDY)?;
+        let cfg: DiagnosisStudyConfig =
+            toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))?;
+        cfg.validate().map_err(|message| StudyError::Config {
             path: path.to_path_buf(),
-            source,
+            message: printable(&message),
         })?;
-        Self::parse(&text).map_err(|message| StudyError::Config {
-            path: path.to_path_buf(),
-            message,
-        })
+        Ok(cfg)
     }
 
     /// Size bounds of catalogued effect `name`.

@@ -376,3 +376,93 @@ fn a_toml_error_on_a_megabyte_line_prints_a_short_cut_of_it() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn an_edited_shard_is_refused_naming_the_file_and_the_field() {
+    // Two runs make one block: shard 0/2 holds none, shard 1/2 holds it and the example run.
+    let dir = scratch("shard-fields");
+    let study = study_file(&dir, "s.toml", &[]);
+    let shards = dir.join("shards");
+    for shard in ["0/2", "1/2"] {
+        let o = navkf([
+            Path::new("study"),
+            &study,
+            Path::new("--shard"),
+            Path::new(shard),
+            Path::new("--out"),
+            &shards,
+            Path::new("--quiet"),
+        ]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+    }
+    let (empty, partial) = (
+        shards.join("partial-0-of-2.json"),
+        shards.join("partial-1-of-2.json"),
+    );
+    let valid: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&partial).unwrap()).unwrap();
+    let merged = dir.join("merged");
+    let merge = || {
+        navkf([
+            Path::new("merge"),
+            &empty,
+            &partial,
+            Path::new("--out"),
+            &merged,
+        ])
+    };
+    /// A JSON pointer into the shard file, what to do to the value there, and what merge says.
+    type Edit = (&'static str, fn(&mut serde_json::Value), &'static str);
+    let edits: [Edit; 4] = [
+        (
+            "/blocks/0/filters/0/ok",
+            |v| *v = serde_json::json!(1000030),
+            "blocks[0].filters[0].ok = 1000030: more than the block's 2 runs",
+        ),
+        (
+            "/example/filters/1/estimate",
+            |v| drop(v.as_array_mut().unwrap().pop()),
+            "example.filters[1].estimate has",
+        ),
+        (
+            "/blocks/0/filters",
+            |v| *v = serde_json::json!([]),
+            "blocks[0].filters has 0 entries; expected 3 (one per filter in study.filters)",
+        ),
+        (
+            "/shard",
+            |v| *v = serde_json::json!([1, 3]),
+            "shard = (1, 3): the first shard is one of 2",
+        ),
+    ];
+    for (at, edit, says) in edits {
+        let mut v = valid.clone();
+        edit(v.pointer_mut(at).expect("the shard file has the field"));
+        std::fs::write(&partial, serde_json::to_string(&v).unwrap()).unwrap();
+        let t = Instant::now();
+        refused_at_once(
+            &merge(),
+            t.elapsed(),
+            &format!("partial-1-of-2.json: {says}"),
+        );
+        assert!(!merged.exists(), "{at}: nothing written");
+    }
+    // The files as written merge into what the unsharded study writes.
+    std::fs::write(&partial, serde_json::to_string(&valid).unwrap()).unwrap();
+    let o = merge();
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let whole = dir.join("whole");
+    let o = navkf([
+        Path::new("study"),
+        &study,
+        Path::new("--out"),
+        &whole,
+        Path::new("--quiet"),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    for file in ["rms_over_time.csv", "example_run.csv"] {
+        let read = |d: &Path| std::fs::read(d.join(file)).unwrap();
+        assert!(read(&merged) == read(&whole), "{file} differs");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

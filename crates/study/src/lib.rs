@@ -15,6 +15,7 @@ pub mod plan;
 pub mod plots;
 pub mod report;
 pub mod results_dir;
+pub mod shard_check;
 pub mod stats;
 pub mod summary;
 pub mod sweep;

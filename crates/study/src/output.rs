@@ -207,6 +207,7 @@ fn example_csv(ex: &ExampleRun) -> String {
 /// Reads shard files and checks they are one study, complete and not overlapping.
 pub fn read_partials(paths: &[PathBuf]) -> Result<Vec<Partial>, StudyError> {
     let mut out: Vec<Partial> = Vec::new();
+    let mut study: Option<Study> = None;
     for p in paths {
         let text =
             navkf_dynamics::input_file::read_text(p, &navkf_dynamics::input_file::TextFile::SHARD)?;
@@ -229,7 +230,29 @@ pub fn read_partials(paths: &[PathBuf]) -> Result<Vec<Partial>, StudyError> {
                     message: "this shard ran a different study file than the first shard".into(),
                 });
             }
+            if first.shard.1 != part.shard.1 {
+                return Err(StudyError::Config {
+                    path: p.clone(),
+                    message: format!(
+                        "shard = ({}, {}): the first shard is one of {}; a set of shards splits the study one way",
+                        part.shard.0, part.shard.1, first.shard.1
+                    ),
+                });
+            }
         }
+        // Its counts and arrays against the study, built once (every shard ran the same one).
+        let prepared = match study.take() {
+            Some(s) => s,
+            None => Study::new(part.config.clone()).map_err(|e| StudyError::Config {
+                path: p.clone(),
+                message: format!("config: {e}"),
+            })?,
+        };
+        let prepared = study.insert(prepared);
+        crate::shard_check::check(&part, prepared).map_err(|message| StudyError::Config {
+            path: p.clone(),
+            message,
+        })?;
         out.push(part);
     }
     if out.is_empty() {
@@ -256,5 +279,6 @@ pub fn read_partials(paths: &[PathBuf]) -> Result<Vec<Partial>, StudyError> {
             "shards cover runs 0..{expect} of {runs}: some shards are missing"
         )));
     }
+    crate::shard_check::check_totals(&out).map_err(StudyError::Other)?;
     Ok(out)
 }

@@ -45,7 +45,9 @@ pub struct MergeArgs {
     out: Option<PathBuf>,
 }
 
-fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+/// `--shard i/n` of a study of `runs` runs: at most one shard per run (more would be empty,
+/// and an absurd n overflowed the block arithmetic).
+fn parse_shard(s: &str, runs: usize) -> Result<(usize, usize), String> {
     let (i, n) = s
         .split_once('/')
         .ok_or_else(|| format!("--shard {s}: expected i/n, e.g. 0/4"))?;
@@ -59,6 +61,11 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
         .map_err(|_| format!("--shard {s}: `{n}` is not a whole number"))?;
     if n == 0 || i >= n {
         return Err(format!("--shard {s}: expected 0 <= i < n"));
+    }
+    if n > runs {
+        return Err(format!(
+            "--shard {s}: the study has {runs} runs; expected at most one shard per run"
+        ));
     }
     Ok((i, n))
 }
@@ -115,7 +122,11 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     if config.sweep.is_some() {
         return run_sweep(a, config);
     }
-    let shard = a.shard.as_deref().map(parse_shard).transpose()?;
+    let shard = a
+        .shard
+        .as_deref()
+        .map(|s| parse_shard(s, config.study.runs))
+        .transpose()?;
     let baseline = match &a.baseline {
         Some(_) if shard.is_some() => {
             return Err("--baseline compares a whole study: it cannot be used with --shard".into())

@@ -192,6 +192,10 @@ fn shards_write_only_into_their_own_folder_and_merge_keeps_users_files() {
     // A refused shard creates no folder.
     let never = root.join("never");
     assert_refused(&shard("5/2", &never), &["--shard 5/2"]);
+    assert_refused(
+        &shard("0/18446744073709551615", &never),
+        &["the study has 20 runs; expected at most one shard per run"],
+    );
     assert!(!never.exists());
     // Shards fill a new folder; merge into it is refused while it holds the user's notes.
     let shards = root.join("shards");

@@ -9,6 +9,7 @@ pub mod error;
 pub mod filters;
 pub mod guard;
 pub mod interrupt;
+mod json_nan;
 pub mod monte_carlo;
 pub mod output;
 pub mod plan;

@@ -153,6 +153,7 @@ pub struct ExampleRun {
     /// Times, s.
     pub t: Vec<f64>,
     /// True value of each filter state at each time (NaN where the truth lacks the state).
+    #[serde(with = "crate::json_nan")]
     pub truth: Vec<Vec<f64>>,
     /// Per filter: estimates and sigmas at each time.
     pub filters: Vec<ExampleFilter>,
@@ -166,8 +167,10 @@ pub struct ExampleFilter {
     /// Times of the estimates (may stop early if the filter diverged).
     pub t: Vec<f64>,
     /// Estimates.
+    #[serde(with = "crate::json_nan")]
     pub estimate: Vec<Vec<f64>>,
     /// One-sigma.
+    #[serde(with = "crate::json_nan")]
     pub sigma: Vec<Vec<f64>>,
 }
 

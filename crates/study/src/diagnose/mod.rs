@@ -727,7 +727,7 @@ fn widened_priors(start: &priors::Priors, fit: &Fit) -> Vec<Widening> {
                 .get(name)
                 .copied()
                 .unwrap_or(fit.typical_sigma[i]);
-            let cap = from * priors::widest_factor(&fit.setup.priors, name);
+            let cap = priors::widest_sigma(&fit.setup.priors, name, from, fit.typical_sigma[i]);
             (fit.prior_sigma[i] > from).then(|| Widening {
                 name: name.clone(),
                 from,

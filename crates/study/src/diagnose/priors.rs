@@ -23,8 +23,9 @@
 //! if the marginal likelihood (the filter's own, with the priors' Occam factors) rises by at
 //! least [`WIDEN_EVIDENCE`], which a wider prior does only when the data put the coefficient
 //! out there. Refits go on until nothing more is proposed (at most [`MAX_WIDENINGS`]). An
-//! effect's coefficient may grow to [`WIDEST_EFFECT`] times its starting prior: how large it
-//! is, is the question. A base coefficient only to [`WIDEST_BASE`] times: beyond that the
+//! effect's coefficient may grow to [`WIDEST_EFFECT`] times its starting prior or its typical
+//! size, whichever is larger: how large it is, is the question, and a tight prior a user
+//! states is a starting point, not a cap. A base coefficient only to [`WIDEST_BASE`] times: beyond that the
 //! platform belongs to another class than the stated (or default) priors describe, its user
 //! should state priors for it, and a base coefficient let free that far would soak up what a
 //! missing effect does (a drag on the paper's test is matched, to the last unit of
@@ -199,11 +200,25 @@ pub struct Widening {
 }
 
 /// How many times its starting prior coefficient `name` may widen to.
-pub fn widest_factor(priors: &Priors, name: &str) -> f64 {
+fn widest_factor(priors: &Priors, name: &str) -> f64 {
     if priors.open.iter().any(|o| o == name) {
         WIDEST_EFFECT
     } else {
         WIDEST_BASE
+    }
+}
+
+/// The widest prior sigma coefficient `name` may reach, from its starting sigma `start` and
+/// its typical one. An effect's coefficient widens from the larger of the two, so a user's
+/// tight prior (`--prior kod=1e-9`) is where the search starts, never a cap on what it finds.
+/// A base coefficient's cap stays relative to the stated prior: stating it is saying which
+/// class the platform belongs to.
+pub fn widest_sigma(priors: &Priors, name: &str, start: f64, typical: f64) -> f64 {
+    let factor = widest_factor(priors, name);
+    if factor == WIDEST_EFFECT {
+        start.max(typical) * factor
+    } else {
+        start * factor
     }
 }
 
@@ -219,6 +234,19 @@ pub fn widenings(f: &Fit, refused: &[String]) -> Vec<Widening> {
         let p2 = f.sigma(i).powi(2);
         let shrink = p2 / (s * s);
         if !(shrink < 1.0 - UNINFORMED) {
+            // A prior so tight that the data cannot move the estimate says nothing of what
+            // they hold: an effect's coefficient stated below its typical size is tried at
+            // that size (kept, like any widening, only if the evidence rises).
+            let typical = f.typical_sigma[i];
+            if widest_factor(&f.setup.priors, &f.names[i]) == WIDEST_EFFECT && s < typical {
+                out.push(Widening {
+                    name: f.names[i].clone(),
+                    from: s,
+                    to: typical,
+                    implied_estimate: f.x[i],
+                    at_cap: false,
+                });
+            }
             continue;
         }
         let c_ml = f.x[i] / (1.0 - shrink);
@@ -227,7 +255,7 @@ pub fn widenings(f: &Fit, refused: &[String]) -> Vec<Widening> {
             .setup
             .priors
             .starting_sigma(&f.names[i], f.typical_sigma[i]);
-        let widest = start * widest_factor(&f.setup.priors, &f.names[i]);
+        let widest = widest_sigma(&f.setup.priors, &f.names[i], start, f.typical_sigma[i]);
         // Under the prior, c_ml ~ N(0, s^2 + var_ml): beyond WIDEN_Z of that, data and prior
         // disagree.
         let disagree = c_ml * c_ml > WIDEN_Z * WIDEN_Z * (s * s + var_ml);

@@ -80,18 +80,21 @@ fn walk_through() -> (f64, f64, f64, f64, f64) {
     // With the catalogue alone, the diagnosis refuses to blame a catalogued effect.
     let catalogue = Registry::catalogue();
     let (d, _) = diagnose(&ds, &catalogue, &Options::default()).unwrap();
-    println!("catalogue only: verdict {}, best {:?}", d.verdict, d.best);
+    let named = |d: &navkf_study::diagnose::Diagnosis| d.best.clone().unwrap_or("none".into());
+    println!("catalogue only: verdict {}, named {}", d.verdict, named(&d));
 
     // Step 2: register the new effect.
     let mut registry = Registry::catalogue();
     registry.register(|| Box::new(Drag));
     let (d, _) = diagnose(&ds, &registry, &Options::default()).unwrap();
     println!(
-        "with `drag` registered: verdict {}, best {:?}",
-        d.verdict, d.best
+        "with `drag` registered: verdict {}, named {}",
+        d.verdict,
+        named(&d)
     );
 
-    // Step 3: switch it on and compare before and after.
+    // Step 3: switch it on (what `navkf diagnose --with drag` does) and compare before and
+    // after.
     let opts = Options {
         with: vec!["drag".into()],
         ..Default::default()

@@ -581,3 +581,6 @@ pub fn rates(records: &[Record]) -> Rates {
         targets,
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,179 @@
+//! The numbers behind README's target table, against cases worked out by hand: Wilson
+//! intervals from their closed forms, a logistic fit whose maximum-likelihood answer is known
+//! exactly, the detection limit read off it, and the targets' flags on either side of their
+//! thresholds.
+
+use super::*;
+use crate::diagnosis_study::content::{Class, Hidden};
+
+const Z: f64 = 1.959_963_984_540_054;
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol
+}
+
+#[test]
+fn wilson_intervals_match_their_closed_forms() {
+    // k = 0: the lower end is 0 and the upper z^2 / (n + z^2).
+    let r = Rate::of(0, 10);
+    assert_eq!(r.interval[0], 0.0);
+    assert!(close(r.interval[1], Z * Z / (10.0 + Z * Z), 1e-15), "{r:?}");
+    assert!(close(r.interval[1], 0.277_533, 1e-6));
+    // k = n: the mirror image, n / (n + z^2) to 1.
+    let r = Rate::of(10, 10);
+    assert!(close(r.interval[0], 10.0 / (10.0 + Z * Z), 1e-15), "{r:?}");
+    assert!(close(r.interval[1], 1.0, 1e-15));
+    // 2 of 200 and 37 of 50, from the Wilson formula evaluated separately:
+    // (p + z^2/2n -+ z sqrt(p(1-p)/n + z^2/4n^2)) / (1 + z^2/n).
+    let r = Rate::of(2, 200);
+    assert!(close(r.rate, 0.01, 1e-15));
+    assert!(close(r.interval[0], 0.002_746_658, 1e-9), "{r:?}");
+    assert!(close(r.interval[1], 0.035_721_762, 1e-9), "{r:?}");
+    let r = Rate::of(37, 50);
+    assert!(close(r.interval[0], 0.604_468_427, 1e-9), "{r:?}");
+    assert!(close(r.interval[1], 0.841_284_725, 1e-9), "{r:?}");
+    assert_eq!(r.to_string(), "74.0 % (37 of 50; 95 % 60.4-84.1 %)");
+    // No trials: no rate, and a dash in the tables.
+    let r = Rate::of(0, 0);
+    assert!(r.rate.is_nan() && r.interval.iter().all(|v| v.is_nan()));
+    assert_eq!(r.to_string(), "-");
+}
+
+/// `k` of `n` points at `x`, as (x, named) pairs.
+fn group(x: f64, k: usize, n: usize) -> Vec<(f64, bool)> {
+    (0..n).map(|i| (x, i < k)).collect()
+}
+
+#[test]
+fn the_logistic_fit_of_two_groups_passes_through_their_proportions() {
+    // With two distinct x the two-parameter model is saturated: the maximum-likelihood curve
+    // goes through both observed proportions. 5 of 20 at x = 0 and 19 of 20 at x = 2 give
+    // a = logit(0.25) = -ln 3 and b = (logit(0.95) - logit(0.25)) / 2 = (ln 19 + ln 3) / 2.
+    let mut points = group(0.0, 5, 20);
+    points.extend(group(2.0, 19, 20));
+    let [a, b] = logistic(&points).expect("a fit");
+    assert!(close(a, -(3.0f64.ln()), 1e-5), "a = {a}");
+    assert!(
+        close(b, (19.0f64.ln() + 3.0f64.ln()) / 2.0, 1e-5),
+        "b = {b}"
+    );
+    // All one value: no curve.
+    assert!(logistic(&group(1.0, 4, 4)).is_none());
+    assert!(logistic(&group(1.0, 0, 4)).is_none());
+}
+
+/// A single-effect record hiding `gps-latency` at `multiple` times its typical size.
+fn single(index: usize, multiple: f64, named: bool) -> Record {
+    Record {
+        index,
+        class: Class::Single,
+        hidden: vec![Hidden::Effect {
+            name: "gps-latency".into(),
+            multiple,
+            values: BTreeMap::new(),
+        }],
+        verdict: Some(if named {
+            Verdict::Explained
+        } else {
+            Verdict::Consistent
+        }),
+        named: if named {
+            vec!["gps-latency".into()]
+        } else {
+            Vec::new()
+        },
+        noise_named: false,
+        withdrawn: Vec::new(),
+        rounds: 1,
+        first_round_bic: BTreeMap::new(),
+        estimate_errors: BTreeMap::new(),
+        error: None,
+    }
+}
+
+#[test]
+fn the_detection_limit_is_read_off_the_fitted_curve() {
+    // Multiples 1 (ln = 0) and e^2 (ln = 2), named 5 of 20 and 19 of 20: the curve above,
+    // whose 90 % point is ln m = (logit 0.9 - a) / b = (ln 9 + ln 3) / ((ln 19 + ln 3) / 2),
+    // m = 5.1058. The 20 datasets at e^2 lie above it, 19 named: 95 %, target met.
+    let e2 = 2.0f64.exp();
+    let mut records: Vec<Record> = (0..20).map(|i| single(i, 1.0, i < 5)).collect();
+    records.extend((0..20).map(|i| single(20 + i, e2, i < 19)));
+    let refs: Vec<&Record> = records.iter().collect();
+    let d = detection("gps-latency", &refs);
+    assert_eq!(d.n, 40);
+    let expected = ((9.0f64.ln() + 3.0f64.ln()) / ((19.0f64.ln() + 3.0f64.ln()) / 2.0)).exp();
+    assert!(close(expected, 5.105_769, 1e-6));
+    let m = d.limit_multiple.expect("a limit within the sizes drawn");
+    assert!(close(m, expected, 1e-4), "limit {m}");
+    let above = d.above_limit.expect("a rate above the limit");
+    assert_eq!((above.k, above.n), (19, 20));
+    let r = rates(&records);
+    let t = r
+        .targets
+        .iter()
+        .find(|t| t.what.contains("`gps-latency`"))
+        .expect("a target for the effect");
+    assert!(t.met, "{t:?}");
+    // Never reached within the sizes drawn: 1 of 20 and 5 of 20, limit beyond e^2.
+    let mut records: Vec<Record> = (0..20).map(|i| single(i, 1.0, i < 1)).collect();
+    records.extend((0..20).map(|i| single(20 + i, e2, i < 5)));
+    let refs: Vec<&Record> = records.iter().collect();
+    let d = detection("gps-latency", &refs);
+    assert!(d.limit_multiple.is_none());
+    assert!(
+        d.no_limit
+            .as_deref()
+            .is_some_and(|w| w.starts_with("not reached")),
+        "{:?}",
+        d.no_limit
+    );
+    // ... and its target is missed, whatever the rate at the top.
+    let t = rates(&records)
+        .targets
+        .into_iter()
+        .find(|t| t.what.contains("`gps-latency`"))
+        .expect("a target for the effect");
+    assert!(!t.met && t.measured.starts_with("no limit"), "{t:?}");
+}
+
+/// A record of class `class` hiding nothing catalogued, naming `named`.
+fn plain(index: usize, class: Class, named: &[&str]) -> Record {
+    let mut r = single(index, 1.0, false);
+    r.class = class;
+    r.hidden = Vec::new();
+    r.named = named.iter().map(|s| s.to_string()).collect();
+    r
+}
+
+#[test]
+fn the_false_attribution_flags_turn_at_their_thresholds() {
+    // Clean data: 1 of 50 named is 2 %, met; 2 of 50 is 4 %, missed.
+    for (named, met) in [(1, true), (2, false)] {
+        let records: Vec<Record> = (0..50)
+            .map(|i| {
+                plain(
+                    i,
+                    Class::Nothing,
+                    if i < named { &["gps-latency"] } else { &[] },
+                )
+            })
+            .collect();
+        let r = rates(&records);
+        assert_eq!((r.clean_named.k, r.clean_named.n), (named, 50));
+        let t = &r.targets[0];
+        assert!(t.what.starts_with("clean data"), "{t:?}");
+        assert_eq!(t.met, met, "{named} of 50: {t:?}");
+    }
+    // The match of a record against what it hid.
+    let mut r = single(0, 1.0, true);
+    assert_eq!(matching(&r), Match::Exact);
+    r.named.push("odometer-scale".into());
+    assert_eq!(matching(&r), Match::HiddenAndMore);
+    r.named.remove(0);
+    assert_eq!(matching(&r), Match::OnlyOthers);
+    r.named.clear();
+    assert_eq!(matching(&r), Match::NothingNamed);
+    r.error = Some("stopped".into());
+    assert_eq!(matching(&r), Match::Error);
+}

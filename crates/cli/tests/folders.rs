@@ -276,3 +276,52 @@ fn thread_counts_beyond_reason_are_refused_before_any_work() {
     }
     assert!(!root.join("out").exists());
 }
+
+/// Runs navkf as the unprivileged user `nobody` (root ignores permissions, so a read-only
+/// folder only shows as someone else); `None` where that cannot be done here.
+#[cfg(unix)]
+fn navkf_as_nobody(args: &[&str]) -> Option<Output> {
+    let root = std::process::Command::new("id").arg("-u").output().ok()?;
+    if text(&root.stdout).trim() != "0" {
+        return None;
+    }
+    std::process::Command::new("setpriv")
+        .args(["--reuid=65534", "--regid=65534", "--clear-groups"])
+        .arg(env!("CARGO_BIN_EXE_navkf"))
+        .args(args)
+        .output()
+        .ok()
+}
+
+#[cfg(unix)]
+#[test]
+fn a_folder_navkf_cannot_replace_is_refused_before_the_work() {
+    use std::os::unix::fs::PermissionsExt;
+    let root = scratch("read-only");
+    fs::set_permissions(&root, fs::Permissions::from_mode(0o777)).unwrap();
+    let out = root.join("res");
+    let out_s = out.to_str().unwrap();
+    let paper = Path::new(PAPER).canonicalize().unwrap();
+    let paper = paper.to_str().unwrap();
+    let args = ["study", paper, "--runs", "2", "--quiet", "--out", out_s];
+    let Some(first) = navkf_as_nobody(&args) else {
+        eprintln!("skipped: needs root and setpriv to run navkf as another user");
+        return;
+    };
+    if !first.status.success() {
+        eprintln!(
+            "skipped: navkf cannot run as nobody here: {}",
+            text(&first.stderr)
+        );
+        return;
+    }
+    // Its own results, made read-only: the old version got "Permission denied" after the
+    // new results were in place, and left `.res.navkf-old-PID` for good.
+    let before = fs::read(out.join("summary.json")).unwrap();
+    fs::set_permissions(&out, fs::Permissions::from_mode(0o555)).unwrap();
+    let o = navkf_as_nobody(&args).expect("ran before");
+    assert_refused(&o, &["navkf made this folder, but cannot replace it"]);
+    assert_eq!(fs::read(out.join("summary.json")).unwrap(), before);
+    assert!(leftovers(&root).is_empty(), "{:?}", leftovers(&root));
+    fs::set_permissions(&out, fs::Permissions::from_mode(0o755)).unwrap();
+}

@@ -1,0 +1,621 @@
+//! Implausible data: values in the right units that no road vehicle, no real sensor, or not
+//! this model can produce. [`super::plausibility`] asks whether a column is written in the
+//! wrong unit; this asks whether the record can be what it claims at all. A diagnosis of such
+//! data names no effect (its verdict says the data are implausible, and where): any effect it
+//! named would stand in for the defect, as a GPS latency of 207 s stands in for a 10 km step
+//! in the GPS, or one of -0.5 s for a vehicle in free fall.
+//!
+//! Every check compares the record with physics or with itself, never with a bound tuned to
+//! an example:
+//! - **Input gaps** ([`Implausibility::InputGap`]): an interval between input samples longer
+//!   than the filter period (the measurements' median interval) and than two nominal input
+//!   intervals (one dropped sample), plus half a nominal interval for clock jitter. Across
+//!   such a gap the filters integrate a specific force interpolated from its ends
+//!   (`navkf_filters::Runner`): the manoeuvres inside are lost, and the misfit they leave
+//!   looks like noise or an effect.
+//! - **Position jumps** ([`Implausibility::PositionJump`]): consecutive GPS fixes farther
+//!   apart than the vehicle could move: [`SPEED_MARGIN`] times the odometer's fastest reading
+//!   around the interval (an odometer 100 % slow, five times the worst scale error a tyre
+//!   allows) times the time between the fixes, plus [`SCATTER_SIGMAS`] times the GPS's own
+//!   fix-to-fix scatter (measured from the data, so a mis-stated `gps_m` does not move it),
+//!   and at least [`GNSS_FLOOR_M`]. Without an odometer the speed is
+//!   [`ROAD_SPEED_MAX`]. A jump whose far fix lands back on its neighbour once its latitude's
+//!   or longitude's sign is flipped, its columns swapped or its longitude turned by half a
+//!   turn (across the pole) is named as that flip ([`JumpShape`]).
+//! - **Off the ground** ([`Implausibility::OffGround`]): the specific force's magnitude below
+//!   [`FALL_FRACTION`] of gravity (free fall) or above [`OVERLOAD_G`] g for at least
+//!   [`SUSTAINED_S`]. A vehicle on a road feels gravity through its wheels: road grades (cos
+//!   of a 35 % grade is 0.94) and crests taken at speed (`v^2/r`: 30 m/s over a 200 m crest is
+//!   0.46 g) stay above half of it, and tyre friction (mu < 1.5) keeps the total below
+//!   sqrt(1 + mu^2) = 1.8 g. A bump lasts a few tenths of a second, a rally car's longest jump
+//!   one or two; three seconds of fall drop 44 m.
+//! - **Odometer faster than any road vehicle** ([`Implausibility::OdometerTooFast`]): a speed
+//!   above [`ROAD_SPEED_MAX`] (a stuck counter, a speed in mm/s or km/h).
+//! - **Stated noise beyond any real sensor** ([`Implausibility::NoiseBeyondSensors`]):
+//!   `dataset.toml`'s `[noise]` outside [`crate::sensor_classes::NOISE_BOUNDS`].
+//! - **Too close to a pole** ([`Implausibility::NearPole`]): a fix within [`POLE_DISTANCE_M`]
+//!   of a pole. The model's North-pointing frame turns about the vertical at
+//!   `v_x tanL / RN` and its longitude moves at `v_x / (RN cosL)`: within distance `r` of the
+//!   pole one filter period (1 s, model.md) at road speed (up to [`ROAD_SPEED_MAX`]) changes
+//!   `cosL` by `v dt / r`. Beyond 1 % per step the step's linearisation (the EKF's Jacobian,
+//!   RK4 over the step) no longer holds, and at the pole itself `1/cosL` is 1.6e16 and the
+//!   filters return NaN: so `r >= 100 x 150 m/s x 1 s = 15 km` (|latitude| below about
+//!   89.86 deg; the nearest roads to either pole are more than 1000 km away).
+
+use super::plausibility::median_interval;
+use super::read::odometer_east_north;
+use super::{Dataset, CONFIG_FILE, INPUTS_FILE, MEASUREMENTS_FILE};
+use crate::earth::{meridian_radius, normal_gravity, prime_vertical_radius};
+use crate::noise::NoiseConfig;
+use crate::sensor_classes::{noise_value, NOISE_BOUNDS, ROAD_SPEED_MAX};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// The odometer's speed is multiplied by this before it bounds a GPS jump.
+pub const SPEED_MARGIN: f64 = 2.0;
+/// A GPS jump must exceed this many times the GPS's own fix-to-fix scatter.
+pub const SCATTER_SIGMAS: f64 = 10.0;
+/// The least a GPS jump must exceed, m: multipath in a street canyon reaches tens of metres.
+pub const GNSS_FLOOR_M: f64 = 100.0;
+/// A specific force below this fraction of gravity is a fall.
+pub const FALL_FRACTION: f64 = 0.5;
+/// A specific force above this many g is no road vehicle's.
+pub const OVERLOAD_G: f64 = 3.0;
+/// A fall or an overload must last this long, s.
+pub const SUSTAINED_S: f64 = 3.0;
+/// The nearest a fix may lie to a pole, m (module documentation).
+pub const POLE_DISTANCE_M: f64 = 100.0 * ROAD_SPEED_MAX * 1.0;
+/// Median of a Rayleigh distribution in units of its per-axis sigma, `sqrt(2 ln 2)`.
+const RAYLEIGH_MEDIAN: f64 = 1.177_410_022_515_474_7;
+
+/// How a GPS jump looks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum JumpShape {
+    /// Displaced, but by no flip: a wrong fix, a spliced file, a change of datum.
+    Step,
+    /// Across the pole: its neighbour's latitude with the longitude half a turn away.
+    AcrossPole,
+    /// The latitude's sign flipped (the other hemisphere).
+    LatitudeSign,
+    /// The longitude's sign flipped.
+    LongitudeSign,
+    /// Latitude and longitude swapped.
+    Swapped,
+}
+
+/// Something the record cannot be, with where it is (times, file, columns, values).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum Implausibility {
+    /// Inputs missing for longer than a filter period; the longest such gap.
+    InputGap {
+        /// Time of the last input before the gap, s.
+        start_s: f64,
+        /// Time of the first input after it, s.
+        end_s: f64,
+        /// The longest interval that is not a gap, s.
+        limit_s: f64,
+        /// How many gaps.
+        count: usize,
+    },
+    /// Consecutive GPS fixes farther apart than the vehicle could move; the first such jump.
+    PositionJump {
+        /// Time of the fix before the jump, s.
+        from_s: f64,
+        /// Time of the fix after it, s.
+        to_s: f64,
+        /// The fix before, degrees.
+        from_deg: [f64; 2],
+        /// The fix after, degrees.
+        to_deg: [f64; 2],
+        /// The distance between them, m.
+        distance_m: f64,
+        /// The most the vehicle could have moved, m.
+        allowed_m: f64,
+        /// The odometer's fastest reading around the interval, m/s (`None`: no odometer).
+        speed_m_s: Option<f64>,
+        /// How the jump looks.
+        shape: JumpShape,
+        /// How many jumps in all.
+        count: usize,
+    },
+    /// The specific force far from gravity for a sustained span; the longest such span.
+    OffGround {
+        /// First sample of the span, s.
+        start_s: f64,
+        /// Last sample of the span, s.
+        end_s: f64,
+        /// Median magnitude of the specific force over the span, m/s^2.
+        force: f64,
+        /// Gravity there, m/s^2.
+        gravity: f64,
+        /// How many such spans.
+        count: usize,
+    },
+    /// The odometer reads faster than any road vehicle.
+    OdometerTooFast {
+        /// First such reading, s.
+        start_s: f64,
+        /// Last such reading, s.
+        end_s: f64,
+        /// The fastest reading, m/s.
+        speed_m_s: f64,
+        /// [`ROAD_SPEED_MAX`].
+        limit_m_s: f64,
+        /// How many such readings.
+        count: usize,
+    },
+    /// A stated `[noise]` level that no real sensor has.
+    NoiseBeyondSensors {
+        /// The key of `dataset.toml`'s `[noise]` table.
+        key: String,
+        /// Its stated value.
+        value: f64,
+        /// The smallest plausible value.
+        min: f64,
+        /// The largest plausible value.
+        max: f64,
+        /// The key's unit.
+        unit: String,
+        /// The real sensors' span, in words.
+        classes: String,
+    },
+    /// GPS fixes too close to a pole for the model; the first such fix.
+    NearPole {
+        /// Its time, s.
+        t_s: f64,
+        /// Its latitude, degrees.
+        latitude_deg: f64,
+        /// The largest |latitude| the model takes, degrees.
+        limit_deg: f64,
+        /// How many such fixes.
+        count: usize,
+    },
+}
+
+impl Implausibility {
+    /// The file it is in.
+    pub fn file(&self) -> &'static str {
+        match self {
+            Implausibility::InputGap { .. } | Implausibility::OffGround { .. } => INPUTS_FILE,
+            Implausibility::NoiseBeyondSensors { .. } => CONFIG_FILE,
+            _ => MEASUREMENTS_FILE,
+        }
+    }
+    /// The columns (or key) it is in.
+    pub fn column(&self) -> String {
+        match self {
+            Implausibility::InputGap { .. } => "t".into(),
+            Implausibility::OffGround { .. } => "f_e,f_n,f_u".into(),
+            Implausibility::PositionJump { .. } => "lat_deg,lon_deg".into(),
+            Implausibility::NearPole { .. } => "lat_deg".into(),
+            Implausibility::OdometerTooFast { .. } => "v_e,v_n".into(),
+            Implausibility::NoiseBeyondSensors { key, .. } => format!("noise.{key}"),
+        }
+    }
+}
+
+/// `x` to four significant digits (exponent form when very large or small).
+fn g4(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let magnitude = x.abs().log10().floor();
+    if !(-3.0..6.0).contains(&magnitude) {
+        return format!("{x:.3e}");
+    }
+    let decimals = (3.0 - magnitude).max(0.0) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        s
+    }
+}
+
+/// `, N in all` when there is more than one.
+fn in_all(count: usize, what: &str) -> String {
+    if count > 1 {
+        format!(" ({count} {what} in all)")
+    } else {
+        String::new()
+    }
+}
+
+impl fmt::Display for Implausibility {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (file, column) = (self.file(), self.column());
+        match self {
+            Implausibility::InputGap {
+                start_s,
+                end_s,
+                limit_s,
+                count,
+            } => write!(
+                f,
+                "{file}: column `{column}`: no input from t = {} s to t = {} s ({} s, longer \
+                 than a filter period: at most {} s){}; the filter would predict across it \
+                 from a force interpolated between its ends",
+                g4(*start_s),
+                g4(*end_s),
+                g4(end_s - start_s),
+                g4(*limit_s),
+                in_all(*count, "gaps")
+            ),
+            Implausibility::PositionJump {
+                from_s,
+                to_s,
+                from_deg,
+                to_deg,
+                distance_m,
+                allowed_m,
+                speed_m_s,
+                shape,
+                count,
+            } => {
+                let speed = match speed_m_s {
+                    Some(v) => format!("the odometer reads at most {} m/s", g4(*v)),
+                    None => {
+                        format!("no odometer; a road vehicle drives at most {ROAD_SPEED_MAX} m/s")
+                    }
+                };
+                let how = match shape {
+                    JumpShape::Step => "",
+                    JumpShape::AcrossPole => {
+                        " It lies across the pole: the latitude kept, the longitude half a turn away."
+                    }
+                    JumpShape::LatitudeSign => " Its latitude's sign is flipped.",
+                    JumpShape::LongitudeSign => " Its longitude's sign is flipped.",
+                    JumpShape::Swapped => " Its latitude and longitude are swapped.",
+                };
+                write!(
+                    f,
+                    "{file}: columns `{column}`: the GPS fix at t = {} s ({}, {}) lies {} m from \
+                     the one at t = {} s ({}, {}), but {speed}: the vehicle moves at most {} m in \
+                     {} s (twice that speed, plus ten times the GPS's own scatter, at least {} \
+                     m).{how}{}",
+                    g4(*to_s),
+                    to_deg[0],
+                    to_deg[1],
+                    g4(*distance_m),
+                    g4(*from_s),
+                    from_deg[0],
+                    from_deg[1],
+                    g4(*allowed_m),
+                    g4(to_s - from_s),
+                    GNSS_FLOOR_M,
+                    in_all(*count, "such jumps")
+                )
+            }
+            Implausibility::OffGround {
+                start_s,
+                end_s,
+                force,
+                gravity,
+                count,
+            } => write!(
+                f,
+                "{file}: columns `{column}`: from t = {} s to t = {} s the specific force is {} \
+                 m/s^2 (median magnitude) against gravity {} m/s^2: {}{}",
+                g4(*start_s),
+                g4(*end_s),
+                g4(*force),
+                g4(*gravity),
+                if *force < *gravity {
+                    format!(
+                        "free fall (below {FALL_FRACTION} g for {SUSTAINED_S} s or more); a \
+                         vehicle on a road feels gravity through its wheels"
+                    )
+                } else {
+                    format!(
+                        "above {OVERLOAD_G} g for {SUSTAINED_S} s or more, more than tyres on \
+                         a road can hold"
+                    )
+                },
+                in_all(*count, "such spans")
+            ),
+            Implausibility::OdometerTooFast {
+                start_s,
+                end_s,
+                speed_m_s,
+                limit_m_s,
+                count,
+            } => write!(
+                f,
+                "{file}: columns `{column}`: the odometer reads up to {} m/s, faster than any \
+                 road vehicle (at most {} m/s; the fastest production car reached 136 m/s), \
+                 from t = {} s to t = {} s ({count} readings): a stuck or wrongly scaled \
+                 odometer (in mm/s? km/h?)",
+                g4(*speed_m_s),
+                g4(*limit_m_s),
+                g4(*start_s),
+                g4(*end_s)
+            ),
+            Implausibility::NoiseBeyondSensors {
+                value,
+                min,
+                max,
+                unit,
+                classes,
+                ..
+            } => write!(
+                f,
+                "{file}: `{column}` = {value:e} {unit} is {} any real sensor: real ones span \
+                 {classes}, and a stated level outside {:.1e}-{:.1e} {unit} (a hundred times \
+                 past either end, in sigma) is no sensor's",
+                if value < min { "below" } else { "above" },
+                min,
+                max
+            ),
+            Implausibility::NearPole {
+                t_s,
+                latitude_deg,
+                limit_deg,
+                count,
+            } => write!(
+                f,
+                "{file}: column `{column}`: the fix at t = {} s is at latitude {latitude_deg} \
+                 deg, closer to the pole than the model holds (|latitude| <= {} deg: it divides \
+                 by cos(latitude), and its North-pointing frame cannot follow a vehicle within \
+                 {} km of the pole){}",
+                g4(*t_s),
+                g4(*limit_deg),
+                POLE_DISTANCE_M / 1000.0,
+                in_all(*count, "such fixes")
+            ),
+        }
+    }
+}
+
+/// The stated levels of `noise` that no real sensor has ([`NOISE_BOUNDS`]).
+pub fn noise_beyond_sensors(noise: &NoiseConfig) -> Vec<Implausibility> {
+    NOISE_BOUNDS
+        .iter()
+        .filter_map(|b| {
+            let value = noise_value(noise, b.key)?;
+            (!(b.min()..=b.max()).contains(&value)).then(|| Implausibility::NoiseBeyondSensors {
+                key: b.key.to_owned(),
+                value,
+                min: b.min(),
+                max: b.max(),
+                unit: b.unit.to_owned(),
+                classes: b.classes.to_owned(),
+            })
+        })
+        .collect()
+}
+
+/// The largest |latitude| (degrees) the model takes: [`POLE_DISTANCE_M`] from the pole.
+pub fn latitude_limit_deg() -> f64 {
+    90.0 - (POLE_DISTANCE_M / meridian_radius(1.0)).to_degrees()
+}
+
+impl Dataset {
+    /// What these data cannot be (module documentation); empty for a record a road vehicle
+    /// with real sensors could have made where the model holds.
+    pub fn implausibilities(&self) -> Vec<Implausibility> {
+        let mut out = noise_beyond_sensors(&self.noise);
+        out.extend(self.near_pole());
+        out.extend(self.input_gap());
+        out.extend(self.off_ground());
+        out.extend(self.odometer_too_fast());
+        out.extend(self.position_jump());
+        out
+    }
+
+    fn fixes(&self) -> Vec<(f64, [f64; 2])> {
+        self.measurements
+            .iter()
+            .filter_map(|m| m.position_deg.map(|p| (m.t, p)))
+            .collect()
+    }
+
+    fn odometer(&self) -> Vec<(f64, [f64; 2])> {
+        self.measurements
+            .iter()
+            .filter_map(|m| m.velocity.map(|v| (m.t, v)))
+            .collect()
+    }
+
+    /// The filter period: the measurements' median interval (1 s with a single row).
+    fn filter_period(&self) -> f64 {
+        median_interval(self.measurements.iter().map(|m| m.t)).unwrap_or(1.0)
+    }
+
+    fn near_pole(&self) -> Option<Implausibility> {
+        let limit = latitude_limit_deg();
+        let near: Vec<(f64, f64)> = self
+            .fixes()
+            .into_iter()
+            .filter(|(_, p)| !(p[0].abs() <= limit))
+            .map(|(t, p)| (t, p[0]))
+            .collect();
+        let &(t_s, latitude_deg) = near.first()?;
+        Some(Implausibility::NearPole {
+            t_s,
+            latitude_deg,
+            limit_deg: limit,
+            count: near.len(),
+        })
+    }
+
+    fn input_gap(&self) -> Option<Implausibility> {
+        let nominal = median_interval(self.inputs.iter().map(|i| i.t))?;
+        let limit = self.filter_period().max(2.0 * nominal) + 0.5 * nominal;
+        let mut count = 0;
+        let mut longest: Option<(f64, f64)> = None;
+        for w in self.inputs.windows(2) {
+            let (a, b) = (w[0].t, w[1].t);
+            if b - a > limit {
+                count += 1;
+                if longest.is_none_or(|(s, e)| b - a > e - s) {
+                    longest = Some((a, b));
+                }
+            }
+        }
+        let (start_s, end_s) = longest?;
+        Some(Implausibility::InputGap {
+            start_s,
+            end_s,
+            limit_s: limit,
+            count,
+        })
+    }
+
+    fn off_ground(&self) -> Option<Implausibility> {
+        let lat = self.fixes().first().map_or(45.0, |(_, p)| p[0]);
+        let gravity = normal_gravity(lat.to_radians().sin());
+        // -1: fall, 1: overload, 0: on the ground.
+        let side = |f: f64| {
+            if !(f >= FALL_FRACTION * gravity) {
+                -1
+            } else if f > OVERLOAD_G * gravity {
+                1
+            } else {
+                0
+            }
+        };
+        let magnitude: Vec<f64> = self
+            .inputs
+            .iter()
+            .map(|i| i.f[0].hypot(i.f[1]).hypot(i.f[2]))
+            .collect();
+        let mut count = 0;
+        let mut longest: Option<(f64, f64, f64)> = None;
+        let mut i = 0;
+        while i < magnitude.len() {
+            let s = side(magnitude[i]);
+            let mut j = i;
+            while s != 0 && j + 1 < magnitude.len() && side(magnitude[j + 1]) == s {
+                j += 1;
+            }
+            let (a, b) = (self.inputs[i].t, self.inputs[j].t);
+            if s != 0 && b - a >= SUSTAINED_S {
+                count += 1;
+                if longest.is_none_or(|(x, y, _)| b - a > y - x) {
+                    longest = Some((a, b, median(&mut magnitude[i..=j].to_vec())));
+                }
+            }
+            i = j + 1;
+        }
+        let (start_s, end_s, force) = longest?;
+        Some(Implausibility::OffGround {
+            start_s,
+            end_s,
+            force,
+            gravity,
+            count,
+        })
+    }
+
+    fn odometer_too_fast(&self) -> Option<Implausibility> {
+        let fast: Vec<(f64, f64)> = self
+            .odometer()
+            .into_iter()
+            .map(|(t, v)| (t, v[0].hypot(v[1])))
+            .filter(|(_, s)| *s > ROAD_SPEED_MAX)
+            .collect();
+        let (first, last) = (fast.first()?, fast.last()?);
+        Some(Implausibility::OdometerTooFast {
+            start_s: first.0,
+            end_s: last.0,
+            speed_m_s: fast.iter().map(|x| x.1).fold(0.0, f64::max),
+            limit_m_s: ROAD_SPEED_MAX,
+            count: fast.len(),
+        })
+    }
+
+    fn position_jump(&self) -> Option<Implausibility> {
+        let fixes = self.fixes();
+        let odometer = self.odometer();
+        let period = self.filter_period();
+        // The GPS's own fix-to-fix scatter, per axis: the median distance between its
+        // displacement and the odometer's over the same interval (a Rayleigh median), or the
+        // stated sigma when no interval has both.
+        let mut residuals: Vec<f64> = fixes
+            .windows(2)
+            .filter_map(|w| {
+                let d = odometer_east_north(&odometer, w[0].0, w[1].0)?;
+                let g = east_north_m(w[0].1, w[1].1);
+                Some((g[0] - d[0]).hypot(g[1] - d[1]))
+            })
+            .collect();
+        let scatter = if residuals.is_empty() {
+            std::f64::consts::SQRT_2 * self.noise.gps_m
+        } else {
+            median(&mut residuals) / RAYLEIGH_MEDIAN
+        };
+        let noise_allowance = (SCATTER_SIGMAS * scatter).max(GNSS_FLOOR_M);
+        let mut first = None;
+        let mut count = 0;
+        for w in fixes.windows(2) {
+            let ((ta, a), (tb, b)) = (w[0], w[1]);
+            let lo = odometer.partition_point(|(t, _)| *t < ta - period);
+            let hi = odometer.partition_point(|(t, _)| *t <= tb + period);
+            let speed = odometer[lo..hi]
+                .iter()
+                .map(|(_, v)| v[0].hypot(v[1]))
+                .reduce(f64::max);
+            let allowed =
+                SPEED_MARGIN * speed.unwrap_or(ROAD_SPEED_MAX) * (tb - ta) + noise_allowance;
+            let distance = distance_m(a, b);
+            if !(distance > allowed) {
+                continue;
+            }
+            count += 1;
+            if first.is_none() {
+                let near = |p: [f64; 2]| p[0].abs() <= 90.0 && distance_m(a, p) <= allowed;
+                let shape = [
+                    (JumpShape::AcrossPole, [b[0], b[1] + 180.0]),
+                    (JumpShape::LatitudeSign, [-b[0], b[1]]),
+                    (JumpShape::LongitudeSign, [b[0], -b[1]]),
+                    (JumpShape::Swapped, [b[1], b[0]]),
+                ]
+                .into_iter()
+                .find(|(_, p)| near(*p))
+                .map_or(JumpShape::Step, |(s, _)| s);
+                first = Some(Implausibility::PositionJump {
+                    from_s: ta,
+                    to_s: tb,
+                    from_deg: a,
+                    to_deg: b,
+                    distance_m: distance,
+                    allowed_m: allowed,
+                    speed_m_s: speed,
+                    shape,
+                    count: 0,
+                });
+            }
+        }
+        let mut jump = first?;
+        if let Implausibility::PositionJump { count: c, .. } = &mut jump {
+            *c = count;
+        }
+        Some(jump)
+    }
+}
+
+/// Median of finite values (sorts them); NaN when there are none.
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+}
+
+/// East and North displacement (m) from `a` to `b` (degrees) on the local tangent plane, the
+/// longitude difference taken the short way round.
+fn east_north_m(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    let lat = (0.5 * (a[0] + b[0])).to_radians();
+    let s = lat.sin();
+    let dlon = (b[1] - a[1]) - 360.0 * ((b[1] - a[1]) / 360.0).round();
+    [
+        dlon.to_radians() * prime_vertical_radius(s) * lat.cos(),
+        (b[0] - a[0]).to_radians() * meridian_radius(s),
+    ]
+}
+
+/// Distance (m) from `a` to `b` (degrees) on the local tangent plane.
+fn distance_m(a: [f64; 2], b: [f64; 2]) -> f64 {
+    let d = east_north_m(a, b);
+    d[0].hypot(d[1])
+}

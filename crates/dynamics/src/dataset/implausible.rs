@@ -30,7 +30,10 @@
 //!   sqrt(1 + mu^2) = 1.8 g. A bump lasts a few tenths of a second, a rally car's longest jump
 //!   one or two; three seconds of fall drop 44 m.
 //! - **Odometer faster than any road vehicle** ([`Implausibility::OdometerTooFast`]): a speed
-//!   above [`ROAD_SPEED_MAX`] (a stuck counter, a speed in mm/s or km/h).
+//!   above [`ROAD_SPEED_MAX`] that the GPS does not confirm (a stuck counter, a speed in mm/s
+//!   or km/h). One the GPS confirms is the record's own: in this model's truth the vehicle
+//!   moves with its platform's errors (a simulated platform misaligned by 10 deg drives the
+//!   paper's test at up to 160 m/s), and the checks judge records, not the model.
 //! - **Stated noise beyond any real sensor** ([`Implausibility::NoiseBeyondSensors`]):
 //!   `dataset.toml`'s `[noise]` outside [`crate::sensor_classes::NOISE_BOUNDS`].
 //! - **Too close to a pole** ([`Implausibility::NearPole`]): a fix within [`POLE_DISTANCE_M`]
@@ -510,12 +513,7 @@ impl Dataset {
     }
 
     fn odometer_too_fast(&self) -> Option<Implausibility> {
-        let fast: Vec<(f64, f64)> = self
-            .odometer()
-            .into_iter()
-            .map(|(t, v)| (t, v[0].hypot(v[1])))
-            .filter(|(_, s)| *s > ROAD_SPEED_MAX)
-            .collect();
+        let fast = self.odometer_beyond_road();
         let (first, last) = (fast.first()?, fast.last()?);
         Some(Implausibility::OdometerTooFast {
             start_s: first.0,
@@ -524,6 +522,29 @@ impl Dataset {
             limit_m_s: ROAD_SPEED_MAX,
             count: fast.len(),
         })
+    }
+
+    /// The odometer readings (time, speed) faster than [`ROAD_SPEED_MAX`] that the GPS does not
+    /// confirm: the fixes around the reading move at less than `1 / SPEED_MARGIN` of its speed
+    /// (or there are no two fixes). A speed both sensors show is the record's: the model's
+    /// truth moves with its platform's errors, and a simulated platform misaligned by 10 deg
+    /// drives the paper's test at up to 160 m/s, odometer and GPS agreeing.
+    pub(super) fn odometer_beyond_road(&self) -> Vec<(f64, f64)> {
+        let fixes = self.fixes();
+        let gps_speed = |t: f64| -> Option<f64> {
+            let i = fixes
+                .partition_point(|(tf, _)| *tf < t)
+                .clamp(1, fixes.len().checked_sub(1)?);
+            let ((ta, a), (tb, b)) = (fixes[i - 1], fixes[i]);
+            Some(distance_m(a, b) / (tb - ta))
+        };
+        self.odometer()
+            .into_iter()
+            .map(|(t, v)| (t, v[0].hypot(v[1])))
+            .filter(|&(t, s)| {
+                !(s <= ROAD_SPEED_MAX) && !gps_speed(t).is_some_and(|g| g * SPEED_MARGIN >= s)
+            })
+            .collect()
     }
 
     fn position_jump(&self) -> Option<Implausibility> {

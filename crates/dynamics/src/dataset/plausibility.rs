@@ -14,16 +14,15 @@
 //! - **specific force not in m/s^2**: its median magnitude against the Earth's gravity (a
 //!   vehicle on a road feels `|f|` within a few percent of g most of the time).
 //!
-//! The first two trust the odometer. One that reads faster than any road vehicle
-//! ([`crate::sensor_classes::ROAD_SPEED_MAX`]: stuck, or in mm/s) is itself the fault, which
-//! [`super::Implausibility::OdometerTooFast`] names; it is then not compared with the GPS
-//! (a stuck 300 m/s would otherwise make the GPS longitude look like radians); nor is a GPS
-//! track closer to a pole than the model holds ([`super::Implausibility::NearPole`]).
+//! The first two trust the odometer. One that reads faster than any road vehicle, unconfirmed
+//! by the GPS ([`crate::sensor_classes::ROAD_SPEED_MAX`]: stuck, or in mm/s), is itself the
+//! fault, which [`super::Implausibility::OdometerTooFast`] names; it is then not compared with
+//! the GPS (a stuck 300 m/s would otherwise make the GPS longitude look like radians); nor is a
+//! GPS track closer to a pole than the model holds ([`super::Implausibility::NearPole`]).
 
 use super::read::{chord_m, odometer_east_north};
 use super::{Dataset, INPUTS_FILE, MEASUREMENTS_FILE};
 use crate::earth::{meridian_radius, normal_gravity, prime_vertical_radius};
-use crate::sensor_classes::ROAD_SPEED_MAX;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -83,11 +82,7 @@ impl Dataset {
     /// The warnings this module describes: empty for data that look as data-format.md says.
     pub fn warnings(&self) -> Vec<DataWarning> {
         let mut out = Vec::new();
-        let odometer_fast = self
-            .measurements
-            .iter()
-            .filter_map(|m| m.velocity)
-            .any(|v| !(v[0].hypot(v[1]) <= ROAD_SPEED_MAX));
+        let odometer_fast = !self.odometer_beyond_road().is_empty();
         // Nor is a GPS track at a pole, where longitude measures no distance.
         let limit = super::latitude_limit_deg();
         let at_pole = self

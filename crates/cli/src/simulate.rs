@@ -1,6 +1,15 @@
 //! `navkf simulate`: one run of the truth simulator written as a dataset folder.
+//!
+//! It writes only what its own reader accepts, from settings a real platform could have: a
+//! fixed coefficient beyond what any real sensor has (`Ka0x=1e300`, `gps-latency=1e6`:
+//! [`navkf_dynamics::sensor_classes`]) and an azimuth sigma beyond what the attitude equations
+//! hold are refused before simulating, naming the setting; and the simulated dataset is read
+//! back through [`Dataset::read`] before it is written, so that a truth driven non-finite or
+//! off the Earth (a latitude beyond 90 deg) is refused, not written.
 
+use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::effect_spec::EffectSpec;
+use navkf_dynamics::sensor_classes::coefficient_bound;
 use navkf_dynamics::{
     NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TrajectoryConfig, TruthConfig,
 };
@@ -47,6 +56,35 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let effect_names = spec.names();
     let attitude: navkf_dynamics::Attitude = a.attitude.parse()?;
     let model = Arc::new(PlatformModel::new(spec.effects, &noise)?.with_attitude(attitude));
+    for (name, prior) in &spec.fixed {
+        let bound = model
+            .index_of(name)
+            .and_then(|i| coefficient_bound(&model, i).map(|b| (b, &model.units()[i])));
+        if let Some((b, unit)) = bound.filter(|(b, _)| !b.contains(prior.mean)) {
+            let owner = Registry::catalogue()
+                .owner_of(name)
+                .map(|e| format!(" (of {e})"))
+                .unwrap_or_default();
+            let value = if (1e-3..1e6).contains(&prior.mean.abs()) {
+                prior.mean.to_string()
+            } else {
+                format!("{:e}", prior.mean)
+            };
+            let limit = format!("{:.4}", b.limit);
+            let limit = limit.trim_end_matches('0').trim_end_matches('.');
+            let unit = if unit == "1" {
+                String::new()
+            } else {
+                format!(" {unit}")
+            };
+            return Err(format!(
+                "--effects: {name}={value}{owner}: beyond +-{limit}{unit}, what any real sensor \
+                 has ({}); nothing was simulated",
+                b.reason
+            )
+            .into());
+        }
+    }
     let mut traj_cfg = match &a.trajectory {
         Some(path) => read_trajectory(path)?,
         None => TrajectoryConfig::default(),
@@ -63,6 +101,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         if !(s.is_finite() && s >= 0.0) {
             return Err(format!("--azimuth-sigma {s}: expected a one-sigma >= 0, rad").into());
         }
+        attitude.check_tilt_sigma("--azimuth-sigma", s)?;
         truth_cfg.initial_tilt.azimuth_rad = s;
     }
     let sim = Simulator::new(model, traj, truth_cfg, noise)?;
@@ -76,6 +115,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     if !a.truth {
         ds.truth = None;
     }
+    readable(&ds, &a.out, &a.effects)?;
     ds.write(&a.out)?;
     eprintln!(
         "wrote {} (effects: {})",
@@ -111,4 +151,37 @@ fn read_trajectory(path: &std::path::Path) -> Result<TrajectoryConfig, Box<dyn s
         .validate()
         .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(trajectory)
+}
+
+/// Checks that `ds` reads back through [`Dataset::read`] (every value finite, positions on the
+/// Earth, every rule of data-format.md), by writing it to a scratch folder beside `out` first:
+/// a truth the settings drove off the Earth is refused, and `out` is left as it was.
+fn readable(ds: &Dataset, out: &std::path::Path, effects: &str) -> Result<(), String> {
+    let scratch = out.with_file_name(format!(
+        ".{}.navkf-simulate-{}",
+        out.file_name()
+            .map_or_else(|| "dataset".into(), |n| n.to_string_lossy()),
+        std::process::id()
+    ));
+    let checked = ds
+        .write(&scratch)
+        .map_err(|e| e.to_string())
+        .and_then(|()| {
+            Dataset::read(&scratch)
+                .map(|_| ())
+                .map_err(|e| e.to_string())
+        });
+    let _ = std::fs::remove_dir_all(&scratch);
+    checked.map_err(|e| {
+        let e = e.replace(&scratch.display().to_string(), &out.display().to_string());
+        format!(
+            "the simulated dataset is not one navkf reads back ({e}): the truth left real \
+             values{}; nothing was written",
+            if effects.trim().is_empty() {
+                String::new()
+            } else {
+                format!(" under --effects {effects}")
+            }
+        )
+    })
 }

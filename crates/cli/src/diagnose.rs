@@ -1,7 +1,14 @@
 //! `navkf diagnose`: compare a model with a dataset: does the noise fit, where does the model
 //! fail, and which catalogued effects are missing.
+//!
+//! Data that cannot be what they claim (a GPS jump beyond what the speed allows, an input
+//! gap, free fall, noise beyond any real sensor, a fix at the pole...) get the verdict
+//! `implausible data` with where, and nothing named: an answer, so the exit code is 0.
+//! Data that cannot start a filter at all (no row with both sensors, too few updates) are an
+//! error (exit 1), as are options that make no sense (`--max-rounds 0`, a tilt sigma beyond
+//! what the attitude equations hold).
 
-use navkf_dynamics::dataset::Dataset;
+use navkf_dynamics::dataset::{Dataset, CONFIG_FILE};
 use navkf_dynamics::{PlatformPrior, Registry};
 use navkf_study::diagnose::{diagnose, report, FilterChoice, Options, RoundKind};
 use navkf_study::output::write_atomic;
@@ -44,7 +51,7 @@ pub struct Args {
     /// (Euler angles; for a platform that may be misaligned by degrees).
     #[arg(long, default_value = "small-angle", value_parser = crate::attitude_names())]
     attitude: String,
-    /// Most automatic rounds of the forward selection.
+    /// Most automatic rounds of the forward selection (at least 1).
     #[arg(long, default_value_t = Options::default().max_rounds)]
     max_rounds: usize,
 }
@@ -96,6 +103,13 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     if !(a.window.is_finite() && a.window > 0.0) {
         return Err(format!("--window {}: expected a duration > 0 s", a.window).into());
     }
+    if a.max_rounds == 0 {
+        return Err(
+            "--max-rounds 0: expected at least 1 (with no automatic round nothing is tested)"
+                .into(),
+        );
+    }
+    let attitude: navkf_dynamics::Attitude = a.attitude.parse()?;
     let mut flags = parse_priors(&a.prior)?;
     flags.level_rad = a.level_sigma;
     flags.azimuth_rad = a.azimuth_sigma;
@@ -122,7 +136,24 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         };
         format!("{flag}: {message}")
     })?;
+    for (flag, v) in [
+        ("--level-sigma", a.level_sigma),
+        ("--azimuth-sigma", a.azimuth_sigma),
+    ] {
+        if let Some(v) = v {
+            attitude.check_tilt_sigma(flag, v)?;
+        }
+    }
     let ds = Dataset::read_with(&a.dataset, &registry)?;
+    // The dataset's own tilt priors, where no flag overrides them.
+    for (key, stated, flag) in [
+        ("level_rad", ds.prior.level_rad, a.level_sigma),
+        ("azimuth_rad", ds.prior.azimuth_rad, a.azimuth_sigma),
+    ] {
+        if let (Some(v), None) = (stated, flag) {
+            attitude.check_tilt_sigma(&format!("{CONFIG_FILE} [prior] {key} ="), v)?;
+        }
+    }
     let opts = Options {
         with,
         window_s: a.window,
@@ -130,7 +161,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         fit_noise: matches!(a.noise, NoiseMode::Fit),
         filter: FilterChoice {
             name: a.filter.clone(),
-            attitude: a.attitude.parse()?,
+            attitude,
             ..Default::default()
         },
         max_rounds: a.max_rounds,

@@ -176,6 +176,9 @@ fn main() -> ExitCode {
 fn inspect(dir: &std::path::Path, json: bool) -> Result<(), Box<dyn std::error::Error>> {
     let ds = navkf_dynamics::dataset::Dataset::read(dir)?;
     let summary = ds.summary();
+    for i in &summary.implausible {
+        eprintln!("implausible: {i}");
+    }
     for w in &summary.warnings {
         eprintln!("warning: {w}");
     }

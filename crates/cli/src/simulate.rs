@@ -1,6 +1,15 @@
 //! `navkf simulate`: one run of the truth simulator written as a dataset folder.
+//!
+//! It writes only what its own reader accepts, from settings a real platform could have: a
+//! fixed coefficient beyond what any real sensor has (`Ka0x=1e300`, `gps-latency=1e6`:
+//! [`navkf_dynamics::sensor_classes`]) and an azimuth sigma beyond what the attitude equations
+//! hold are refused before simulating, naming the setting; and the simulated dataset is read
+//! back through [`Dataset::read`] before it is written, so that a truth driven non-finite or
+//! off the Earth (a latitude beyond 90 deg) is refused, not written.
 
+use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::effect_spec::EffectSpec;
+use navkf_dynamics::sensor_classes::coefficient_bound;
 use navkf_dynamics::{
     NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TrajectoryConfig, TruthConfig,
 };
@@ -59,6 +68,35 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let effect_names = spec.names();
     let attitude: navkf_dynamics::Attitude = a.attitude.parse()?;
     let model = Arc::new(PlatformModel::new(spec.effects, &noise)?.with_attitude(attitude));
+    for (name, prior) in &spec.fixed {
+        let bound = model
+            .index_of(name)
+            .and_then(|i| coefficient_bound(&model, i).map(|b| (b, &model.units()[i])));
+        if let Some((b, unit)) = bound.filter(|(b, _)| !b.contains(prior.mean)) {
+            let owner = Registry::catalogue()
+                .owner_of(name)
+                .map(|e| format!(" (of {e})"))
+                .unwrap_or_default();
+            let value = if (1e-3..1e6).contains(&prior.mean.abs()) {
+                prior.mean.to_string()
+            } else {
+                format!("{:e}", prior.mean)
+            };
+            let limit = format!("{:.4}", b.limit);
+            let limit = limit.trim_end_matches('0').trim_end_matches('.');
+            let unit = if unit == "1" {
+                String::new()
+            } else {
+                format!(" {unit}")
+            };
+            return Err(format!(
+                "--effects: {name}={value}{owner}: beyond +-{limit}{unit}, what any real sensor \
+                 has ({}); nothing was simulated",
+                b.reason
+            )
+            .into());
+        }
+    }
     let mut traj_cfg = match &a.trajectory {
         Some(path) => read_trajectory(path)?,
         None => TrajectoryConfig::default(),
@@ -75,6 +113,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         if !(s.is_finite() && s >= 0.0) {
             return Err(format!("--azimuth-sigma {s}: expected a one-sigma >= 0, rad").into());
         }
+        attitude.check_tilt_sigma("--azimuth-sigma", s)?;
         truth_cfg.initial_tilt.azimuth_rad = s;
     }
     let sim = Simulator::new(model, traj, truth_cfg, noise)?;
@@ -92,6 +131,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         ds.truth = None;
     }
     ds.write(staged.path())?;
+    readable(staged.path(), &a.out, &a.effects)?;
     staged.commit()?;
     eprintln!(
         "wrote {} (effects: {})",
@@ -128,4 +168,26 @@ fn read_trajectory(path: &std::path::Path) -> Result<TrajectoryConfig, Box<dyn s
         .validate()
         .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(trajectory)
+}
+
+/// Checks that the dataset written in the staging folder `written` reads back through
+/// [`Dataset::read`] (every value finite, positions on the Earth, every rule of the data
+/// format) before it is put in place at `out`: a truth the settings drove off the Earth is
+/// refused, and `out` is left as it was. Messages name `out`, not the staging folder.
+fn readable(written: &std::path::Path, out: &std::path::Path, effects: &str) -> Result<(), String> {
+    let checked = Dataset::read(written)
+        .map(|_| ())
+        .map_err(|e| e.to_string());
+    checked.map_err(|e| {
+        let e = e.replace(&written.display().to_string(), &out.display().to_string());
+        format!(
+            "the simulated dataset is not one navkf reads back ({e}): the truth left real \
+             values{}; nothing was written",
+            if effects.trim().is_empty() {
+                String::new()
+            } else {
+                format!(" under --effects {effects}")
+            }
+        )
+    })
 }

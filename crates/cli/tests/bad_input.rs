@@ -466,3 +466,124 @@ fn an_edited_shard_is_refused_naming_the_file_and_the_field() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn simulate_refuses_coefficients_no_sensor_has_and_truths_it_cannot_read_back() {
+    let dir = scratch("unreal");
+    // Beyond any real sensor: refused before simulating, the setting named.
+    for (effects, needle) in [
+        ("Ka0x=1e300", "Ka0x=1e300: beyond +-1.9613 m/s^2"),
+        ("gps-latency=1e6", "tau=1e6 (of gps-latency): beyond +-2 s"),
+        (
+            "odometer-scale=-1",
+            "kod=-1 (of odometer-scale): beyond +-0.2",
+        ),
+    ] {
+        let t = Instant::now();
+        let o = navkf([
+            Path::new("simulate"),
+            Path::new("--out"),
+            &dir.join("sim"),
+            Path::new("--effects"),
+            Path::new(effects),
+        ]);
+        refused_at_once(&o, t.elapsed(), needle);
+        assert!(!dir.join("sim").exists(), "{effects}: nothing written");
+    }
+    // A walk of the drifts no gyro has: the truth leaves the Earth, which the reader refuses;
+    // so does simulate, before writing.
+    for (effects, needle) in [
+        ("gyro-bias-walk=1e300", "`NaN` is not finite"),
+        ("gyro-bias-walk=1e-3", "is outside"),
+    ] {
+        let o = navkf([
+            Path::new("simulate"),
+            Path::new("--out"),
+            &dir.join("sim"),
+            Path::new("--effects"),
+            Path::new(effects),
+        ]);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{effects}: {err}");
+        assert!(
+            err.contains("not one navkf reads back") && err.contains(needle),
+            "{effects}: {err}"
+        );
+        assert!(!dir.join("sim").exists(), "{effects}: nothing written");
+        let leftovers: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+        assert!(leftovers.is_empty(), "{effects}: {leftovers:?}");
+    }
+    // A tilt sigma the attitude equations do not hold.
+    let t = Instant::now();
+    let o = navkf([
+        Path::new("simulate"),
+        Path::new("--out"),
+        &dir.join("sim"),
+        Path::new("--azimuth-sigma"),
+        Path::new("100"),
+    ]);
+    refused_at_once(
+        &o,
+        t.elapsed(),
+        "--azimuth-sigma 100: beyond what the small-angle model",
+    );
+    assert!(text(&o.stderr).contains("--attitude exact"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn diagnose_refuses_options_that_make_no_sense() {
+    let dir = scratch("diagnose-options");
+    let ds = dir.join("ds");
+    let o = navkf([Path::new("simulate"), Path::new("--out"), &ds]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    for (args, needle) in [
+        (
+            &["--max-rounds", "0"][..],
+            "--max-rounds 0: expected at least 1",
+        ),
+        (
+            &["--azimuth-sigma", "100"],
+            "--azimuth-sigma 100: beyond what the small-angle model holds",
+        ),
+        (
+            &["--level-sigma", "100"],
+            "--level-sigma 100: beyond what the small-angle model holds",
+        ),
+        (
+            &["--azimuth-sigma", "100", "--attitude", "exact"],
+            "--azimuth-sigma 100: beyond pi",
+        ),
+    ] {
+        let t = Instant::now();
+        let out = dir.join("out");
+        let mut argv: Vec<&std::ffi::OsStr> = vec![
+            "diagnose".as_ref(),
+            ds.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ];
+        argv.extend(args.iter().map(std::ffi::OsStr::new));
+        let o = navkf(argv);
+        refused_at_once(&o, t.elapsed(), needle);
+        assert!(!dir.join("out").exists(), "{args:?}: nothing written");
+    }
+    // The same tilt stated in dataset.toml.
+    let toml = ds.join("dataset.toml");
+    let text = std::fs::read_to_string(&toml).unwrap();
+    std::fs::write(&toml, format!("{text}\n[prior]\nazimuth_rad = 100.0\n")).unwrap();
+    let out = dir.join("out");
+    let t = Instant::now();
+    let o = navkf([
+        "diagnose".as_ref(),
+        ds.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    refused_at_once(
+        &o,
+        t.elapsed(),
+        "dataset.toml [prior] azimuth_rad = 100: beyond what the small-angle model holds",
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -60,6 +60,42 @@ impl Attitude {
             Attitude::Exact => "exact",
         }
     }
+
+    /// The largest initial tilt sigma (rad) these equations take.
+    ///
+    /// The small-angle form keeps `sin x ~ x` and `cos x ~ 1`: the term it drops beside the
+    /// first-order one it keeps is `(1 - cos x) / sin x = tan(x/2)`, which reaches a tenth at
+    /// `x = 2 atan(0.1)` = 0.199 rad (11.4 deg). Beyond that the model is not an approximation
+    /// of the rotation at one sigma (the diagnosis already warns from 0.5 deg, where its EKF
+    /// starts to lose consistency in `studies/misalignment.toml`). Euler angles repeat after
+    /// half a turn: the exact form takes up to pi.
+    pub fn max_tilt_sigma(self) -> f64 {
+        match self {
+            Attitude::SmallAngle => 2.0 * 0.1f64.atan(),
+            Attitude::Exact => std::f64::consts::PI,
+        }
+    }
+
+    /// Checks an initial tilt sigma `value` given as `key` against
+    /// [`Attitude::max_tilt_sigma`]; the error names the key and, for the small-angle form,
+    /// says to use the exact one.
+    pub fn check_tilt_sigma(self, key: &str, value: f64) -> Result<(), String> {
+        let max = self.max_tilt_sigma();
+        if value <= max {
+            return Ok(());
+        }
+        Err(match self {
+            Attitude::SmallAngle => format!(
+                "{key} {value}: beyond what the small-angle model holds ({max:.3} rad = {:.1} \
+                 deg, where the term it drops reaches a tenth of the one it keeps); use \
+                 --attitude exact for a platform misaligned by more",
+                max.to_degrees()
+            ),
+            Attitude::Exact => {
+                format!("{key} {value}: beyond pi; Euler angles repeat after half a turn")
+            }
+        })
+    }
 }
 
 impl fmt::Display for Attitude {

@@ -16,6 +16,7 @@
 use crate::kinematics::{Input, Kinematics, LatitudeTerms};
 use crate::linear_rates::LinearRate;
 use crate::real::{Lanes, Real};
+pub use crate::sensor_classes::PhysicalBound;
 use crate::state::{MEAS_DIM, NAV_DIM};
 use std::fmt;
 
@@ -181,6 +182,14 @@ pub trait Effect: Send + Sync + fmt::Debug + 'static {
     fn coefficient_sigma(&self) -> &[f64] {
         &[]
     }
+    /// The largest magnitude each coefficient takes in any real instrument, with the reason
+    /// (same order as the names; [`crate::sensor_classes`] says where the bounds come from).
+    /// A diagnosis does not name the effect when its fitted coefficients lie beyond, and the
+    /// simulator refuses such a value. Empty: no bound declared (a user's effect may leave it
+    /// so; then nothing is refused).
+    fn coefficient_bounds(&self) -> &[PhysicalBound] {
+        &[]
+    }
     /// What the effect adds (required: the model calls only what is declared here).
     fn terms(&self) -> Terms;
     /// Adds the effect's terms to the navigation-state derivatives `[phi, v_x, v_y, L, lambda]`,
@@ -233,6 +242,8 @@ pub trait DynEffect: Send + Sync + fmt::Debug {
     fn coefficient_units(&self) -> &[&str];
     /// [`Effect::coefficient_sigma`].
     fn coefficient_sigma(&self) -> &[f64];
+    /// [`Effect::coefficient_bounds`].
+    fn coefficient_bounds(&self) -> &[PhysicalBound];
     /// [`Effect::terms`].
     fn terms(&self) -> Terms;
     /// [`Effect::add_rates`] on one state.
@@ -274,6 +285,9 @@ impl<E: Effect> DynEffect for E {
     }
     fn coefficient_sigma(&self) -> &[f64] {
         Effect::coefficient_sigma(self)
+    }
+    fn coefficient_bounds(&self) -> &[PhysicalBound] {
+        Effect::coefficient_bounds(self)
     }
     fn terms(&self) -> Terms {
         Effect::terms(self)

@@ -26,6 +26,7 @@ pub mod prior;
 pub mod real;
 pub mod rng;
 pub mod segments;
+pub mod sensor_classes;
 pub mod sensors;
 pub mod simulate;
 pub mod state;
@@ -34,7 +35,9 @@ pub mod trajectory;
 pub mod trig;
 
 pub use attitude::Attitude;
-pub use effect::{BlockGroup, DynEffect, Effect, MeasurementTerm, NoiseChannel, Partials, Terms};
+pub use effect::{
+    BlockGroup, DynEffect, Effect, MeasurementTerm, NoiseChannel, Partials, PhysicalBound, Terms,
+};
 pub use effects::Registry;
 pub use error::DynamicsError;
 pub use integrate::{InputWindow, PropagationScratch};

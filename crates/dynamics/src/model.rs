@@ -56,8 +56,9 @@ impl PlatformModel {
     }
 
     /// Assembles the base model with `effects`, in order. Fails on a duplicated effect or
-    /// coefficient name, a malformed effect (names, units and sigmas of unequal length), or an
-    /// effect whose code adds a term its [`crate::Effect::terms`] does not declare.
+    /// coefficient name, a malformed effect (names, units, sigmas and bounds of unequal
+    /// length), or an effect whose code adds a term its [`crate::Effect::terms`] does not
+    /// declare.
     pub fn new(
         effects: Vec<Box<dyn DynEffect>>,
         noise: &NoiseConfig,
@@ -74,13 +75,20 @@ impl PlatformModel {
                 )));
             }
             let c = e.coefficient_names();
-            if e.coefficient_units().len() != c.len() || e.coefficient_sigma().len() != c.len() {
+            let bounds = e.coefficient_bounds();
+            if e.coefficient_units().len() != c.len()
+                || e.coefficient_sigma().len() != c.len()
+                || !(bounds.is_empty() || bounds.len() == c.len())
+                || bounds.iter().any(|b| !(b.limit > 0.0))
+            {
                 return Err(DynamicsError::Effect(format!(
-                    "effect `{}` gives {} coefficient names, {} units and {} sigmas",
+                    "effect `{}` gives {} coefficient names, {} units, {} sigmas and {} bounds \
+                     (none, or one > 0 per coefficient)",
                     e.name(),
                     c.len(),
                     e.coefficient_units().len(),
-                    e.coefficient_sigma().len()
+                    e.coefficient_sigma().len(),
+                    bounds.len()
                 )));
             }
             offsets.push(names.len());

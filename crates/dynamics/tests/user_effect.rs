@@ -21,7 +21,8 @@ use common::*;
 use navkf_dynamics::earth::WIE;
 use navkf_dynamics::state::*;
 use navkf_dynamics::{
-    DynamicsError, Effect, Kinematics, NoiseConfig, Partials, PlatformModel, Registry, SystemModel,
+    DynamicsError, Effect, Kinematics, NoiseConfig, Partials, PhysicalBound, PlatformModel,
+    Registry, SystemModel,
 };
 
 #[derive(Debug, Default)]
@@ -295,6 +296,51 @@ fn clashing_or_malformed_coefficients_are_refused() {
         vec![Box::new(Clashing(&["a"], &["1"], &[]))],
         &cfg,
     ));
+    // Physical bounds: none, or one > 0 per coefficient.
+    for bounds in [
+        &[BOUND, BOUND][..],
+        &[PhysicalBound {
+            limit: 0.0,
+            ..BOUND
+        }],
+    ] {
+        let msg = effect_error(PlatformModel::new(vec![Box::new(Bounded(bounds))], &cfg));
+        assert!(msg.contains("bounds"), "{msg}");
+    }
+    assert!(PlatformModel::new(vec![Box::new(Bounded(&[BOUND]))], &cfg).is_ok());
+}
+
+const BOUND: PhysicalBound = PhysicalBound {
+    limit: 1.0,
+    reason: "test",
+};
+
+/// One coefficient with the given physical bounds.
+#[derive(Debug)]
+struct Bounded(&'static [PhysicalBound]);
+
+impl Effect for Bounded {
+    fn terms(&self) -> navkf_dynamics::Terms {
+        Clashing(&[], &[], &[]).terms()
+    }
+    fn name(&self) -> &str {
+        "bounded"
+    }
+    fn description(&self) -> &str {
+        "test effect"
+    }
+    fn coefficient_names(&self) -> &[&str] {
+        &["kb"]
+    }
+    fn coefficient_units(&self) -> &[&str] {
+        &["1"]
+    }
+    fn coefficient_sigma(&self) -> &[f64] {
+        &[1.0]
+    }
+    fn coefficient_bounds(&self) -> &[PhysicalBound] {
+        self.0
+    }
 }
 
 /// An effect whose code adds a term its `terms()` leaves out.

@@ -396,3 +396,113 @@ fn with_runs_a_manual_round_and_the_search_goes_on_from_it() {
     }
     assert_eq!(json["verdict"], "explained");
 }
+
+#[test]
+fn implausible_data_name_nothing_and_say_where() {
+    // A truth with a real GPS delay, whose fixes then jump 10 km North and stay there: on
+    // the data as they are the delay would be named (and a latency of minutes would fit the
+    // step); the defect is named instead, with its time and columns.
+    let clean = dataset(catalogue(&["gps-latency"]), &[("tau", 0.2)], 31);
+    let mut ds = clean.clone();
+    for m in ds.measurements.iter_mut().filter(|m| m.t >= 1200.0) {
+        if let Some(p) = m.position_deg.as_mut() {
+            p[0] += (10_000.0f64 / 6.37e6).to_degrees();
+        }
+    }
+    let d = run(&ds);
+    assert_eq!(d.verdict, Verdict::ImplausibleData, "{:#?}", d.findings);
+    assert!(d.effects.is_empty() && d.best.is_none() && d.rounds.is_empty());
+    assert!(d.noise.is_none(), "no noise level is fitted on such data");
+    assert!(
+        matches!(
+            d.implausible[..],
+            [navkf_dynamics::dataset::Implausibility::PositionJump { .. }]
+        ),
+        "{:?}",
+        d.implausible
+    );
+    assert!(
+        d.findings[0].contains("measurements.csv: columns `lat_deg,lon_deg`")
+            && d.findings[0].contains("t = 1200 s"),
+        "{}",
+        d.findings[0]
+    );
+    let json = serde_json::to_value(&d).unwrap();
+    assert_eq!(json["verdict"], "implausible data");
+    assert_eq!(json["implausible"][0]["kind"], "position-jump");
+    // At the pole the filter cannot run at all (cos L = 0): the verdict says why, not
+    // "unexplained" from a NaN.
+    let mut ds = clean;
+    for m in &mut ds.measurements {
+        if let Some(p) = m.position_deg.as_mut() {
+            p[0] = 90.0;
+        }
+    }
+    let d = run(&ds);
+    assert_eq!(d.verdict, Verdict::ImplausibleData, "{:#?}", d.findings);
+    assert!(d.effects.is_empty());
+    assert!(
+        d.findings[0].contains("column `lat_deg`") && d.findings[0].contains("t = 1 s"),
+        "{}",
+        d.findings[0]
+    );
+}
+
+#[test]
+fn a_coefficient_beyond_any_real_sensor_is_never_named() {
+    // A GPS delay of 6 s and an odometer 50 % off: each explains its data decisively, but no
+    // receiver and no wheel has them. The naming step refuses them and says why, and names
+    // no lesser candidate in their place.
+    for (effect, coefficient, value, seed) in [
+        ("gps-latency", "tau", 6.0, 41),
+        ("odometer-scale", "kod", 0.5, 42),
+    ] {
+        let ds = dataset(catalogue(&[effect]), &[(coefficient, value)], seed);
+        assert!(
+            ds.implausibilities().is_empty(),
+            "{:?}",
+            ds.implausibilities()
+        );
+        let d = run(&ds);
+        assert!(d.effects.is_empty(), "{effect}: {:#?}", d.findings);
+        let c = d.rounds[0]
+            .candidates
+            .iter()
+            .find(|c| c.effect == effect)
+            .unwrap();
+        assert_eq!(c.outcome, Outcome::Unphysical, "{effect}: {c:#?}");
+        assert!(c.bic_gain > 10.0, "{effect}: decisive, {}", c.bic_gain);
+        assert_eq!(
+            c.beyond_bounds[0].name, coefficient,
+            "{:?}",
+            c.beyond_bounds
+        );
+        assert!(
+            d.findings
+                .iter()
+                .any(|f| f.contains(&format!("`{effect}` has decisive evidence"))
+                    && f.contains("is not named")),
+            "{effect}: {:#?}",
+            d.findings
+        );
+        assert!(
+            d.findings
+                .iter()
+                .any(|f| f.starts_with("No catalogued effect can be named")
+                    && f.contains("no real sensor has")),
+            "{effect}: {:#?}",
+            d.findings
+        );
+    }
+}
+
+#[test]
+fn no_automatic_round_is_refused() {
+    let ds = dataset(Vec::new(), &[], 3);
+    let opts = Options {
+        max_rounds: 0,
+        ..Options::default()
+    };
+    let e = diagnose(&ds, &Registry::catalogue(), &opts).unwrap_err();
+    assert!(e.to_string().contains("at least 1"), "{e}");
+}

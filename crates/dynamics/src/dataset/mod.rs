@@ -6,11 +6,18 @@
 //! antimeridian is made continuous), so that a dataset written and read back is
 //! bit-identical; [`Measurement::gps_rad`] converts for the filters.
 
+mod implausibility;
+mod implausible;
 mod plausibility;
 mod read;
 mod summary;
 mod write;
 
+pub use implausibility::{Implausibility, JumpShape};
+pub use implausible::{
+    latitude_limit_deg, noise_beyond_sensors, FALL_FRACTION, GNSS_FLOOR_M, OVERLOAD_G,
+    POLE_DISTANCE_M, SCATTER_SIGMAS, SPEED_MARGIN, SUSTAINED_S,
+};
 pub use plausibility::{DataWarning, Doubt};
 pub use summary::{
     DatasetSummary, Extent, Gap, Gaps, IntervalStats, Span, SpeedProfile, Stream, TruthSummary,

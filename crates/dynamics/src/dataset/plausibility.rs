@@ -13,6 +13,12 @@
 //!   other column holds (a track in radians on both axes is refused by the reader);
 //! - **specific force not in m/s^2**: its median magnitude against the Earth's gravity (a
 //!   vehicle on a road feels `|f|` within a few percent of g most of the time).
+//!
+//! The first two trust the odometer. One that reads faster than any road vehicle, unconfirmed
+//! by the GPS ([`crate::sensor_classes::ROAD_SPEED_MAX`]: stuck, or in mm/s), is itself the
+//! fault, which [`super::Implausibility::OdometerTooFast`] names; it is then not compared with
+//! the GPS (a stuck 300 m/s would otherwise make the GPS longitude look like radians); nor is a
+//! GPS track closer to a pole than the model holds ([`super::Implausibility::NearPole`]).
 
 use super::read::{chord_m, odometer_east_north};
 use super::{Dataset, INPUTS_FILE, MEASUREMENTS_FILE};
@@ -76,7 +82,15 @@ impl Dataset {
     /// The warnings this module describes: empty for data that look as data-format.md says.
     pub fn warnings(&self) -> Vec<DataWarning> {
         let mut out = Vec::new();
-        let travel = Travel::of(self);
+        let odometer_fast = !self.odometer_beyond_road().is_empty();
+        // Nor is a GPS track at a pole, where longitude measures no distance.
+        let limit = super::latitude_limit_deg();
+        let at_pole = self
+            .measurements
+            .iter()
+            .filter_map(|m| m.position_deg)
+            .any(|p| !(p[0].abs() <= limit));
+        let travel = Travel::of(self).filter(|_| !odometer_fast && !at_pole);
         let warn = |doubt, file: &str, column: &str, message: String| DataWarning {
             doubt,
             file: file.to_owned(),

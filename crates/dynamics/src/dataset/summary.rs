@@ -8,7 +8,7 @@
 //! empty parts simply gives `None`s.
 
 use super::read::chord_m;
-use super::{DataWarning, Dataset};
+use super::{DataWarning, Dataset, Implausibility};
 use serde::Serialize;
 use std::fmt;
 
@@ -150,6 +150,9 @@ pub struct DatasetSummary {
     pub truth: Option<TruthSummary>,
     /// Values that look written in the wrong unit ([`Dataset::warnings`]).
     pub warnings: Vec<DataWarning>,
+    /// What the record cannot be ([`Dataset::implausibilities`]): a diagnosis names no
+    /// effect on such data.
+    pub implausible: Vec<Implausibility>,
 }
 
 impl Dataset {
@@ -192,6 +195,7 @@ impl Dataset {
                 rows: t.t.len(),
             }),
             warnings: self.warnings(),
+            implausible: self.implausibilities(),
         }
     }
 
@@ -402,6 +406,9 @@ impl fmt::Display for StreamText<'_> {
 impl fmt::Display for DatasetSummary {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "dataset `{}`", self.name)?;
+        for i in &self.implausible {
+            writeln!(f, "  IMPLAUSIBLE   {i}")?;
+        }
         for w in &self.warnings {
             writeln!(f, "  WARNING       {w}")?;
         }

@@ -1,8 +1,9 @@
 //! `accel-cross-axis`: accelerometer cross-axis sensitivity (input-axis misalignment),
 //! `nab_x += Ka12x fy`, `nab_y += Ka12y fx`.
 
-use crate::effect::{Effect, Terms};
+use crate::effect::{Effect, PhysicalBound, Terms};
 use crate::linear_rates::{Feature, LinearRate};
+use crate::sensor_classes::SCALE;
 use crate::state::{V_X, V_Y};
 
 /// `nab_x += Ka12x fy`, `nab_y += Ka12y fx`.
@@ -42,5 +43,8 @@ impl Effect for AccelCrossAxis {
     fn coefficient_sigma(&self) -> &[f64] {
         // 20 arcsec of input-axis misalignment.
         &[1.0e-4; 2]
+    }
+    fn coefficient_bounds(&self) -> &[PhysicalBound] {
+        &[SCALE; 2]
     }
 }

@@ -1,8 +1,9 @@
 //! `accel-quadratic`: accelerometer second-order scale error,
 //! `nab_x += Ka2x fx^2`, `nab_y += Ka2y fy^2`.
 
-use crate::effect::{Effect, Terms};
+use crate::effect::{Effect, PhysicalBound, Terms};
 use crate::linear_rates::{Feature, LinearRate};
+use crate::sensor_classes::ACCEL_NONLINEARITY;
 use crate::state::{V_X, V_Y};
 
 /// `nab_x += Ka2x fx^2`, `nab_y += Ka2y fy^2`.
@@ -42,5 +43,8 @@ impl Effect for AccelQuadratic {
     fn coefficient_sigma(&self) -> &[f64] {
         // 50 ug/g^2 = 4.9e-4 m/s^2 per (9.81 m/s^2)^2.
         &[5.1e-6; 2]
+    }
+    fn coefficient_bounds(&self) -> &[PhysicalBound] {
+        &[ACCEL_NONLINEARITY; 2]
     }
 }

@@ -4,8 +4,9 @@
 //! On a level vehicle `fz` is nearly constant (gravity), so on a flat trajectory this term is
 //! almost indistinguishable from the constant drift `Kg0i`: the diagnosis reports that.
 
-use crate::effect::{Effect, Terms};
+use crate::effect::{Effect, PhysicalBound, Terms};
 use crate::linear_rates::{Feature, LinearRate};
+use crate::sensor_classes::GYRO_G_SENSITIVITY;
 use crate::state::{PHI_X, PHI_Y, PHI_Z};
 
 /// `eps_i += Kg13i fz`.
@@ -50,5 +51,8 @@ impl Effect for GyroFz {
     fn coefficient_sigma(&self) -> &[f64] {
         // 0.02 deg/h per g.
         &[9.9e-9; 3]
+    }
+    fn coefficient_bounds(&self) -> &[PhysicalBound] {
+        &[GYRO_G_SENSITIVITY; 3]
     }
 }

@@ -3,7 +3,7 @@
 //! The product `kod v` makes the measurement non-linear in the state, so the simplified UKF
 //! takes its sigma-point measurement path when this effect is on.
 
-use crate::effect::{Effect, MeasurementTerm, Partials, Terms};
+use crate::effect::{Effect, MeasurementTerm, Partials, PhysicalBound, Terms};
 use crate::kinematics::Kinematics;
 use crate::state::{MEAS_DIM, V_X, V_Y};
 
@@ -30,6 +30,15 @@ impl Effect for OdometerScale {
     fn coefficient_sigma(&self) -> &[f64] {
         // 0.2 % wheel-radius uncertainty.
         &[2.0e-3]
+    }
+    fn coefficient_bounds(&self) -> &[PhysicalBound] {
+        // A tyre's rolling radius changes by a few per cent with wear (8 mm of tread on a
+        // 300 mm radius: 2.7 %), pressure and load (1-2 %) and between the sizes a vehicle is
+        // approved for; 20 % is no odometer of that wheel.
+        &[PhysicalBound {
+            limit: 0.2,
+            reason: "20 %: a tyre's rolling radius varies by a few per cent (wear, pressure, load)",
+        }]
     }
     fn add_measurement(&self, k: &Kinematics, c: &[f64], z: &mut [f64; MEAS_DIM]) {
         z[0] += c[0] * k.v_x;

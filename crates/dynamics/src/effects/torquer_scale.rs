@@ -4,8 +4,9 @@
 //! This is where the navigation-frame rate terms of the printed eqs 6-8 come back (model.md):
 //! the platform follows the commanded rate only up to the torquer's scale factor.
 
-use crate::effect::{Effect, Terms};
+use crate::effect::{Effect, PhysicalBound, Terms};
 use crate::linear_rates::{Feature, LinearRate};
+use crate::sensor_classes::SCALE;
 use crate::state::{PHI_X, PHI_Y, PHI_Z};
 
 /// `phi_i' += kt_i w_cmd_i` (the partials of `w_cmd` are [`Feature::CommandedRate`]'s).
@@ -50,5 +51,8 @@ impl Effect for TorquerScale {
     fn coefficient_sigma(&self) -> &[f64] {
         // 300 ppm torquer scale error.
         &[3.0e-4; 3]
+    }
+    fn coefficient_bounds(&self) -> &[PhysicalBound] {
+        &[SCALE; 3]
     }
 }

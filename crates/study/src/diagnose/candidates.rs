@@ -99,6 +99,8 @@ pub enum Outcome {
     NoiseNotSpecific,
     /// The filter failed with it.
     Failed,
+    /// Decisive, but its fitted values are no real sensor's ([`Candidate::beyond_bounds`]).
+    Unphysical,
 }
 
 /// Two coefficients the trajectory cannot tell apart.
@@ -157,6 +159,10 @@ pub struct Candidate {
     /// on their own, as a BIC gain (Wald statistic `c^T P^-1 c` of those coefficients, less
     /// their `k ln N`). The candidate can be named only if this is decisive too.
     pub separable_bic: Option<f64>,
+    /// Its fitted values that no real sensor has ([`super::plausible`]): a decisive candidate
+    /// with any is not named.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub beyond_bounds: Vec<super::plausible::BeyondBound>,
     /// Why it is or is not named.
     pub outcome: Outcome,
     /// Filter failure with it added, if any.
@@ -258,6 +264,7 @@ pub fn evaluate(
         .filter(|c| !model.fit.names.contains(&c.name))
         .cloned()
         .collect();
+    let beyond = super::plausible::coefficients_beyond(&*effect, &own);
     let candidate = Candidate {
         effect: name.to_string(),
         kind,
@@ -273,6 +280,7 @@ pub fn evaluate(
         widened,
         separable_bic: separable_evidence(&fit, model.fit.names.len(), &confused, ln_n),
         confused_with: confused,
+        beyond_bounds: beyond,
         outcome: Outcome::NotDecisive,
         failure: fit.failure.clone(),
     };
@@ -461,6 +469,8 @@ pub fn select(cands: &mut [Candidate], not_specific: &[usize]) -> (Option<usize>
             Outcome::Failed
         } else if !c.decisive() {
             Outcome::NotDecisive
+        } else if !c.beyond_bounds.is_empty() {
+            Outcome::Unphysical
         } else if c.separable_bic.is_some_and(|b| !(b > DECISIVE_BIC)) {
             Outcome::Confounded
         } else {
@@ -491,6 +501,24 @@ pub fn select(cands: &mut [Candidate], not_specific: &[usize]) -> (Option<usize>
         .into_iter()
         .chain(best(cands, true).map(|n| n.1))
         .fold(f64::NEG_INFINITY, f64::max);
+    // The same when the best explanation is no real sensor's.
+    let unphysical = cands
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.outcome == Outcome::Unphysical)
+        .max_by(|a, b| a.1.bic_gain.total_cmp(&b.1.bic_gain));
+    if let Some((i, c)) = unphysical {
+        if c.bic_gain - best_named >= DECISIVE_BIC && best_named > f64::NEG_INFINITY {
+            notes.push(format!(
+                "`{}` explains the misfit decisively better than any candidate that could be \
+                 named (BIC gain {:.0} against {best_named:.0}), but its fitted values are no \
+                 real sensor's: naming a lesser candidate would name a stand-in, so nothing is \
+                 named in this round.",
+                cands[i].effect, c.bic_gain
+            ));
+            return (None, notes);
+        }
+    }
     if let Some((i, bc)) = confounded {
         if bc - best_named >= DECISIVE_BIC && best_named > f64::NEG_INFINITY {
             notes.push(format!(

@@ -30,12 +30,15 @@
 //! The verdict is `consistent` (nothing named, and the model is consistent with the data, at
 //! fitted noise levels if the stated ones were off), `explained` (the named effects make it
 //! consistent), `partly explained` (they help decisively, but a misfit remains that nothing
-//! in the catalogue explains) or `unexplained`.
+//! in the catalogue explains) or `unexplained`; `implausible data` when the dataset fails the
+//! checks of [`plausible`] (nothing is fitted or named then). Whatever the verdict, a
+//! candidate whose fitted values are no real sensor's is not named.
 
 pub mod candidates;
 pub mod consistency;
 pub mod fit;
 pub mod noise;
+pub mod plausible;
 pub mod plots;
 pub mod priors;
 pub mod report;
@@ -271,6 +274,9 @@ pub enum Verdict {
     /// The model is inconsistent and nothing in the catalogue explains it.
     #[serde(rename = "unexplained")]
     Unexplained,
+    /// The data cannot be what they claim ([`Diagnosis::implausible`]): nothing is named.
+    #[serde(rename = "implausible data")]
+    ImplausibleData,
 }
 
 impl std::fmt::Display for Verdict {
@@ -280,6 +286,7 @@ impl std::fmt::Display for Verdict {
             Verdict::Explained => "explained",
             Verdict::PartlyExplained => "partly explained",
             Verdict::Unexplained => "unexplained",
+            Verdict::ImplausibleData => "implausible data",
         })
     }
 }
@@ -364,6 +371,11 @@ pub struct Diagnosis {
     /// be wrong, and the report says so first.
     #[serde(default)]
     pub data_warnings: Vec<navkf_dynamics::dataset::DataWarning>,
+    /// What the data cannot be ([`navkf_dynamics::dataset::Dataset::implausibilities`]); when
+    /// any, the verdict is [`Verdict::ImplausibleData`] and nothing is fitted beyond one pass
+    /// ([`plausible`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub implausible: Vec<navkf_dynamics::dataset::Implausibility>,
 }
 
 /// The filter passes behind a diagnosis, kept for its figures.
@@ -392,7 +404,17 @@ pub fn diagnose(
             consistency::BLOCK
         )));
     }
+    if opts.max_rounds == 0 {
+        return Err(DiagnoseError::Data(
+            "max_rounds = 0: expected at least 1 (with no automatic round nothing is tested)"
+                .into(),
+        ));
+    }
     let (_, _, start) = fit::first_full_measurement(ds)?;
+    let implausible = ds.implausibilities();
+    if !implausible.is_empty() {
+        return plausible::implausible_diagnosis(ds, registry, opts, implausible);
+    }
     let (start_priors, prior_entries) = priors::resolve(ds, &opts.prior, start[0]);
     let base = FitSetup {
         effects: Vec::new(),
@@ -532,6 +554,7 @@ pub fn diagnose(
         constancy: constancies,
         findings: Vec::new(),
         data_warnings: ds.warnings(),
+        implausible: Vec::new(),
     };
     d.findings = report::findings(&d);
     Ok((
@@ -710,6 +733,7 @@ fn noise_candidate(
         widened,
         confused_with: Vec::new(),
         separable_bic: None,
+        beyond_bounds: plausible::noise_beyond(&check.used),
         outcome: Outcome::NotDecisive,
         failure: fit.failure.clone(),
     };
@@ -783,6 +807,7 @@ fn manual_round(ds: &Dataset, before: &Fit, after: &Fit, opts: &Options) -> Roun
             widened: Vec::new(),
             confused_with: Vec::new(),
             separable_bic: None,
+            beyond_bounds: Vec::new(),
             outcome: Outcome::Manual,
             failure: after.failure.clone(),
         }],

@@ -155,6 +155,9 @@ pub const SMALL_ANGLE_LIMIT_RAD: f64 = 8.7e-3;
 /// Plain-language findings, in the order a user should read them: the noise, where the model
 /// under test fails, what each round named and why, what remains, and what cannot be told.
 pub fn findings(d: &Diagnosis) -> Vec<String> {
+    if d.verdict == Verdict::ImplausibleData {
+        return super::plausible::implausible_findings(d);
+    }
     let mut out = Vec::new();
     // A misalignment of degrees breaks the small-angle model before anything else: first.
     if d.attitude == navkf_dynamics::Attitude::SmallAngle {
@@ -296,6 +299,7 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
         }
         out.extend(r.notes.iter().cloned());
     }
+    out.extend(super::plausible::refusal_findings(&d.rounds));
     for w in &d.withdrawn {
         out.push(format!(
             "`{}` was named but its coefficients do not behave as constants over the test \
@@ -323,6 +327,7 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
             d.model.nis.bounds[1],
             failing_channels_and_phases(&d.model)
         )),
+        Verdict::ImplausibleData => {}
         Verdict::Unexplained => {
             consistency_findings(&d.model, &mut out);
             let last = d.rounds.last().map(|r| &r.candidates[..]).unwrap_or(&[]);
@@ -331,7 +336,9 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
                 .filter(|c| c.outcome == Outcome::Confounded)
                 .map(|c| format!("`{}`", c.effect))
                 .collect();
-            if confounded.is_empty() {
+            if let Some(s) = super::plausible::unphysical_instead(last) {
+                out.push(s);
+            } else if confounded.is_empty() {
                 out.push(format!(
                     "No catalogued effect explains the misfit: none has decisive evidence \
                      (BIC gain > {DECISIVE_BIC}) that it can carry on its own. The cause is \
@@ -659,6 +666,7 @@ fn outcome_words(o: Outcome) -> &'static str {
         Outcome::NoiseAsGoodAsStructure => "noise term, no better than structure",
         Outcome::NoiseNotSpecific => "noise term, no better than another sensor's walk",
         Outcome::Failed => "filter failed",
+        Outcome::Unphysical => "decisive, but no real sensor's: not named",
     }
 }
 
@@ -670,6 +678,16 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
     let _ = writeln!(out, "Command: `{command}`\n");
     if d.attitude != navkf_dynamics::Attitude::SmallAngle {
         let _ = writeln!(out, "Attitude equations of every fit: {}.\n", d.attitude);
+    }
+    if !d.implausible.is_empty() {
+        let _ = writeln!(
+            out,
+            "**The data cannot be what they claim: no effect is named. Fix these first.**\n"
+        );
+        for i in &d.implausible {
+            let _ = writeln!(out, "- IMPLAUSIBLE {i}");
+        }
+        let _ = writeln!(out);
     }
     if !d.data_warnings.is_empty() {
         let _ = writeln!(
@@ -698,7 +716,8 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
             )
         }
     );
-    for f in &d.findings {
+    // The implausibilities were listed above; the findings repeat them first.
+    for f in d.findings.iter().skip(d.implausible.len()) {
         let _ = writeln!(out, "- {f}");
     }
     if !d.noise_checks.is_empty() {

@@ -231,7 +231,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         );
         for c in &r.candidates {
             println!(
-                "{:<18} {:>12.1} {:>10.1} {:>8.0}%  {:?}",
+                "{:<18} {:>12.1} {:>10.1} {:>8.0}%  {}",
                 c.effect,
                 c.delta_loglik,
                 c.bic_gain,

@@ -554,6 +554,12 @@ fn diagnose_refuses_options_that_make_no_sense() {
             &["--azimuth-sigma", "100", "--attitude", "exact"],
             "--azimuth-sigma 100: beyond pi",
         ),
+        (
+            // Its variance overflowed the filter's first step ("step 0: initial state or
+            // covariance is not finite", naming no setting).
+            &["--prior", "Kg0x=1e200"],
+            "--prior Kg0x: 1e200: expected a one-sigma, > 0, whose square is finite",
+        ),
     ] {
         let t = Instant::now();
         let out = dir.join("out");

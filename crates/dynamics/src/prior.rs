@@ -100,8 +100,15 @@ impl PlatformPrior {
                     ),
                 ));
             }
-            if !(v.is_finite() && *v > 0.0) {
-                return Err((key, format!("{v}: expected a one-sigma, finite and > 0")));
+            // Its variance enters the filter's covariance: a square that overflows would stop
+            // the first step ("initial state or covariance is not finite").
+            if !(v.is_finite() && *v > 0.0 && (v * v).is_finite()) {
+                return Err((
+                    key,
+                    format!(
+                        "{v:e}: expected a one-sigma, > 0, whose square is finite (below 1e154)"
+                    ),
+                ));
             }
         }
         Ok(())

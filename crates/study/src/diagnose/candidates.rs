@@ -103,6 +103,24 @@ pub enum Outcome {
     Unphysical,
 }
 
+impl std::fmt::Display for Outcome {
+    /// The outcome in words, for the terminal's tables.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Outcome::Named => "named",
+            Outcome::Manual => "added (--with)",
+            Outcome::Outranked => "decisive, outranked",
+            Outcome::NotDecisive => "not decisive",
+            Outcome::Confounded => "confounded",
+            Outcome::NoiseLeavesMisfit => "noise only, misfit remains",
+            Outcome::NoiseAsGoodAsStructure => "noise only, an effect fits as well",
+            Outcome::NoiseNotSpecific => "noise only, not specific",
+            Outcome::Failed => "filter failed",
+            Outcome::Unphysical => "unphysical size",
+        })
+    }
+}
+
 /// Two coefficients the trajectory cannot tell apart.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Confusion {

@@ -2,8 +2,10 @@
 //! does not hold, is named with where (file, columns, times, values); clean records of many
 //! shapes, with large effects and mis-stated noise, never are.
 
+mod common;
+
+use common::datasets::{self, short};
 use navkf_dynamics::dataset::{Dataset, Implausibility, JumpShape};
-use navkf_dynamics::effect_spec::EffectSpec;
 use navkf_dynamics::sensor_classes::ROAD_SPEED_MAX;
 use navkf_dynamics::simulate::TruthConfig;
 use navkf_dynamics::{
@@ -13,8 +15,8 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;
 
-/// A simulated dataset whose truth carries `effects` (as `simulate --effects` takes them) and
-/// the sensor noise `truth_noise`; its dataset.toml states `stated`.
+/// A simulated dataset whose `dataset.toml` states `stated` while the truth's noise is
+/// `truth_noise`.
 fn simulated(
     effects: &str,
     trajectory: &TrajectoryConfig,
@@ -22,29 +24,9 @@ fn simulated(
     stated: NoiseConfig,
     seed: u64,
 ) -> Dataset {
-    let spec = EffectSpec::parse(effects, &Registry::catalogue()).unwrap();
-    let model = Arc::new(PlatformModel::new(spec.effects, &truth_noise).unwrap());
-    let traj = Arc::new(Trajectory::build(trajectory).unwrap());
-    let truth = TruthConfig {
-        coefficients: spec.fixed,
-        ..Default::default()
-    };
-    let sim = Simulator::new(model, traj, truth, truth_noise).unwrap();
-    let run = sim.run(seed, 0);
-    let mut ds = sim.dataset("implausible", seed, &run);
+    let mut ds = datasets::simulated("implausible", effects, trajectory, truth_noise, seed);
     ds.noise = stated;
-    ds.truth = None;
     ds
-}
-
-fn short() -> TrajectoryConfig {
-    TrajectoryConfig {
-        duration_s: 600.0,
-        initial_standstill_s: 30.0,
-        leg_north_m: 1500.0,
-        leg_east_m: 1000.0,
-        ..Default::default()
-    }
 }
 
 fn clean() -> Dataset {

@@ -2,42 +2,24 @@
 //! file and column, and good data of many shapes are not; a track across the antimeridian
 //! reads as one continuous track; inputs slower than the measurements are refused.
 
+mod common;
+
+use common::datasets::{self, short};
 use navkf_dynamics::dataset::{Dataset, Doubt};
-use navkf_dynamics::effect_spec::EffectSpec;
-use navkf_dynamics::simulate::TruthConfig;
-use navkf_dynamics::{
-    NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TrajectoryConfig,
-};
+use navkf_dynamics::{NoiseConfig, Trajectory, TrajectoryConfig};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::path::PathBuf;
-use std::sync::Arc;
 
 /// A simulated dataset; `effects` as `simulate --effects` takes them (`name=value`).
 fn simulated(effects: &str, trajectory: TrajectoryConfig, seed: u64) -> Dataset {
-    let noise = NoiseConfig::default();
-    let spec = EffectSpec::parse(effects, &Registry::catalogue()).unwrap();
-    let model = Arc::new(PlatformModel::new(spec.effects, &noise).unwrap());
-    let traj = Arc::new(Trajectory::build(&trajectory).unwrap());
-    let truth = TruthConfig {
-        coefficients: spec.fixed,
-        ..Default::default()
-    };
-    let sim = Simulator::new(model, traj, truth, noise).unwrap();
-    let run = sim.run(seed, 0);
-    let mut ds = sim.dataset("plausible", seed, &run);
-    ds.truth = None;
-    ds
-}
-
-fn short() -> TrajectoryConfig {
-    TrajectoryConfig {
-        duration_s: 600.0,
-        initial_standstill_s: 30.0,
-        leg_north_m: 1500.0,
-        leg_east_m: 1000.0,
-        ..Default::default()
-    }
+    datasets::simulated(
+        "plausible",
+        effects,
+        &trajectory,
+        NoiseConfig::default(),
+        seed,
+    )
 }
 
 fn doubts(ds: &Dataset) -> Vec<Doubt> {

@@ -4,6 +4,8 @@
 //! Each test file uses only some of them.
 #![allow(dead_code)]
 
+pub mod datasets;
+
 use navkf_dynamics::integrate::propagate_generic;
 use navkf_dynamics::state::*;
 use navkf_dynamics::{Input, InputWindow, PlatformModel, SystemModel};

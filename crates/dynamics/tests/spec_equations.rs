@@ -230,7 +230,10 @@ fn catalogue_coefficient_names_are_model_md_names() {
     names.sort();
     let mut expected: Vec<String> = want.iter().map(|(n, _)| n.to_string()).collect();
     expected.sort();
-    assert_eq!(names, expected, "the catalogue is docs/model.md's seven effects");
+    assert_eq!(
+        names, expected,
+        "the catalogue is docs/model.md's seven effects"
+    );
     for (name, coeffs) in want {
         let e = reg.build(name).unwrap();
         assert_eq!(e.name(), name);

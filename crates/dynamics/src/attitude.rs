@@ -1,15 +1,16 @@
 //! How the platform error angles enter the model: the paper's small-angle form, or the exact
-//! variant of model.md ("Variant: exact attitude") for large misalignment.
+//! variant for large misalignment (docs/model.md, "Variant: exact attitude").
 //!
-//! The base model (paper eqs 6-10) keeps only first-order terms of the rotation between the
-//! platform frame p and the navigation frame n: `phi' = phi x w_in + eps`, and the specific
-//! force reaches the velocity as `f + nab + f x phi`. That is right for angles of arcminutes;
-//! an unaligned platform starts with azimuth errors of degrees, where it is not. The exact
-//! variant keeps the same 20 states and measurement, takes `phi` as Euler angles,
+//! The base model (docs/model.md eqs. (8), (9)) keeps only first-order terms of the rotation
+//! between the platform frame p and the navigation frame n: `phi' = phi x w_in + eps`, and
+//! the specific force reaches the velocity as `f + nab + f x phi`. That is right for angles of
+//! arcminutes; an unaligned platform starts with azimuth errors of degrees, where it is not.
+//! The exact variant keeps the same 20 states and measurement, takes `phi` as Euler angles
+//! (docs/model.md eqs. (44)-(47)),
 //!
 //! ```text
 //! C_n^p = Ry(phi_y) Rx(phi_x) Rz(phi_z)
-//! Om    = (C_n^p - I) w_in + eps                          (Om = -w_np of model.md)
+//! Om    = (C_n^p - I) w_in + eps                          (Om = -w_np)
 //! phi_x' = Om_x cos(phi_y) - Om_z sin(phi_y)
 //! phi_z' = (Om_x sin(phi_y) + Om_z cos(phi_y)) / cos(phi_x)
 //! phi_y' = Om_y + phi_z' sin(phi_x)
@@ -22,14 +23,15 @@
 //! for the small-angle form). So every effect works with either, unchanged in meaning.
 //!
 //! Process noise drives the derivatives of its states directly in both variants: the gyro
-//! noise enters `phi'` rather than `Om`. The two differ by `E(phi) - I` (below), which
-//! depends only on the level angles `phi_x`, `phi_y`, and so is of their size (1e-4 rad in
-//! the paper's test); the noise itself is a random walk of 1e-7 rad/sqrt(s).
+//! noise enters `phi'` rather than `Om` (docs/model.md eq. (46)). The two differ by
+//! `E(phi) - I` (below), which depends only on the level angles `phi_x`, `phi_y`, and so is
+//! of their size (1e-4 rad in the paper's test); the noise itself is a random walk of 1e-7
+//! rad/sqrt(s).
 //!
 //! The rates are generic over [`Real`]: the truth and the EKF evaluate them on `f64`, the UKFs'
 //! batches on [`crate::Lanes`], with the same sines ([`crate::trig::sin_cos_angle`]). The EKF's
 //! Jacobian ([`exact_jacobian`]) is analytic; `tests/attitude.rs` checks it against finite
-//! differences and pins the spec's three checks.
+//! differences and pins the three checks of docs/model.md, "Variant: exact attitude".
 
 use crate::kinematics::Kinematics;
 use crate::real::Real;
@@ -42,10 +44,10 @@ use std::str::FromStr;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Attitude {
-    /// The paper's first-order equations (model.md eqs 6-10).
+    /// The paper's first-order equations (docs/model.md eqs. (8), (9)).
     #[default]
     SmallAngle,
-    /// Euler angles and the exact rotation (model.md, "Variant: exact attitude").
+    /// Euler angles and the exact rotation (docs/model.md eqs. (44)-(47)).
     Exact,
 }
 
@@ -128,7 +130,7 @@ pub struct Rotation<T> {
 }
 
 impl<T: Real> Rotation<T> {
-    /// `C_n^p = Ry(phi_y) Rx(phi_x) Rz(phi_z)`.
+    /// `C_n^p = Ry(phi_y) Rx(phi_x) Rz(phi_z)`: docs/model.md eq. (44).
     #[inline(always)]
     pub fn new(phi: [T; 3]) -> Self {
         let (sx, cx) = phi[0].sin_cos();
@@ -177,7 +179,8 @@ impl<T: Real> Rotation<T> {
         [column(0), column(1), column(2)]
     }
 
-    /// The Euler-angle rates `(phi_x', phi_y', phi_z')` for the rate `Om` (model.md).
+    /// The Euler-angle rates `(phi_x', phi_y', phi_z')` for the rate `Om`, without the noise:
+    /// docs/model.md eq. (46).
     #[inline(always)]
     pub fn euler_rates(&self, om: [T; 3]) -> [T; 3] {
         let dx = om[0].mul_add(self.cy, -(om[2] * self.sy));
@@ -187,9 +190,10 @@ impl<T: Real> Rotation<T> {
     }
 }
 
-/// The exact variant's navigation-state derivatives. `terms` holds, in the rate rows'
-/// places, the platform terms: `[eps_x, eps_y, eps_z, nab_x, nab_y, L', lambda']` (the base
-/// coefficients' plus every effect's; see the module documentation).
+/// The exact variant's navigation-state derivatives, docs/model.md eqs. (45)-(47), (10).
+/// `terms` holds, in the rate rows' places, the platform terms:
+/// `[eps_x, eps_y, eps_z, nab_x, nab_y, L', lambda']` (the base coefficients' plus every
+/// effect's; see the module documentation).
 #[inline(always)]
 pub fn exact_rates<T: Real>(k: &Kinematics<T>, terms: &[T; NAV_DIM]) -> [T; NAV_DIM] {
     exact_rates_with(k, terms, &Rotation::new(k.phi))
@@ -231,12 +235,12 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     ]
 }
 
-/// The exact variant's rate Jacobian: `NAV_DIM` rows `n` apart in `jac`, the first
-/// `n` columns of each written. On entry the rows hold the effects' partials of the platform
-/// terms (zeros without rate effects; `mapped_effects` says whether to map them), and
-/// `terms` their values (as for [`exact_rates`]), `rot` the rotation at `k.phi`;
-/// `transport` the partials the variants share
-/// ([`crate::model`]'s Coriolis, transport and position terms), added as they are.
+/// The exact variant's rate Jacobian (of docs/model.md eqs. (46), (47)): `NAV_DIM` rows `n`
+/// apart in `jac`, the first `n` columns of each written. On entry the rows hold the effects'
+/// partials of the platform terms (zeros without rate effects; `mapped_effects` says whether
+/// to map them), and `terms` their values (as for [`exact_rates`]), `rot` the rotation at
+/// `k.phi`; `transport` the partials the variants share ([`crate::model`]'s Coriolis,
+/// transport and position terms), added as they are.
 ///
 /// With `E` the Euler map (`phi' = E Om`) and `u_j` the axis of Euler angle j
 /// (`dC/dphi_j = [u_j x] C`: `u_x = Ry e_x`, `u_y = e_y`, `u_z = Ry Rx e_z`):

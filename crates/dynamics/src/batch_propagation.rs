@@ -10,7 +10,7 @@
 //! and `d^10`; the path is taken only while `|d| < 0.03 rad`, where the first omitted term is
 //! below 1e-20). The two paths agree to rounding; a test checks it.
 //!
-//! The RK4 stages are the table [`RK4`], stepped through as
+//! The RK4 stages (docs/model.md eq. (15)) are the table [`RK4`], stepped through as
 //! [`crate::integrate::propagate_generic`] does, operation for operation, including noise held
 //! over the window and coefficients that a noise channel drives moving linearly.
 //!

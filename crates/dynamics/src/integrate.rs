@@ -1,6 +1,7 @@
 //! Fourth-order Runge-Kutta over an input window: the one integrator that the truth
 //! simulator and every filter use, as one table of stages ([`RK4`]) that the one-state path
-//! here, the UKFs' batches ([`crate::batch_propagation`]) and the EKF's tangent step through.
+//! here, the UKFs' batches ([`crate::batch_propagation`]) and the EKF's tangent step through:
+//! docs/model.md eq. (15).
 //!
 //! A window is a list of input knots `t_0 < t_1 < ... < t_m` with the specific force at each
 //! knot and at each sub-step's midpoint. Each pair of knots is one RK4 sub-step, with stage
@@ -9,8 +10,8 @@
 //! it with the trajectory's exact value.
 //!
 //! White noise is held constant over the window (`w ~ N(0, q / T)` gives the right integrated
-//! variance `q T`). A noise channel on a constant state (a coefficient random walk) moves that
-//! state linearly in time, which RK4 reproduces exactly.
+//! variance `q T`; docs/model.md eq. (16)). A noise channel on a constant state (a coefficient
+//! random walk) moves that state linearly in time, which RK4 reproduces exactly.
 
 use crate::kinematics::Input;
 use crate::real::{Lanes, Real};

@@ -1,5 +1,6 @@
 //! The navigation quantities every term of the model is written in, computed once per
-//! derivative evaluation and shared by the base model and its effects.
+//! derivative evaluation and shared by the base model and its effects: the radii of
+//! docs/model.md eqs. (2), (3) and the commanded rate `w_cmd` of docs/model.md eq. (7).
 
 use crate::earth::{meridian_radius, prime_vertical_radius, FLATTENING, RE, WIE};
 use crate::real::Real;
@@ -9,7 +10,8 @@ use crate::state::{LAT, PHI_X, PHI_Y, PHI_Z, V_X, V_Y};
 pub type Input = [f64; 3];
 
 /// Trigonometry, radii and rates at one state, with their derivatives in latitude (for
-/// Jacobians). Field names follow model.md: `w_cmd` is the rate the platform is torqued at.
+/// Jacobians). Field names follow `docs/model.md`: `w_cmd` is the rate the platform is
+/// torqued at.
 ///
 /// Generic over the number type ([`Real`]): `Kinematics<f64>` (the default) for one state,
 /// `Kinematics<Lanes>` for eight. Built by [`Kinematics::with_trig`] from `sin L` and `cos L`,
@@ -47,7 +49,7 @@ pub struct Kinematics<T = f64> {
     pub tan_over_rn: T,
     /// d(tan L / RN)/dL.
     pub d_tan_over_rn: T,
-    /// `[-v_y/RM, wie cosL + v_x/RN, wie sinL + v_x tanL/RN]`, rad/s.
+    /// `[-v_y/RM, wie cosL + v_x/RN, wie sinL + v_x tanL/RN]`, rad/s: docs/model.md eq. (7).
     pub w_cmd: [T; 3],
 }
 

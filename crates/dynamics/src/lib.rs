@@ -1,6 +1,6 @@
 //! The inertial-platform error model of Liu, Liu & Su (2009) as the project reads it
-//! (`shared/spec/model.md`), its switchable effects, the paper's vehicle test, a truth
-//! simulator and the dataset format.
+//! (`docs/model.md`), its switchable effects, the paper's vehicle test, a truth simulator and
+//! the dataset format. Each module cites the equations of `docs/model.md` it implements.
 //!
 //! The [`PlatformModel`] implements [`SystemModel`], the trait every filter is generic over.
 //! Effects ([`Effect`]) add coefficients and terms at run time: the state dimension is 20

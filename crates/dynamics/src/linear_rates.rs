@@ -1,4 +1,5 @@
-//! Rate terms linear in one coefficient, declared as data: `rates[row] += c * feature`.
+//! Rate terms linear in one coefficient, declared as data: `rates[row] += c * feature`, the
+//! form of the catalogue's rate effects (docs/model.md eqs. (37)-(40)).
 //!
 //! Most effects that add rates are a coefficient times a kinematic quantity: a cross-axis
 //! accelerometer error `Ka12x f_y`, a torquer scale error `c w_cmd`, a g-sensitive drift
@@ -28,7 +29,7 @@ pub enum Feature {
     SpecificForce(usize),
     /// The square of the specific force along an axis.
     SpecificForceSquared(usize),
-    /// The rate the platform is torqued at about an axis, `w_cmd` (model.md eq 8).
+    /// The rate the platform is torqued at about an axis, `w_cmd` (docs/model.md eq. (7)).
     CommandedRate(usize),
 }
 

@@ -1,19 +1,11 @@
-//! The platform model of model.md (paper eqs 1-15), assembled at run time from the base
-//! terms and a list of effects.
+//! The platform model of `docs/model.md`, assembled at run time from the base terms and a
+//! list of effects; one implementation serves the truth simulator and every filter.
 //!
-//! State equations (total-state, "direct method"; `w_cmd` is the torquing rate, see
-//! [`Kinematics`]):
-//!
-//! ```text
-//! phi'    = phi x w_cmd + eps + w_g           eps = Kg0 + Kg11 fx + Kg12 fy   (eqs 1-3, 6-8)
-//! v_x'    =  (2 wie sinL + v_x tanL/RN) v_y + nab_x + fx + fy phi_z - fz phi_y + w_ax
-//! v_y'    = -(2 wie sinL + v_x tanL/RN) v_x + nab_y + fy + fz phi_x - fx phi_z + w_ay
-//! L'      = v_y / RM,   lambda' = v_x / (RN cosL)                            (eqs 9-12)
-//! K'      = 0                                nab = Ka0 + Ka1 f               (eqs 4-5)
-//! Z       = [v_x, v_y, L, lambda] + V                                         (eqs 14-15)
-//! ```
-//!
-//! One implementation serves the truth simulator and every filter.
+//! - sensor errors `eps`, `nab`: docs/model.md eqs. (5), (6) ([`PlatformModel::base_terms`]);
+//! - state equations: docs/model.md eqs. (7)-(11) ([`PlatformModel::base_rates`]), their
+//!   Jacobian `F` (for docs/model.md eq. (19)), the process noise of docs/model.md eq. (12);
+//! - the exact-attitude variant instead: docs/model.md eqs. (44)-(47) ([`crate::attitude`]);
+//! - measurement: docs/model.md eq. (13); the effects' terms: docs/model.md eqs. (37)-(43).
 
 use crate::attitude::{exact_jacobian, exact_rates, exact_rates_with, Attitude, Rotation};
 use crate::batch_propagation;
@@ -216,7 +208,7 @@ impl PlatformModel {
         out
     }
 
-    /// Derivative of the seven navigation states (model.md eqs 1-12 plus the effects' terms)
+    /// Derivative of the seven navigation states (docs/model.md eqs. (8)-(10) plus effects)
     /// at the full state `x`, given its kinematics, for one state: the truth and the EKF.
     /// [`PlatformModel::base_rates`], the effects' declared linear terms
     /// ([`PlatformModel::add_linear_rates`]) and their generic [`crate::Effect::add_rates`] are
@@ -261,8 +253,8 @@ impl PlatformModel {
     }
 
     /// The base model's platform terms, in the rate rows' places:
-    /// `[eps_x, eps_y, eps_z, nab_x, nab_y, L', lambda']` (the gyro drifts of eqs 6-8, the
-    /// accelerometer errors of eqs 4-5, and the position rates of eqs 11-12). Effects add to
+    /// `[eps_x, eps_y, eps_z, nab_x, nab_y, L', lambda']`: docs/model.md eqs. (5), (6), (10)
+    /// (the gyro drifts, the accelerometer errors and the position rates). Effects add to
     /// these; the attitude variant maps them to the state ([`crate::attitude`]).
     #[inline(always)]
     pub fn base_terms<T: Real>(&self, x: &[T], k: &Kinematics<T>) -> [T; NAV_DIM] {
@@ -289,8 +281,9 @@ impl PlatformModel {
         t
     }
 
-    /// The base model's navigation-state derivatives in the small-angle form (model.md eqs
-    /// 1-12), on one state or a batch: `x` is the full state, `k` its kinematics.
+    /// The base model's navigation-state derivatives in the small-angle form
+    /// (docs/model.md eqs. (8)-(10)), on one state or a batch: `x` is the full state, `k` its
+    /// kinematics.
     #[inline(always)]
     pub fn base_rates<T: Real>(&self, x: &[T], k: &Kinematics<T>) -> [T; NAV_DIM] {
         let [fx, fy, fz] = k.f;
@@ -349,7 +342,7 @@ impl PlatformModel {
         &x[self.ranges[i].clone()]
     }
 
-    /// The rate Jacobian (`NAV_DIM` rows `stride >= dim` apart) given the kinematics at `x`.
+    /// The rate Jacobian `F` (`NAV_DIM` rows `stride >= dim` apart) given the kinematics.
     // Inlined for the same reason as `nav_rates`: `k` then stays in registers.
     #[inline(always)]
     fn jacobian_with(&self, x: &[f64], k: &Kinematics, jac: &mut [f64], stride: usize) {
@@ -454,7 +447,7 @@ impl PlatformModel {
 
 /// The partials both attitude variants share, as `(row, column, value)`: the Coriolis and
 /// transport terms of the velocity rows (`+-(2 wie sinL + v_x tanL/RN) v`) and the position
-/// rows (`L' = v_y/RM`, `lambda' = v_x/(RN cosL)`), model.md eqs 9-12.
+/// rows (`L' = v_y/RM`, `lambda' = v_x/(RN cosL)`), docs/model.md eqs. (9), (10).
 #[inline(always)]
 fn transport_partials(k: &Kinematics) -> [(usize, usize, f64); 9] {
     let (vx, vy) = (k.v_x, k.v_y);

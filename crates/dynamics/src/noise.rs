@@ -1,5 +1,6 @@
 //! Sensor and process noise: the `[noise]` table of `dataset.toml`, with the project's
-//! documented defaults (data-format.md).
+//! documented defaults (data-format.md): the densities `q_g`, `q_a` of docs/model.md eq. (12)
+//! and the measurement sigmas of docs/model.md eq. (14).
 
 use crate::earth::{meridian_radius, prime_vertical_radius};
 use crate::state::MEAS_DIM;
@@ -59,7 +60,8 @@ impl NoiseConfig {
     }
 
     /// Measurement standard deviations `[v_x, v_y, L, lambda]` at speed `speed` and latitude
-    /// `lat` (rad): `sigma_L = gps / RM`, `sigma_lambda = gps / (RN cos L)`.
+    /// `lat` (rad): `sigma_L = gps / RM`, `sigma_lambda = gps / (RN cos L)`
+    /// (docs/model.md eq. (14)).
     pub fn measurement_sigmas(&self, speed: f64, lat: f64) -> [f64; MEAS_DIM] {
         let (s, c) = lat.sin_cos();
         let sv = self.odometer_sigma(speed);

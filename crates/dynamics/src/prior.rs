@@ -8,11 +8,12 @@
 //! [`crate::simulate::base_coefficient_sigma`]) aligned at rest before the test:
 //!
 //! - **Level**: levelling nulls the horizontal specific force, so it leaves the platform
-//!   tilted by the accelerometer bias over gravity (`v_x' = Ka0x - g phi_y = 0`):
+//!   tilted by the accelerometer bias over gravity (`v_x' = Ka0x - g phi_y = 0`,
+//!   docs/model.md eq. (9) at rest):
 //!   `sigma_level = sigma_Ka0 / g` = 5.0e-5 rad (10.3 arcsec).
 //! - **Azimuth**: gyrocompassing nulls the East gyro's apparent drift
-//!   (`phi_x' = wie sinL phi_y - wie cosL phi_z + eps_x = 0`), so it leaves the azimuth off by
-//!   `phi_z = eps_x / (wie cosL) + tanL Ka0x / g`:
+//!   (`phi_x' = wie sinL phi_y - wie cosL phi_z + eps_x = 0`, docs/model.md eq. (8) at rest),
+//!   so it leaves the azimuth off by `phi_z = eps_x / (wie cosL) + tanL Ka0x / g`:
 //!   `sigma_az = hypot(sigma_Kg0 / (wie cosL), tanL sigma_Ka0 / g)`, which is 1.9e-3 rad
 //!   (6.6 arcmin) at the paper's latitude 45.78 deg. It grows towards the poles, where
 //!   gyrocompassing fails; it is capped at [`MAX_DEFAULT_AZIMUTH_RAD`].
@@ -43,7 +44,8 @@ pub struct PlatformPrior {
     /// Initial azimuth error, rad.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub azimuth_rad: Option<f64>,
-    /// One-sigma of coefficients by model.md name (base or effect), in the coefficient's unit.
+    /// One-sigma of coefficients by name (base or effect, as in `docs/model.md`), in the
+    /// coefficient's unit.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub coefficients: BTreeMap<String, f64>,
 }

@@ -1,12 +1,12 @@
 //! The number types the model's physics is written over: `f64` for one state, [`Lanes`] for
 //! eight states at once.
 //!
-//! The rates of the model (model.md eqs 1-12) and of every effect are written once, generic
-//! over [`Real`]. The truth simulator and the EKF evaluate them on `f64`; the UKFs push their
-//! sigma points through them eight at a time as [`Lanes`], whose element-wise arithmetic the
-//! compiler turns into SIMD instructions. Because both run the same source, operation for
-//! operation, a sigma point propagated in a batch lands where the same point propagated alone
-//! lands, up to the `sin`/`cos` of the latitude (see [`crate::kinematics`]).
+//! The rates of the model (docs/model.md eqs. (5)-(10)) and of every effect are written once,
+//! generic over [`Real`]. The truth simulator and the EKF evaluate them on `f64`; the UKFs
+//! push their sigma points through them eight at a time as [`Lanes`], whose element-wise
+//! arithmetic the compiler turns into SIMD instructions. Because both run the same source,
+//! operation for operation, a sigma point propagated in a batch lands where the same point
+//! propagated alone lands, up to the `sin`/`cos` of the latitude (see [`crate::kinematics`]).
 //!
 //! ```
 //! use navkf_dynamics::real::{Lanes, Real};

@@ -1,7 +1,7 @@
 //! The sensor side of a model: how a recorded measurement becomes what a filter updates on.
 //!
-//! The filters' runner is generic over [`MeasurementModel`] and never names the platform.
-//! The platform's sensors (odometer velocity and GPS position, model.md eqs 14-15) are
+//! The filters' runner is generic over [`MeasurementModel`] and never names the platform. The
+//! platform's sensors (odometer velocity and GPS position, docs/model.md eqs. (13), (14)) are
 //! described by its [`NoiseConfig`], which implements the trait for [`Measurement`] records:
 //! the measured values, their sigmas from the noise model (the odometer's grow with speed, the
 //! GPS's depend on latitude) and which channels are present.

@@ -1,12 +1,12 @@
 //! The truth simulator: draws the true coefficients and initial tilt, integrates the truth
 //! model with RK4 at a fixed rate (default 100 Hz) under white process noise, and makes
-//! odometer and GPS measurements with the spec's noise.
+//! odometer and GPS measurements with the noise of docs/model.md eq. (14).
 //!
 //! Process noise is a constant `w ~ N(0, q / h)` over each RK4 step of length `h`, which gives
-//! the white noise's integrated variance `q h` per step. The input is the trajectory's exact
-//! specific force at each RK4 stage time; the dataset records it sampled at the input rate.
-//! Every draw comes from [`crate::rng::stream`], so run `i` of seed `s` is the same bytes on
-//! any thread.
+//! the white noise's integrated variance `q h` per step (docs/model.md eqs. (15), (16)). The
+//! input is the trajectory's exact specific force at each RK4 stage time; the dataset records
+//! it sampled at the input rate. Every draw comes from [`crate::rng::stream`], so run `i` of
+//! seed `s` is the same bytes on any thread.
 
 use crate::dataset::{Dataset, InputSample, Measurement, Provenance, Truth};
 use crate::error::DynamicsError;

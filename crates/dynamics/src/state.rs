@@ -1,4 +1,4 @@
-//! The 20 states of the base model, in the paper's order (model.md, "State (20)").
+//! The 20 states of the base model, in the paper's order (docs/model.md, "The state").
 //!
 //! Indices are constants so that code reads `x[V_X]`, not `x[3]`. Effects append their
 //! coefficients after index 19, in the order the model was assembled.
@@ -44,7 +44,7 @@ pub const BASE_DIM: usize = 20;
 /// Number of error coefficients of the base model.
 pub const BASE_COEFFICIENTS: usize = BASE_DIM - NAV_DIM;
 
-/// Names of the base states, as in model.md and the dataset's `truth.csv`.
+/// Names of the base states, as in `docs/model.md` and the dataset's `truth.csv`.
 pub const BASE_NAMES: [&str; BASE_DIM] = [
     "phi_x", "phi_y", "phi_z", "v_x", "v_y", "L", "lambda", "Kg0x", "Kg11x", "Kg12x", "Kg0y",
     "Kg11y", "Kg12y", "Kg0z", "Kg11z", "Kg12z", "Ka0x", "Ka1x", "Ka0y", "Ka1y",
@@ -74,7 +74,7 @@ pub const BASE_UNITS: [&str; BASE_DIM] = [
     "1",
 ];
 
-/// Measurement channels, in the order of the measurement vector `Z = [v_x, v_y, L, lambda]`.
+/// Measurement channels, in the order of `Z = [v_x, v_y, L, lambda]` (docs/model.md eq. (13)).
 pub const MEASUREMENT_NAMES: [&str; 4] = ["v_x", "v_y", "L", "lambda"];
 /// Size of the full measurement vector.
 pub const MEAS_DIM: usize = 4;

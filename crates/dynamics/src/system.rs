@@ -8,7 +8,8 @@ use crate::effect::NoiseChannel;
 use crate::integrate::{propagate_generic, InputWindow, PropagationScratch};
 use crate::kinematics::Input;
 
-/// A continuous-time model `x' = a(x, u) + G w`, `z = h(x) + v`.
+/// A continuous-time model `x' = a(x, u) + G w`, `z = h(x) + v` (the platform's:
+/// docs/model.md eqs. (12), (13)).
 ///
 /// States `0..dynamic_dim()` have a derivative; the rest are constant between measurements
 /// (the error coefficients), except where a noise channel drives them. Buffers are written,

@@ -12,10 +12,10 @@
 //! fz = g(L)
 //! ```
 //!
-//! which is the model's velocity equation (model.md) solved for `f` with every error zero, so
-//! that the error-free model reproduces the path exactly. Latitude and longitude come from
-//! integrating the model's own position equations along the path; the lengths of the last two
-//! legs are solved so that the path closes on itself under those same equations.
+//! which is docs/model.md eq. (9) solved for `f` with every error zero, `g` from
+//! docs/model.md eq. (4), so that the error-free model reproduces the path exactly. Latitude
+//! and longitude follow the model's own docs/model.md eq. (10) along the path; the lengths
+//! of the last two legs are solved so that the path closes on itself under that equation.
 
 use crate::earth::{meridian_radius, normal_gravity, prime_vertical_radius, WIE};
 use crate::error::DynamicsError;

@@ -1,6 +1,6 @@
-//! The exact-attitude variant (model.md, "Variant: exact attitude"): the spec's three checks,
-//! its Jacobian against finite differences at large angles with every rate effect, and its
-//! batched propagation against the one-state path.
+//! The exact-attitude variant (docs/model.md eqs. (44)-(47)): the three checks of
+//! docs/model.md, "Variant: exact attitude", its Jacobian against finite differences at large
+//! angles with every rate effect, and its batched propagation against the one-state path.
 
 mod common;
 

@@ -1,4 +1,4 @@
-//! Shape of the model against model.md: state names and order, dimensions, the measurement
+//! Shape of the model against docs/model.md: state names and order, dimensions, the measurement
 //! (exactly `[v_x, v_y, L, lambda]` and linear for the base model, non-linear with
 //! odometer-scale or gps-latency), and the process-noise channels.
 
@@ -9,7 +9,7 @@ use navkf_dynamics::effects::GyroBiasWalk;
 use navkf_dynamics::state::*;
 use navkf_dynamics::{Effect, NoiseConfig, PlatformModel, Registry, SystemModel};
 
-/// model.md, "State (20)", transcribed from the table (not from `BASE_NAMES`).
+/// docs/model.md, "The state", transcribed from the table (not from `BASE_NAMES`).
 const MODEL_MD_STATES: [&str; 20] = [
     "phi_x", "phi_y", "phi_z", "v_x", "v_y", "L", "lambda", "Kg0x", "Kg11x", "Kg12x", "Kg0y",
     "Kg11y", "Kg12y", "Kg0z", "Kg11z", "Kg12z", "Ka0x", "Ka1x", "Ka0y", "Ka1y",
@@ -174,7 +174,8 @@ fn odometer_scale_and_gps_latency_make_the_measurement_non_linear() {
     }
 }
 
-/// model.md: `W = [w_gx, w_gy, w_gz, w_ax, w_ay]` on the first five states with densities
+/// docs/model.md eqs. (12), (43): `W = [w_gx, w_gy, w_gz, w_ax, w_ay]` on the first five
+/// states with densities
 /// `q_g`, `q_a`; gyro-bias-walk adds three channels on `Kg0x, Kg0y, Kg0z` with `q_b`.
 /// Catches: channels on the wrong states, swapped densities, a missing walk channel.
 #[test]

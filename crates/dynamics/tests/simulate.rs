@@ -1,5 +1,5 @@
 //! The truth simulator: seeded streams give identical bytes, given values are taken, and the
-//! measurements carry the spec's noise.
+//! measurements carry the noise of docs/model.md eq. (14).
 
 use navkf_dynamics::simulate::{Prior, TruthConfig};
 use navkf_dynamics::state::*;
@@ -159,7 +159,8 @@ fn a_gyrocompassed_platform_starts_with_the_tilt_that_nulls_its_own_biases() {
         // Levelled and gyrocompassed: no horizontal acceleration, no drift about East.
         assert!(r[V_X].abs() < 1e-12 && r[V_Y].abs() < 1e-12, "{r:?}");
         assert!(r[PHI_X].abs() < 1e-18, "{r:?}");
-        // The azimuth is the East drift over the Earth's horizontal rate (model.md).
+        // The azimuth is the East drift over the Earth's horizontal rate (docs/model.md eq. (8)
+        // at rest).
         let lat = x[LAT];
         let eps_x = x[KG0X] + x[KG11X] * f[0] + x[KG12X] * f[1] + x[20] * f[2];
         let expected = (eps_x + WIE * lat.sin() * x[PHI_Y]) / (WIE * lat.cos());

@@ -1,6 +1,6 @@
-//! The model's `rates` and `measure` against model.md's equations, transcribed here
-//! independently of the crate (own constants, own radii, coefficients looked up by their
-//! model.md names), for the base model, each catalogue effect alone and all of them.
+//! The model's `rates` and `measure` against the equations of `docs/model.md`, transcribed
+//! here independently of the crate (own constants, own radii, coefficients looked up by their
+//! names there), for the base model, each catalogue effect alone and all of them.
 //!
 //! The Jacobian tests only check that the partials agree with `rates`/`measure`; these pin
 //! `rates`/`measure` themselves to the contract. They catch a sign or a factor in any term,
@@ -13,7 +13,7 @@ use common::*;
 use navkf_dynamics::state::*;
 use navkf_dynamics::{Input, NoiseConfig, PlatformModel, Registry, SystemModel};
 
-// model.md, "Frames, constants, units".
+// docs/model.md eqs. (1)-(3).
 const RE: f64 = 6_378_137.0;
 const FLAT: f64 = 1.0 / 298.257;
 const WIE: f64 = 7.292115e-5;
@@ -41,8 +41,9 @@ impl Sum {
     }
 }
 
-/// model.md's state equations (eqs 1-12) plus the catalogue's rate terms for the effects
-/// whose coefficients `model` has (looked up by name).
+/// The state equations, docs/model.md eqs. (5)-(10), plus the catalogue's rate terms
+/// (docs/model.md eqs. (37)-(40)) for the effects whose coefficients `model` has (looked up by
+/// name).
 fn spec_rates(model: &PlatformModel, x: &[f64], f: &Input) -> [Sum; NAV_DIM] {
     let k = |name: &str| model.index_of(name).map(|i| x[i]);
     let base = |name: &str| k(name).unwrap_or_else(|| panic!("base state {name}"));
@@ -114,7 +115,8 @@ fn spec_rates(model: &PlatformModel, x: &[f64], f: &Input) -> [Sum; NAV_DIM] {
     r
 }
 
-/// model.md's measurement (eqs 14-15) plus odometer-scale and gps-latency when present.
+/// The measurement, docs/model.md eq. (13), plus odometer-scale and gps-latency
+/// (docs/model.md eqs. (41), (42)) when present.
 fn spec_measurement(model: &PlatformModel, x: &[f64]) -> [Sum; MEAS_DIM] {
     let k = |name: &str| model.index_of(name).map(|i| x[i]);
     let (vx, vy, lat, lon) = (x[V_X], x[V_Y], x[LAT], x[LON]);
@@ -149,7 +151,7 @@ fn check(model: &PlatformModel, seed: u64) {
         for (i, want) in spec_rates(model, &x, &u).iter().enumerate() {
             assert!(
                 (r[i] - want.value).abs() <= ROUND * want.terms,
-                "{:?} case {case}: d{}/dt = {:e}, model.md gives {:e}",
+                "{:?} case {case}: d{}/dt = {:e}, docs/model.md gives {:e}",
                 model.effect_names(),
                 names[i],
                 r[i],
@@ -161,7 +163,7 @@ fn check(model: &PlatformModel, seed: u64) {
         for (i, want) in spec_measurement(model, &x).iter().enumerate() {
             assert!(
                 (z[i] - want.value).abs() <= ROUND * want.terms,
-                "{:?} case {case}: z[{i}] = {:e}, model.md gives {:e}",
+                "{:?} case {case}: z[{i}] = {:e}, docs/model.md gives {:e}",
                 model.effect_names(),
                 z[i],
                 want.value
@@ -209,7 +211,7 @@ fn all_catalogue_effects_together_follow_model_md() {
     check(&model, 50);
 }
 
-/// The coefficient names of each effect are model.md's (the spec functions above find the
+/// The coefficient names of each effect are docs/model.md's (the spec functions above find the
 /// coefficients by these names; a renamed coefficient would silently drop its term there, so
 /// pin them).
 #[test]
@@ -228,7 +230,10 @@ fn catalogue_coefficient_names_are_model_md_names() {
     names.sort();
     let mut expected: Vec<String> = want.iter().map(|(n, _)| n.to_string()).collect();
     expected.sort();
-    assert_eq!(names, expected, "the catalogue is model.md's seven effects");
+    assert_eq!(
+        names, expected,
+        "the catalogue is docs/model.md's seven effects"
+    );
     for (name, coeffs) in want {
         let e = reg.build(name).unwrap();
         assert_eq!(e.name(), name);

@@ -1,4 +1,5 @@
-//! Extended Kalman filter with the exact Jacobian of the RK4 propagation.
+//! Extended Kalman filter with the exact Jacobian of the RK4 propagation
+//! (docs/model.md eqs. (19)-(22)).
 //!
 //! The transition matrix over a filter period is the derivative of the very RK4 map the
 //! UKFs and the truth use, not a single Euler step `I + F T`. It is carried through the
@@ -8,8 +9,9 @@
 //! dK_4)`. Only the model's dynamic rows differ from the identity (`Phi = [A B; 0 I]`, the
 //! coefficients being constants), so the stage products touch the `d` dynamic rows only.
 //!
-//! Prediction `P = Phi P Phi^T + Q_k` with `Q_k = G Qc G^T T`; update in Joseph form
-//! `P = (I - K H) P (I - K H)^T + K R K^T`, evaluated as two rank-k corrections.
+//! Prediction `P = Phi P Phi^T + Q_k` with `Q_k = G Qc G^T T` (docs/model.md eqs. (16), (20));
+//! update in Joseph form `P = (I - K H) P (I - K H)^T + K R K^T`
+//! (docs/model.md eqs. (21), (22)), evaluated as two rank-k corrections.
 
 use crate::error::FilterError;
 use crate::filter::{add_process_noise, Estimate, Filter};
@@ -81,9 +83,10 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
     }
 
     /// One RK4 sub-step of the state (its dynamic rows; `xs` holds the coefficients) and of
-    /// the tangent `Phi`, differentiated through the same stages:
-    /// `dK_s = F_s (Phi + c_s dK_{s-1})` (the coefficient rows of the tangent being `[0 I]`,
-    /// `F_s [Y; 0 I] = F_a Y + [0 F_b]`), `Phi += h/6 (dK_1 + 2 dK_2 + 2 dK_3 + dK_4)`.
+    /// the tangent `Phi`, differentiated through the same stages
+    /// (docs/model.md eqs. (15), (19)): `dK_s = F_s (Phi + c_s dK_{s-1})` (the coefficient
+    /// rows of the tangent being `[0 I]`, `F_s [Y; 0 I] = F_a Y + [0 F_b]`),
+    /// `Phi += h/6 (dK_1 + 2 dK_2 + 2 dK_3 + dK_4)`.
     fn rk4_substep(&mut self, window: &InputWindow, j: usize) {
         let d = self.d;
         let nc = self.nc;
@@ -123,7 +126,8 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
         std::mem::swap(&mut self.phi, &mut self.phi_next);
     }
 
-    /// `P = Phi P Phi^T` with `Phi = [R; 0 I]`, `R` the dynamic rows.
+    /// `P = Phi P Phi^T` with `Phi = [R; 0 I]`, `R` the dynamic rows (docs/model.md eq. (20)
+    /// without `Q_k`).
     fn propagate_covariance(&mut self) {
         let n = self.est.n;
         let d = self.d;
@@ -176,6 +180,7 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
         self.est.reset(x0, p0)
     }
 
+    /// docs/model.md eqs. (15), (19), (20).
     fn predict(&mut self, window: &InputWindow) -> Result<(), FilterError> {
         crate::filter::check_window(window, self.est.step + 1)?;
         let n = self.est.n;
@@ -203,6 +208,7 @@ impl<M: SystemModel + ?Sized> Filter for Ekf<M> {
         self.est.finish_symmetric("state after prediction")
     }
 
+    /// docs/model.md eqs. (17), (21), (22).
     fn update(&mut self, obs: &Observation) -> Result<&UpdateReport, FilterError> {
         let n = self.est.n;
         let k = self.gain.select(obs, self.est.step)?;

@@ -156,7 +156,8 @@ pub(crate) fn check_window(
     Ok(())
 }
 
-/// Adds the discrete process noise `Q_k = G Qc G^T T` of `channels` over `dt` to `p`.
+/// Adds the discrete process noise `Q_k = G Qc G^T T` of `channels` over `dt` to `p`
+/// (docs/model.md eq. (16); the `+ Q_k` of docs/model.md eqs. (20), (28)).
 pub(crate) fn add_process_noise(
     p: &mut [f64],
     n: usize,

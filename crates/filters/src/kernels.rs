@@ -14,10 +14,10 @@ use crate::linalg::forward_substitute;
 use crate::view::{ColMajor, ColMajorMut};
 
 /// Writes the `2 d + 1` sigma points `x`, `x + gamma L_j`, `x - gamma L_j` (`j < d`) as the
-/// columns of `points` (`n x (2 d + 1)`; eq. (24) of the spec). `factor` is a lower-triangular
-/// `n x n` factor of the covariance (its zeros above the diagonal are not read). Directions
-/// `j >= n` (the augmented noise directions of the standard UKF) get the centre `x` itself:
-/// their spread is added to the noise inputs, not to the state.
+/// columns of `points` (`n x (2 d + 1)`; docs/model.md eq. (24)). `factor` is a
+/// lower-triangular `n x n` factor of the covariance (its zeros above the diagonal are not
+/// read). Directions `j >= n` (the augmented noise directions of the standard UKF) get the
+/// centre `x` itself: their spread is added to the noise inputs, not to the state.
 ///
 /// ```
 /// use navkf_filters::kernels::draw_sigma_points;
@@ -50,7 +50,7 @@ pub fn draw_sigma_points(x: &[f64], factor: ColMajor, gamma: f64, points: &mut C
 }
 
 /// `out = sum_i w_i X_i` over the columns of `points`, with the weights in column order
-/// (fewer weights than columns: the rest are not read).
+/// (fewer weights than columns: the rest are not read): docs/model.md eqs. (27), (29).
 ///
 /// ```
 /// use navkf_filters::kernels::weighted_mean;
@@ -72,7 +72,8 @@ pub fn weighted_mean(points: ColMajor, weights: impl IntoIterator<Item = f64>, o
 /// `U := U L^-T` in place, for a lower-triangular `k x k` factor `L` and an `n x k` matrix
 /// `U`: row `i` of the result solves `L u_i = U[i, :]`. All rows at once, column by column:
 /// `U[:, a] = (U[:, a] - sum_{b<a} L[a, b] U[:, b]) / L[a, a]`. With `U = Pxz` and
-/// `S = L L^T` this is the gain's half `Pxz L^-T`, whose outer product is `K S K^T`.
+/// `S = L L^T` this is the gain's half `Pxz L^-T`, whose outer product is `K S K^T`
+/// (docs/model.md eqs. (17), (31)).
 #[inline]
 pub fn solve_lower_transposed_right(l: ColMajor, u: &mut ColMajorMut) {
     for a in 0..l.cols() {
@@ -92,7 +93,8 @@ pub fn solve_lower_transposed_right(l: ColMajor, u: &mut ColMajorMut) {
 
 /// `G := G L^-1` in place (row `i` of the result solves `L^T g_i = G[i, :]`), columns last
 /// first: `G[:, a] = (G[:, a] - sum_{b>a} L[b, a] G[:, b]) / L[a, a]`. After
-/// [`solve_lower_transposed_right`] this completes the gain `K = Pxz S^-1`.
+/// [`solve_lower_transposed_right`] this completes the gain `K = Pxz S^-1`
+/// (docs/model.md eq. (17)).
 #[inline]
 pub fn solve_lower_right(l: ColMajor, g: &mut ColMajorMut) {
     let k = l.cols();
@@ -113,7 +115,8 @@ pub fn solve_lower_right(l: ColMajor, g: &mut ColMajorMut) {
 
 /// What an innovation says about the prediction, from a Cholesky factor `L` of its
 /// covariance (`S = L L^T`, `k x k`): `NIS = |L^-1 nu|^2` and
-/// `log p = -(NIS + log det S + k log 2 pi) / 2` with `log det S = 2 sum log L_aa`.
+/// `log p = -(NIS + log det S + k log 2 pi) / 2` with `log det S = 2 sum log L_aa`
+/// (docs/model.md eq. (18)).
 /// `w` (at least `k` long) receives `L^-1 nu`, which the square-root update reuses.
 ///
 /// ```
@@ -140,7 +143,8 @@ pub fn innovation_statistics(l: ColMajor, innovation: &[f64], w: &mut [f64]) -> 
 }
 
 /// `out = A h^T = sum_m h_m A[:, m]` for one row `h` of a measurement Jacobian, skipping
-/// its zeros (a measurement reads a few of the states, so most columns are skipped).
+/// its zeros (a measurement reads a few of the states, so most columns are skipped): with
+/// `A = P`, a column of `Pxz = P H^T` (docs/model.md eqs. (21), (33)).
 #[inline]
 pub fn sparse_row_product(a: ColMajor, h: &[f64], out: &mut [f64]) {
     out.fill(0.0);

@@ -1,6 +1,9 @@
 //! Filters for the platform model, generic over [`navkf_dynamics::SystemModel`]: the EKF, the
 //! paper's standard (augmented) UKF, its simplified UKF, and a square-root UKF that carries
-//! a Cholesky factor of the covariance instead of the covariance.
+//! a Cholesky factor of the covariance instead of the covariance. Their equations are those
+//! of `docs/model.md`, "Filters": the shared update docs/model.md eqs. (17), (18), the EKF
+//! docs/model.md eqs. (19)-(22), sigma points docs/model.md eqs. (23)-(25), the UKFs
+//! docs/model.md eqs. (26)-(33), the square-root UKF docs/model.md eqs. (34)-(36).
 //!
 //! Every filter implements [`Filter`]: `predict` across an input window, `update` with an
 //! [`Observation`], each returning a typed [`FilterError`] (with the step) rather than

@@ -1,8 +1,8 @@
 //! Drives a filter over recorded inputs and measurements: one prediction across the input
-//! samples between consecutive measurements (inputs linearly interpolated at the ends), one
-//! update per measurement. What a record measures, and with which sigmas, is the
-//! [`MeasurementModel`]'s business (the platform's is its `NoiseConfig`): the runner does not
-//! know the platform.
+//! samples between consecutive measurements (inputs linearly interpolated at the ends; the
+//! window of docs/model.md eq. (15)), one update per measurement. What a record measures, and
+//! with which sigmas, is the [`MeasurementModel`]'s business (the platform's is its
+//! `NoiseConfig`): the runner does not know the platform.
 //!
 //! The runner owns its buffers and reuses them, so a run allocates nothing per step. What
 //! happens at each step goes to an observer closure (tallies, CSV rows, plots are the

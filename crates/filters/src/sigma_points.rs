@@ -1,5 +1,5 @@
 //! Sigma-point scaling (Julier & Uhlmann's scaled unscented transform), built and validated
-//! once from `(n, alpha, beta, kappa)`.
+//! once from `(n, alpha, beta, kappa)`: docs/model.md eqs. (23)-(25).
 //!
 //! `lambda = alpha^2 (n + kappa) - n`; points `x`, `x +- sqrt(n + lambda) S_i`; weights
 //! `Wm0 = lambda / (n + lambda)`, `Wc0 = Wm0 + 1 - alpha^2 + beta`, `Wi = 1 / (2 (n + lambda))`.

@@ -4,17 +4,18 @@
 //! construction, and the factor is never recomputed from a `P` that rounding may have made
 //! indefinite.
 //!
-//! - Prediction: sigma points `x`, `x +- gamma S_i` straight from the factor (no Cholesky);
-//!   through the dynamics; `S^-` is the triangular factor (Householder QR) of
-//!   `[sqrt(Wi) (X_i - x^-), sqrt(Q_k)]`, then a rank-one update (or downdate, when `Wc0 < 0`)
-//!   with the centre point.
-//! - Linear measurement (the base model): the array form of the Kalman update. Triangularising
-//!   `[[sqrt(R), H S], [0, S]]` gives `[[S_zz, 0], [K', S^+]]`, with `S_zz` the factor of
-//!   the innovation covariance and `K = K' S_zz^-1`.
-//! - Non-linear measurement (`odometer-scale`, `gps-latency`): sigma points through `h`;
-//!   `S_zz` from the QR of `[sqrt(Wi) (Z_i - z^-), sqrt(R)]` and the centre's rank-one
-//!   update; `U = P_xz S_zz^-T`, `x += U S_zz^-1 nu`, and `S^+` by `k` rank-one downdates
-//!   with the columns of `U`. A downdate that fails is a typed error, not a NaN.
+//! - Prediction (docs/model.md eq. (34)): sigma points `x`, `x +- gamma S_i` straight from
+//!   the factor (no Cholesky); through the dynamics; `S^-` is the triangular factor
+//!   (Householder QR) of `[sqrt(Wi) (X_i - x^-), sqrt(Q_k)]`, then a rank-one update (or
+//!   downdate, when `Wc0 < 0`) with the centre point.
+//! - Linear measurement (the base model; docs/model.md eq. (35)): the array form of the
+//!   Kalman update. Triangularising `[[sqrt(R), H S], [0, S]]` gives `[[S_zz, 0], [K', S^+]]`,
+//!   with `S_zz` the factor of the innovation covariance and `K = K' S_zz^-1`.
+//! - Non-linear measurement (`odometer-scale`, `gps-latency`; docs/model.md eq. (36)): sigma
+//!   points through `h`; `S_zz` from the QR of `[sqrt(Wi) (Z_i - z^-), sqrt(R)]` and the
+//!   centre's rank-one update; `U = P_xz S_zz^-T`, `x += U S_zz^-1 nu`, and `S^+` by `k`
+//!   rank-one downdates with the columns of `U`. A downdate that fails is a typed error, not a
+//!   NaN.
 //!
 //! `covariance()` returns `S S^T`, formed after every step.
 
@@ -186,6 +187,7 @@ impl<M: SystemModel + ?Sized> SquareRootUkf<M> {
         Ok(())
     }
 
+    /// The array form of the Kalman update, docs/model.md eq. (35).
     fn update_linear(&mut self, obs: &Observation) -> Result<(), FilterError> {
         let n = self.est.n;
         let k = self.gain.report.channels.len();
@@ -233,6 +235,7 @@ impl<M: SystemModel + ?Sized> SquareRootUkf<M> {
         self.apply_innovation(obs, k)
     }
 
+    /// The sigma-point update, docs/model.md eq. (36).
     fn update_sigma(&mut self, obs: &Observation) -> Result<(), FilterError> {
         let n = self.est.n;
         let nz = self.model.meas_dim();
@@ -314,6 +317,7 @@ impl<M: SystemModel + ?Sized> Filter for SquareRootUkf<M> {
         cholesky_in_place(&mut self.s, n).map_err(|e| self.not_pd("P", n, e))
     }
 
+    /// docs/model.md eq. (34).
     fn predict(&mut self, window: &InputWindow) -> Result<(), FilterError> {
         crate::filter::check_window(window, self.est.step + 1)?;
         let n = self.est.n;

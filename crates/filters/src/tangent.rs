@@ -1,6 +1,7 @@
 //! The arithmetic of the EKF's tangent propagation, in chunks of SIMD width: the fused RK4
 //! stage product `dK_s = F_s (Phi + c dK_{s-1})` on the dynamic rows of the transition
-//! matrix, and the rows-times-covariance product of the prediction.
+//! matrix (docs/model.md eq. (19)), and the rows-times-covariance product of the prediction
+//! (docs/model.md eq. (20)).
 //!
 //! Kept apart from the filter because everything here is about the machine (lanes, cache
 //! lines, what the compiler keeps in registers), each choice measured; `ekf.rs` holds the

@@ -1,5 +1,6 @@
 //! Square-root kernels for the square-root UKF: triangularisation of a tall matrix
-//! (Householder QR, keeping only `R`) and rank-one updates and downdates of a Cholesky factor.
+//! (Householder QR, keeping only `R`) and rank-one updates and downdates of a Cholesky factor:
+//! the `qr` and `cholupdate` of docs/model.md eqs. (34)-(36).
 //!
 //! Both work in place on column-major slices and allocate nothing.
 //!

@@ -1,12 +1,14 @@
 //! The unscented Kalman filter core shared by the standard (augmented) and simplified
-//! (additive) variants of the paper. They differ in data, not in code:
+//! (additive) variants of the paper (docs/model.md eqs. (26)-(33)). They differ in data, not
+//! in code:
 //!
 //! - [`NoiseHandling`]: the process noise `W` (and optionally the measurement noise `V`)
-//!   joins the sigma points (`X^a = [X; W; V]`, n = 20 + 5 + 4 = 29 for the base model), or
-//!   `Q_k` is added to the predicted covariance (n = 20).
+//!   joins the sigma points (`X^a = [X; W; V]`, n = 20 + 5 + 4 = 29 for the base model;
+//!   docs/model.md eq. (32)), or `Q_k` is added to the predicted covariance (n = 20;
+//!   docs/model.md eq. (28)).
 //! - the measurement path: with additive noise and a model whose measurement is linear, the
-//!   update is the Kalman filter's `Z = H X` (paper section 3.2); otherwise sigma points go
-//!   through `h`.
+//!   update is the Kalman filter's `Z = H X` (paper section 3.2; docs/model.md eq. (33));
+//!   otherwise sigma points go through `h` (docs/model.md eqs. (29)-(31)).
 //!
 //! Augmented points are ordered centre, then `+` and `-` along each direction, state
 //! directions first, then `W`, then `V`. Points along `V` have the centre's state and no
@@ -72,9 +74,9 @@ pub struct Ukf<M: SystemModel + ?Sized> {
 }
 
 impl<M: SystemModel + ?Sized> Ukf<M> {
-    /// The standard UKF of the paper (section 3.1): the state augmented with the process
-    /// noise and the measurement noise, `X^a = [X; W; V]` (n = 29 for the base model); every
-    /// sigma point goes through the dynamics and the measurement function.
+    /// The standard UKF of the paper (section 3.1): the state augmented with the process noise
+    /// and the measurement noise, `X^a = [X; W; V]` (n = 29 for the base model); every sigma
+    /// point goes through the dynamics and the measurement function (docs/model.md eq. (32)).
     ///
     /// ```
     /// use navkf_dynamics::{NoiseConfig, PlatformModel};
@@ -112,11 +114,11 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
         )
     }
 
-    /// The simplified UKF of the paper (section 3.2): no augmentation, additive `Q_k` on the
-    /// predicted covariance, and the Kalman filter's linear update `Z = H X` while the
-    /// model's measurement is linear. When an effect makes the measurement non-linear
-    /// (`odometer-scale`, `gps-latency`), the update falls back to sigma points drawn from
-    /// the prediction.
+    /// The simplified UKF of the paper (section 3.2; docs/model.md eq. (33)): no augmentation,
+    /// additive `Q_k` on the predicted covariance, and the Kalman filter's linear update
+    /// `Z = H X` while the model's measurement is linear. When an effect makes the measurement
+    /// non-linear (`odometer-scale`, `gps-latency`), the update falls back to sigma points
+    /// drawn from the prediction.
     ///
     /// ```
     /// use navkf_dynamics::{NoiseConfig, PlatformModel, Registry};
@@ -220,7 +222,8 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
         self.linear_update
     }
 
-    /// Factors P into `chol` and writes `2 n + 1` state sigma points with spread `gamma`.
+    /// Factors P into `chol` and writes `2 n + 1` state sigma points with spread `gamma`
+    /// (docs/model.md eq. (24)).
     fn draw_state_points(&mut self, gamma: f64, na: usize) -> Result<(), FilterError> {
         let n = self.est.n;
         self.chol.copy_from_slice(&self.est.p);
@@ -269,8 +272,8 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
         }
     }
 
-    /// `P = sum_i wc_i d_i d_i^T` from `dev`, the weights being `wc0` for the centre and `wi`
-    /// for every other point: `wi * D D^T + (wc0 - wi) d_0 d_0^T`.
+    /// `P = sum_i wc_i d_i d_i^T` (docs/model.md eq. (28)) from `dev`, the weights being `wc0`
+    /// for the centre and `wi` for every other point: `wi * D D^T + (wc0 - wi) d_0 d_0^T`.
     fn covariance_from_deviations(&mut self, wc0: f64, wi: f64) {
         let n = self.est.n;
         let len = self.dev_len;
@@ -301,6 +304,7 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
         }
     }
 
+    /// The linear update: docs/model.md eqs. (33), (17), (31).
     fn update_linear(&mut self, obs: &Observation) -> Result<(), FilterError> {
         self.mom
             .linear_gain(&*self.model, &mut self.est, &mut self.gain, obs)?;
@@ -308,9 +312,9 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
         Ok(())
     }
 
-    /// Sigma-point update from `count` points in `points` (full states, not deviations),
-    /// with weights of `sp`; `v_aug` adds the measurement-noise points. `dev` must hold the
-    /// points' deviations from the state.
+    /// Sigma-point update (docs/model.md eqs. (29)-(31)) from `count` points in `points` (full
+    /// states, not deviations), with weights of `sp`; `v_aug` adds the measurement-noise
+    /// points. `dev` must hold the points' deviations from the state.
     fn update_sigma(
         &mut self,
         obs: &Observation,
@@ -412,6 +416,7 @@ impl<M: SystemModel + ?Sized> Filter for Ukf<M> {
         self.est.reset(x0, p0)
     }
 
+    /// docs/model.md eqs. (26)-(28), the noise as in docs/model.md eqs. (16), (32).
     fn predict(&mut self, window: &InputWindow) -> Result<(), FilterError> {
         crate::filter::check_window(window, self.est.step + 1)?;
         let n = self.est.n;
@@ -469,6 +474,7 @@ impl<M: SystemModel + ?Sized> Filter for Ukf<M> {
         self.est.finish_symmetric("state after prediction")
     }
 
+    /// The linear path (docs/model.md eq. (33)) or sigma points (docs/model.md eqs. (29)-(31)).
     fn update(&mut self, obs: &Observation) -> Result<&UpdateReport, FilterError> {
         let k = self.gain.select(obs, self.est.step)?;
         if k == 0 {

@@ -2,7 +2,8 @@
 //! report it gets back, and the gain computation from the predicted measurement moments.
 //!
 //! Given the predicted measurement `z_hat`, its covariance `Pzz` (without `R`) and the
-//! state-measurement cross-covariance `Pxz`, over the channels that are present:
+//! state-measurement cross-covariance `Pxz`, over the channels that are present
+//! (docs/model.md eqs. (17), (18)):
 //! `S = Pzz + R`, `nu = z - z_hat`, `NIS = nu^T S^-1 nu`,
 //! `log p(z) = -(NIS + log det S + k log 2 pi) / 2`, `K = Pxz S^-1`, `x += K nu`.
 
@@ -184,12 +185,12 @@ impl GainWorkspace {
         Ok(())
     }
 
-    /// `P -= K S K^T = U U^T` (the UKF's covariance update), on a `P` that is exactly
-    /// symmetric (the UKFs' is between steps: `reset` symmetrises it, and their prediction
-    /// and this update give both triangles the same values; `tests/exact_symmetry.rs`).
-    /// Whole columns at a time: entry `(r, c)` loses `U[r, a] U[c, a]` for each channel `a`
-    /// in order, the same products in the same order as entry `(c, r)`, so `P` stays exactly
-    /// symmetric without a mirroring pass.
+    /// `P -= K S K^T = U U^T` (the UKF's covariance update, docs/model.md eq. (31)), on a `P`
+    /// that is exactly symmetric (the UKFs' is between steps: `reset` symmetrises it, and
+    /// their prediction and this update give both triangles the same values;
+    /// `tests/exact_symmetry.rs`). Whole columns at a time: entry `(r, c)` loses
+    /// `U[r, a] U[c, a]` for each channel `a` in order, the same products in the same order as
+    /// entry `(c, r)`, so `P` stays exactly symmetric without a mirroring pass.
     pub fn subtract_gain_cov(&self, p: &mut [f64]) {
         let n = self.n;
         let k = self.report.channels.len();
@@ -265,9 +266,9 @@ impl MeasurementMoments {
     }
 }
 
-/// The moments of a linear measurement `z = H x`: `Pxz = P H^T` (n x k, column-major) and
-/// `Pzz = H P H^T` (k x k), for the rows `channels` of `H`, skipping the zeros of `H` (a
-/// measurement reads few states).
+/// The moments of a linear measurement `z = H x` (docs/model.md eqs. (21), (33)):
+/// `Pxz = P H^T` (n x k, column-major) and `Pzz = H P H^T` (k x k), for the rows `channels` of
+/// `H`, skipping the zeros of `H` (a measurement reads few states).
 fn linear_moments(p: ColMajor, h: RowMajor, channels: &[usize], pxz: &mut [f64], pzz: &mut [f64]) {
     let (n, k) = (p.rows(), channels.len());
     for (a, &ch) in channels.iter().enumerate() {

@@ -5,10 +5,10 @@
 //! ([`Study::bound_recursion`]: the EKF's covariance recursion with the truth model, its
 //! state reset to the true state before each step) along one simulated run of the study's
 //! test (run 0 of its seed). On this model the information hardly depends on the particular
-//! truth: the coefficients enter linearly (model.md eqs 4-8), and the rest of the Jacobian
-//! depends on the path, which every run shares. So one recursion predicts what the Monte
-//! Carlo RMS of the same study will be (README, "Plan a test", states the agreement for the
-//! paper study).
+//! truth: the coefficients enter linearly (docs/model.md eqs. (5), (6)), and the rest of the
+//! Jacobian depends on the path, which every run shares. So one recursion predicts what the
+//! Monte Carlo RMS of the same study will be (README, "Plan a test", states the agreement for
+//! the paper study).
 //!
 //! Per coefficient: the predicted final sigma and its ratio to the prior, when it first falls
 //! to half the prior (identified: below half at the end), and which coefficients it stays

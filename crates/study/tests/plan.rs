@@ -60,12 +60,12 @@ fn the_plan_agrees_with_a_200_run_monte_carlo() {
 #[test]
 fn at_rest_the_plan_is_the_closed_form_information() {
     // A constant input: a vehicle at rest whose true coefficients and tilt are zero stays at
-    // rest, so the model linearised along it is one constant matrix A (model.md eqs 6-12 at
-    // v = 0, f = [0, 0, g]). With no process noise the state at a measurement time t_k is
-    // exp(A t_k) x0, and the covariance after the measurements at t_1..t_N is the batch
-    // least-squares one: P0 - P0 G^T (G P0 G^T + R)^-1 G P0, with G the rows H exp(A t_k).
-    // At rest the drifts per unit fx, fy and the scale factors multiply a zero input: they
-    // must stay exactly at their prior.
+    // rest, so the model linearised along it is one constant matrix A
+    // (docs/model.md eqs. (8)-(10) at v = 0, f = [0, 0, g]). With no process noise the state
+    // at a measurement time t_k is exp(A t_k) x0, and the covariance after the measurements at
+    // t_1..t_N is the batch least-squares one: P0 - P0 G^T (G P0 G^T + R)^-1 G P0, with G the
+    // rows H exp(A t_k). At rest the drifts per unit fx, fy and the scale factors multiply a
+    // zero input: they must stay exactly at their prior.
     const N: usize = 240;
     let mut c = StudyConfig::parse(PAPER).unwrap();
     c.trajectory = toml::from_str(&format!(
@@ -96,7 +96,7 @@ fn at_rest_the_plan_is_the_closed_form_information() {
         "not a constant input"
     );
 
-    // A, from the spec's equations at rest (index: model.md's state table).
+    // A, from docs/model.md eqs. (5)-(10) at rest (index: docs/model.md, "The state").
     let mut a = DMatrix::<f64>::zeros(20, 20);
     let (ws, wc) = (WIE * s, WIE * co);
     a[(0, 1)] = ws;

@@ -1,5 +1,5 @@
 //! `accel-cross-axis`: accelerometer cross-axis sensitivity (input-axis misalignment),
-//! `nab_x += Ka12x fy`, `nab_y += Ka12y fx`.
+//! `nab_x += Ka12x fy`, `nab_y += Ka12y fx`: docs/model.md eq. (39).
 
 use crate::effect::{Effect, PhysicalBound, Terms};
 use crate::linear_rates::{Feature, LinearRate};

@@ -1,5 +1,5 @@
 //! `accel-quadratic`: accelerometer second-order scale error,
-//! `nab_x += Ka2x fx^2`, `nab_y += Ka2y fy^2`.
+//! `nab_x += Ka2x fx^2`, `nab_y += Ka2y fy^2`: docs/model.md eq. (38).
 
 use crate::effect::{Effect, PhysicalBound, Terms};
 use crate::linear_rates::{Feature, LinearRate};

@@ -1,5 +1,6 @@
 //! `gps-latency`: the GPS fix refers to `tau` seconds before its time stamp,
-//! measured `L - tau v_y / RM`, `lambda - tau v_x / (RN cosL)` (a non-linear measurement).
+//! measured `L - tau v_y / RM`, `lambda - tau v_x / (RN cosL)` (a non-linear measurement):
+//! docs/model.md eq. (42).
 
 use crate::effect::{Effect, MeasurementTerm, Partials, PhysicalBound, Terms};
 use crate::kinematics::Kinematics;

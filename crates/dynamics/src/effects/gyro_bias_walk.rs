@@ -1,5 +1,6 @@
 //! `gyro-bias-walk`: the constant drifts `Kg0x, Kg0y, Kg0z` wander as random walks of
-//! spectral density `q_b` (rad^2/s^3). No coefficients: it changes the noise model only.
+//! spectral density `q_b` (rad^2/s^3), docs/model.md eq. (43). No coefficients: it changes
+//! the noise model only.
 
 use crate::effect::{Effect, NoiseChannel, Terms};
 use crate::state::KG0X;

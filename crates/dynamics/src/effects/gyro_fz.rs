@@ -1,5 +1,6 @@
 //! `gyro-fz`: gyro drift proportional to the vertical specific force,
-//! `eps_i += Kg13i fz` for i = x, y, z (a g-sensitive drift along the spin-axis direction).
+//! `eps_i += Kg13i fz` for i = x, y, z (a g-sensitive drift along the spin-axis direction):
+//! docs/model.md eq. (37).
 //!
 //! On a level vehicle `fz` is nearly constant (gravity), so on a flat trajectory this term is
 //! almost indistinguishable from the constant drift `Kg0i`: the diagnosis reports that.

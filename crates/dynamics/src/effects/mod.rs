@@ -1,5 +1,5 @@
-//! The catalogue of effects the base model leaves out (model.md, last table), one file each,
-//! and the registry that builds them by name.
+//! The catalogue of effects the base model leaves out (docs/model.md, "Catalogue of effects";
+//! docs/model.md eqs. (37)-(43)), one file each, and the registry that builds them by name.
 //!
 //! Adding an effect to the catalogue is one new file here plus one line in
 //! [`Registry::catalogue`]; a user adds their own with [`Registry::register`]. The registry
@@ -27,7 +27,8 @@ use std::sync::Arc;
 
 type Factory = Arc<dyn Fn() -> Box<dyn DynEffect> + Send + Sync>;
 
-/// Effects by name. [`Registry::catalogue`] holds model.md's seven; users add theirs.
+/// Effects by name. [`Registry::catalogue`] holds the seven of `docs/model.md`; users add
+/// theirs.
 #[derive(Clone)]
 pub struct Registry {
     entries: Vec<(String, Factory)>,
@@ -48,7 +49,7 @@ impl Default for Registry {
 }
 
 impl Registry {
-    /// The catalogue of model.md.
+    /// The catalogue of `docs/model.md` (docs/model.md eqs. (37)-(43)).
     pub fn catalogue() -> Self {
         let mut r = Registry {
             entries: Vec::new(),

@@ -1,4 +1,5 @@
-//! `odometer-scale`: the odometer's scale error, measured `v = (1 + kod) v_true`.
+//! `odometer-scale`: the odometer's scale error, measured `v = (1 + kod) v_true`:
+//! docs/model.md eq. (41).
 //!
 //! The product `kod v` makes the measurement non-linear in the state, so the simplified UKF
 //! takes its sigma-point measurement path when this effect is on.

@@ -1,8 +1,10 @@
 //! `torquer-scale`: scale error of the platform's torquing commands,
-//! `phi' += diag(kt) w_cmd`, `w_cmd = [-v_y/RM, wie cosL + v_x/RN, wie sinL + v_x tanL/RN]`.
+//! `phi' += diag(kt) w_cmd`, `w_cmd = [-v_y/RM, wie cosL + v_x/RN, wie sinL + v_x tanL/RN]`:
+//! docs/model.md eq. (40), with `w_cmd` of docs/model.md eq. (7).
 //!
-//! This is where the navigation-frame rate terms of the printed eqs 6-8 come back (model.md):
-//! the platform follows the commanded rate only up to the torquer's scale factor.
+//! This is where the navigation-frame rate terms of the paper's printed attitude equations
+//! come back (docs/model.md, "Where the project departs from the paper", item 2): the
+//! platform follows the commanded rate only up to the torquer's scale factor.
 
 use crate::effect::{Effect, PhysicalBound, Terms};
 use crate::linear_rates::{Feature, LinearRate};

@@ -28,9 +28,9 @@ pub fn signed(rng: &mut ChaCha8Rng, scale: f64) -> f64 {
     }
 }
 
-/// Typical size of a base coefficient of a navigation-grade platform (model.md's table):
-/// gyro drifts 1e-7 rad/s, g-sensitive drifts 1e-8 rad/s per m/s^2, accelerometer bias
-/// 5e-4 m/s^2, accelerometer scale factor 5e-5.
+/// Typical size of a base coefficient of a navigation-grade platform
+/// (docs/model.md, "The state"): gyro drifts 1e-7 rad/s, g-sensitive drifts 1e-8 rad/s per
+/// m/s^2, accelerometer bias 5e-4 m/s^2, accelerometer scale factor 5e-5.
 pub fn base_coefficient_scale(i: usize) -> f64 {
     match i {
         KG0X | KG0Y | KG0Z => 1e-7,

@@ -199,7 +199,8 @@ pub const ACCEL_NONLINEARITY: PhysicalBound = PhysicalBound {
     reason: "2 % of the reading at 1 g, twice the worst MEMS non-linearity (1 % of full scale)",
 };
 
-/// The bound of base coefficient `index` (model.md's 13), `None` for a navigation state.
+/// The bound of base coefficient `index` (the 13 constants of docs/model.md eq. (11)), `None`
+/// for a navigation state.
 pub fn base_coefficient_bound(index: usize) -> Option<PhysicalBound> {
     match index {
         KG0X | KG0Y | KG0Z => Some(GYRO_DRIFT),

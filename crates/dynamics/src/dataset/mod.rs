@@ -73,7 +73,7 @@ impl Measurement {
 /// `truth.csv`: the true state at some times (only a simulation knows it).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Truth {
-    /// State names, the columns after `t` (model.md's names, then effect coefficients).
+    /// State names, the columns after `t` (docs/model.md's names, then effect coefficients).
     pub names: Vec<String>,
     /// Times, s.
     pub t: Vec<f64>,

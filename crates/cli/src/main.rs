@@ -5,7 +5,8 @@
 //! - `study`: run a Monte Carlo study, or a shard of one;
 //! - `diagnose`: compare a model with a dataset and find the missing effect;
 //! - `plan`: predict which coefficients a study's test identifies, without Monte Carlo;
-//! - `merge`: combine shards.
+//! - `merge`: combine shards;
+//! - `effects`: list the catalogued effects and the base coefficients.
 
 use clap::{Parser, Subcommand};
 use std::io::Write as _;
@@ -21,6 +22,7 @@ macro_rules! say {
 }
 
 mod diagnose;
+mod effects;
 mod plan;
 mod simulate;
 mod study;
@@ -48,6 +50,8 @@ enum Command {
     Plan(plan::Args),
     /// Combine the shard files of `study --shard` into the study's results.
     Merge(study::MergeArgs),
+    /// List the base coefficients and every catalogued effect: coefficients, units, sizes.
+    Effects(effects::Args),
     /// Validate a dataset folder and print a summary of it.
     Inspect {
         /// The dataset folder (inputs.csv, measurements.csv, optional dataset.toml, truth.csv).
@@ -158,6 +162,7 @@ fn main() -> ExitCode {
         Command::Diagnose(args) => diagnose::run(args),
         Command::Merge(args) => study::merge(args),
         Command::Plan(args) => plan::run(args),
+        Command::Effects(args) => effects::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

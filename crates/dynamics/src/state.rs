@@ -74,6 +74,32 @@ pub const BASE_UNITS: [&str; BASE_DIM] = [
     "1",
 ];
 
+/// One line of meaning of each base state, for `navkf effects` and reports (the error model of
+/// docs/model.md eqs. (5), (6): `eps_i = Kg0i + Kg11i fx + Kg12i fy`,
+/// `nab_x = Ka0x + Ka1x fx`, `nab_y = Ka0y + Ka1y fy`).
+pub const BASE_MEANINGS: [&str; BASE_DIM] = [
+    "platform error angle about East",
+    "platform error angle about North",
+    "platform error angle about Up (heading error)",
+    "East velocity",
+    "North velocity",
+    "latitude",
+    "longitude",
+    "x (East) gyro: constant drift",
+    "x gyro: drift per unit fx",
+    "x gyro: drift per unit fy",
+    "y (North) gyro: constant drift",
+    "y gyro: drift per unit fx",
+    "y gyro: drift per unit fy",
+    "z (Up) gyro: constant drift",
+    "z gyro: drift per unit fx",
+    "z gyro: drift per unit fy",
+    "x accelerometer: bias",
+    "x accelerometer: scale factor on fx",
+    "y accelerometer: bias",
+    "y accelerometer: scale factor on fy",
+];
+
 /// Measurement channels, in the order of `Z = [v_x, v_y, L, lambda]` (docs/model.md eq. (13)).
 pub const MEASUREMENT_NAMES: [&str; 4] = ["v_x", "v_y", "L", "lambda"];
 /// Size of the full measurement vector.

@@ -1,4 +1,4 @@
-//! Datasets: the folder layout of `shared/spec/data-format.md` (inputs.csv, measurements.csv,
+//! Datasets: the folder layout of `docs/data-format.md` (inputs.csv, measurements.csv,
 //! optional dataset.toml with its `[noise]`, `[prior]` and `[simulation]` tables, and
 //! truth.csv), read with validation and written atomically.
 //!

@@ -3,7 +3,7 @@
 //! The files come from users (recorded or simulated elsewhere), so a mistake in them must be
 //! fixable without guessing: every error names the file, the 1-based line (the header is
 //! line 1), the column and what was expected. Nothing here panics on user input. The checks
-//! are the ones of `shared/spec/data-format.md`: exact headers, one cell per column, finite
+//! are the ones of `docs/data-format.md`: exact headers, one cell per column, finite
 //! numbers, strictly increasing times, measurements inside the inputs' span, plausible
 //! latitude/longitude in degrees, sensor pairs either complete or empty.
 
@@ -26,7 +26,7 @@ use std::io::ErrorKind;
 use std::path::{Path, PathBuf};
 
 impl Dataset {
-    /// Reads and validates the dataset folder `dir` (data-format.md): `inputs.csv` and
+    /// Reads and validates the dataset folder `dir` (`docs/data-format.md`): `inputs.csv` and
     /// `measurements.csv` (required), `dataset.toml` and `truth.csv` (optional). The name is
     /// the folder's final path component. Coefficient names in `[prior.coefficients]` must be
     /// base coefficients or coefficients of the catalogue's effects.

@@ -1,0 +1,92 @@
+//! `navkf effects`: what a model can carry, from the code itself. The 13 base coefficients
+//! (names, units and typical sizes of `navkf_dynamics::state` and
+//! `navkf_dynamics::simulate::base_coefficient_sigma`), then every catalogued effect with its
+//! one line of meaning and its coefficients, each read from the effect's own methods
+//! (`description`, `coefficient_names`, `coefficient_units`, `coefficient_sigma`,
+//! `process_noise`): a new effect is listed the moment it is in `Registry::catalogue`, and no
+//! second table can go stale. `docs/glossary.md` says the same in prose.
+
+use navkf_dynamics::simulate::base_coefficient_sigma;
+use navkf_dynamics::state::{BASE_DIM, BASE_MEANINGS, BASE_NAMES, BASE_UNITS, NAV_DIM};
+use navkf_dynamics::Registry;
+use std::fmt::Write as _;
+
+#[derive(clap::Args)]
+pub struct Args {}
+
+pub fn run(_: Args) -> Result<(), Box<dyn std::error::Error>> {
+    say!("{}", listing(&Registry::catalogue())?.trim_end());
+    Ok(())
+}
+
+/// One coefficient's row: name, unit, typical one-sigma, meaning.
+fn row(out: &mut String, name: &str, unit: &str, sigma: f64, meaning: &str) {
+    let _ = writeln!(out, "  {name:<7} {unit:<15} {sigma:<10.3e} {meaning}");
+}
+
+/// The listing of `registry`'s effects, after the base coefficients.
+pub fn listing(registry: &Registry) -> Result<String, Box<dyn std::error::Error>> {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "Base coefficients ({}, always in the model; typical one-sigma of a navigation-grade \
+         platform):",
+        BASE_DIM - NAV_DIM
+    );
+    let _ = writeln!(
+        out,
+        "  {:<7} {:<15} {:<10} meaning",
+        "name", "unit", "typical"
+    );
+    for i in NAV_DIM..BASE_DIM {
+        row(
+            &mut out,
+            BASE_NAMES[i],
+            BASE_UNITS[i],
+            base_coefficient_sigma(i),
+            BASE_MEANINGS[i],
+        );
+    }
+    let names = registry.names();
+    let _ = writeln!(
+        out,
+        "\nEffects ({}; switch on with `--effects NAME` or a study file's `effects = \
+         [\"NAME\"]`; `NAME=VALUE` fixes every coefficient, `COEFFICIENT=VALUE` one):",
+        names.len()
+    );
+    for name in &names {
+        let effect = registry.build(name)?;
+        let _ = writeln!(out, "\n{name}: {}", effect.description());
+        let (coefficients, units, sigmas) = (
+            effect.coefficient_names(),
+            effect.coefficient_units(),
+            effect.coefficient_sigma(),
+        );
+        for (k, c) in coefficients.iter().enumerate() {
+            let unit = units.get(k).copied().unwrap_or("?");
+            let sigma = sigmas.get(k).copied().unwrap_or(f64::NAN);
+            row(&mut out, c, unit, sigma, "");
+        }
+        if coefficients.is_empty() {
+            let channels = effect.process_noise();
+            if channels.is_empty() {
+                let _ = writeln!(out, "  no coefficients");
+            } else {
+                let list: Vec<&str> = channels.iter().map(|c| c.name.as_str()).collect();
+                let _ = writeln!(
+                    out,
+                    "  no coefficients: white noise {} of density {:.3e} by default \
+                     (`{name}=VALUE` sets it)",
+                    list.join(", "),
+                    channels[0].psd
+                );
+            }
+        }
+    }
+    // Rows of effects' coefficients have no meaning column: trim the padding it leaves.
+    Ok(out
+        .lines()
+        .map(str::trim_end)
+        .collect::<Vec<_>>()
+        .join("\n"))
+}

@@ -1,0 +1,64 @@
+//! `navkf effects`: exits 0 and lists every catalogued effect with each of its coefficients
+//! (unit and typical size on the coefficient's line), and the 13 base coefficients.
+
+mod common;
+
+use common::{navkf, text};
+use navkf_dynamics::simulate::base_coefficient_sigma;
+use navkf_dynamics::state::{BASE_DIM, BASE_NAMES, BASE_UNITS, NAV_DIM};
+use navkf_dynamics::Registry;
+
+/// The line of `out` listing coefficient `name` (first word), with its other words.
+fn coefficient_line<'a>(out: &'a str, name: &str) -> Vec<&'a str> {
+    out.lines()
+        .map(|l| l.split_whitespace().collect::<Vec<_>>())
+        .find(|w| w.first() == Some(&name))
+        .unwrap_or_else(|| panic!("no line for `{name}` in:\n{out}"))
+}
+
+/// `words` hold `unit`, then a number within 0.1 % of `sigma`.
+fn check(words: &[&str], name: &str, unit: &str, sigma: f64) {
+    assert_eq!(words.get(1), Some(&unit), "{name}: {words:?}");
+    let shown: f64 = words
+        .get(2)
+        .and_then(|w| w.parse().ok())
+        .unwrap_or_else(|| panic!("{name}: no typical size in {words:?}"));
+    assert!(
+        ((shown - sigma) / sigma).abs() < 1e-3,
+        "{name}: shows {shown}, the code's typical sigma is {sigma}"
+    );
+}
+
+#[test]
+fn effects_lists_the_catalogue_and_the_base_coefficients() {
+    let o = navkf(["effects"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    for i in NAV_DIM..BASE_DIM {
+        let words = coefficient_line(&out, BASE_NAMES[i]);
+        check(
+            &words,
+            BASE_NAMES[i],
+            BASE_UNITS[i],
+            base_coefficient_sigma(i),
+        );
+    }
+    let registry = Registry::catalogue();
+    for name in registry.names() {
+        let effect = registry.build(&name).unwrap();
+        let header = format!("{name}: {}", effect.description());
+        assert!(
+            out.lines().any(|l| l == header),
+            "no line `{header}` in:\n{out}"
+        );
+        for (k, c) in effect.coefficient_names().iter().enumerate() {
+            let words = coefficient_line(&out, c);
+            check(
+                &words,
+                c,
+                effect.coefficient_units()[k],
+                effect.coefficient_sigma()[k],
+            );
+        }
+    }
+}

@@ -14,34 +14,11 @@ use navkf_dynamics::dataset::{
 use navkf_dynamics::simulate::base_coefficient_sigma;
 use navkf_dynamics::state::{BASE_DIM, BASE_NAMES, BASE_UNITS, NAV_DIM};
 use navkf_dynamics::{NoiseConfig, PlatformPrior, Registry};
-use std::path::PathBuf;
 
-fn doc(name: &str) -> String {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../docs")
-        .join(name);
-    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
+#[path = "common/markdown.rs"]
+mod markdown;
 
-/// The bodies of the fenced blocks of `md` opened by exactly ```` ```{info} ````.
-fn fenced(md: &str, info: &str) -> Vec<String> {
-    let open = format!("```{info}");
-    let mut blocks = Vec::new();
-    let mut current: Option<String> = None;
-    for line in md.lines() {
-        match current.as_mut() {
-            None if line.trim_end() == open => current = Some(String::new()),
-            None => {}
-            Some(_) if line.trim_end() == "```" => blocks.extend(current.take()),
-            Some(body) => {
-                body.push_str(line);
-                body.push('\n');
-            }
-        }
-    }
-    assert!(current.is_none(), "unclosed ```{info} block");
-    blocks
-}
+use markdown::{doc, fenced};
 
 /// The one block of `md` marked `info`.
 fn one_block(md: &str, info: &str) -> String {

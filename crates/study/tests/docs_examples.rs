@@ -15,29 +15,13 @@ use navkf_study::{sweep, Study, StudyConfig};
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
 
-fn page() -> String {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/study-files.md");
-    std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"))
-}
+#[path = "../../dynamics/tests/common/markdown.rs"]
+mod markdown;
 
-/// The bodies of the fenced blocks of `md` opened by exactly ```` ```{info} ````.
-fn fenced(md: &str, info: &str) -> Vec<String> {
-    let open = format!("```{info}");
-    let mut blocks = Vec::new();
-    let mut current: Option<String> = None;
-    for line in md.lines() {
-        match current.as_mut() {
-            None if line.trim_end() == open => current = Some(String::new()),
-            None => {}
-            Some(_) if line.trim_end() == "```" => blocks.extend(current.take()),
-            Some(body) => {
-                body.push_str(line);
-                body.push('\n');
-            }
-        }
-    }
-    assert!(current.is_none(), "unclosed ```{info} block");
-    blocks
+use markdown::fenced;
+
+fn page() -> String {
+    markdown::doc("study-files.md")
 }
 
 fn studies(md: &str) -> Vec<StudyConfig> {

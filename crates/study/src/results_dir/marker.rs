@@ -111,8 +111,12 @@ impl Marker {
     }
 }
 
+/// The name of the files navkf creates and removes at once to test that it can write in a
+/// folder.
+pub const PROBE_PREFIX: &str = ".navkf-probe-";
+
 /// Every entry below `dir` (files, links, other non-folders, and empty folders), as sorted
-/// `/`-separated relative paths, not following links; the markers themselves left out.
+/// `/`-separated relative paths, not following links; the markers and write probes left out.
 pub fn entries_below(dir: &Path) -> std::io::Result<Vec<String>> {
     let mut out = Vec::new();
     walk(dir, "", &mut out)?;
@@ -127,6 +131,11 @@ fn walk(dir: &Path, prefix: &str, out: &mut Vec<String>) -> std::io::Result<()> 
         any = true;
         let name = e.file_name().to_string_lossy().into_owned();
         if prefix.is_empty() && FolderKind::ALL.iter().any(|k| k.marker_name() == name) {
+            continue;
+        }
+        // A write probe (`super::probe_deletable`) that a killed process left is navkf's own,
+        // and must not make its folder look like the user's.
+        if name.starts_with(PROBE_PREFIX) {
             continue;
         }
         let rel = format!("{prefix}{name}");

@@ -243,7 +243,7 @@ pub fn check_replaceable(dir: &Path, kind: FolderKind, also: &[FolderKind]) -> R
 /// entries, by creating and removing a file in each: the permission bits alone do not say
 /// (root ignores them; ACLs and read-only mounts add to them).
 fn probe_deletable(dir: &Path) -> Result<(), String> {
-    let probe = dir.join(format!(".navkf-probe-{}", std::process::id()));
+    let probe = dir.join(format!("{}{}", marker::PROBE_PREFIX, std::process::id()));
     if let Err(e) = std::fs::write(&probe, b"") {
         return Err(format!(
             "{}: navkf made this folder, but cannot replace it ({e}); the new results could \
@@ -286,7 +286,7 @@ pub fn check_creatable(dir: &Path) -> Result<(), String> {
             },
         }
     }
-    let probe = at.join(format!(".navkf-probe-{}", std::process::id()));
+    let probe = at.join(format!("{}{}", marker::PROBE_PREFIX, std::process::id()));
     std::fs::write(&probe, b"").map_err(|e| {
         format!(
             "{}: cannot write in {} ({e}); expected a place where a folder can be made",

@@ -551,6 +551,7 @@ impl Simulator {
             inputs: self.inputs.to_vec(),
             measurements: run.measurements.clone(),
             noise: self.noise,
+            noise_stated: true,
             prior: Default::default(),
             provenance: Some(Provenance {
                 seed: Some(seed),

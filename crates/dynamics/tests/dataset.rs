@@ -145,6 +145,7 @@ fn sample(name: &str) -> Dataset {
             odometer_floor: 0.01,
             gps_m: 2.0,
         },
+        noise_stated: true,
         prior: PlatformPrior {
             level_rad: Some(1.0 / 3.0 * 1e-4),
             azimuth_rad: None,
@@ -1151,6 +1152,7 @@ fn drive() -> Dataset {
         inputs,
         measurements,
         noise: NoiseConfig::default(),
+        noise_stated: true,
         prior: PlatformPrior::default(),
         provenance: None,
         truth: None,
@@ -1243,6 +1245,7 @@ fn summary_names_truth_columns_and_survives_an_empty_dataset() {
         inputs: vec![],
         measurements: vec![],
         noise: NoiseConfig::default(),
+        noise_stated: true,
         prior: PlatformPrior::default(),
         provenance: None,
         truth: None,

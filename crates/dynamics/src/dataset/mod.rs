@@ -110,6 +110,9 @@ pub struct Dataset {
     pub measurements: Vec<Measurement>,
     /// Noise (defaults where `dataset.toml` is absent or silent).
     pub noise: NoiseConfig,
+    /// Whether `dataset.toml` has a `[noise]` table: without one, `noise` is navkf's default
+    /// (navigation grade), which reports must not call the user's statement.
+    pub noise_stated: bool,
     /// `[prior]` table of dataset.toml: what the user states of the platform before the
     /// record (empty when absent; [`crate::prior`] gives the defaults).
     pub prior: PlatformPrior,

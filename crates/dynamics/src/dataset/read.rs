@@ -66,7 +66,8 @@ impl Dataset {
             name: folder_name(dir),
             inputs,
             measurements,
-            noise: config.noise,
+            noise: config.noise.unwrap_or_default(),
+            noise_stated: config.noise.is_some(),
             prior: config.prior,
             provenance: config.simulation,
             truth,
@@ -757,7 +758,7 @@ pub(super) fn chord_m(a: [f64; 2], b: [f64; 2]) -> f64 {
 #[serde(deny_unknown_fields)]
 struct ConfigFile {
     #[serde(default)]
-    noise: NoiseConfig,
+    noise: Option<NoiseConfig>,
     #[serde(default)]
     prior: PlatformPrior,
     #[serde(default)]
@@ -782,7 +783,7 @@ fn known_coefficients(registry: &Registry) -> Vec<String> {
 fn read_config(path: &Path, known: &[String]) -> Result<ConfigFile, DynamicsError> {
     let text = read_text(path, &TextFile::DATASET_CONFIG)?;
     let config: ConfigFile = toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))?;
-    if let Err(message) = config.noise.validate() {
+    if let Err(message) = config.noise.unwrap_or_default().validate() {
         // validate() names the key as `noise.<key>`; point at its line when we can find it.
         let key = message
             .strip_prefix("noise.")

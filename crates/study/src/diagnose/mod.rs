@@ -376,6 +376,15 @@ pub struct Diagnosis {
     /// ([`plausible`]).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub implausible: Vec<navkf_dynamics::dataset::Implausibility>,
+    /// Whether the dataset states its noise (a `[noise]` table in dataset.toml); without it
+    /// the "stated" noise is navkf's default, and the findings say so first.
+    #[serde(default = "stated_by_default")]
+    pub noise_stated: bool,
+}
+
+/// Diagnoses written before `noise_stated` existed read datasets that stated their noise.
+fn stated_by_default() -> bool {
+    true
 }
 
 /// The filter passes behind a diagnosis, kept for its figures.
@@ -555,6 +564,7 @@ pub fn diagnose(
         findings: Vec::new(),
         data_warnings: ds.warnings(),
         implausible: Vec::new(),
+        noise_stated: ds.noise_stated,
     };
     d.findings = report::findings(&d);
     Ok((

@@ -145,6 +145,7 @@ pub fn implausible_diagnosis(
         findings: Vec::new(),
         data_warnings: ds.warnings(),
         implausible: found,
+        noise_stated: ds.noise_stated,
     };
     d.findings = super::report::findings(&d);
     Ok((

@@ -159,6 +159,15 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
         return super::plausible::implausible_findings(d);
     }
     let mut out = Vec::new();
+    if !d.noise_stated {
+        out.push(
+            "dataset.toml states no noise (it is absent, or has no [noise] table): the noise \
+             called \"stated\" below is navkf's default for a navigation-grade platform \
+             (docs/data-format.md), not a statement of yours. Give your sensors' levels in a \
+             [noise] table, or read the noise check as a fit of the levels from the data."
+                .to_string(),
+        );
+    }
     // A misalignment of degrees breaks the small-angle model before anything else: first.
     if d.attitude == navkf_dynamics::Attitude::SmallAngle {
         let large: Vec<String> = d

@@ -164,7 +164,7 @@ pub enum Ownership {
 /// folder of `kind`; the refusal says why and names what is not navkf's. `also` lists other
 /// kinds that may be replaced too (`merge` replaces its shard folder).
 pub fn ownership(dir: &Path, kind: FolderKind, also: &[FolderKind]) -> Result<Ownership, String> {
-    let entries = entries_below(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let failed = |e: std::io::Error| format!("{}: {e}", dir.display());
     let mut found = None;
     for k in std::iter::once(kind).chain(also.iter().copied()) {
         if let Some(m) = Marker::read(dir, k)? {
@@ -173,12 +173,14 @@ pub fn ownership(dir: &Path, kind: FolderKind, also: &[FolderKind]) -> Result<Ow
         }
     }
     let Some(marker) = found else {
-        if entries.is_empty() && !has_any_marker(dir) {
-            return Ok(Ownership::Free);
-        }
+        // Not navkf's: its top level is enough to refuse it (a `--out ~` is not walked).
+        let entries = top_level(dir).map_err(failed)?;
         let other = FolderKind::ALL
             .into_iter()
-            .find(|k| dir.join(k.marker_name()).exists());
+            .find(|k| std::fs::symlink_metadata(dir.join(k.marker_name())).is_ok());
+        if entries.is_empty() && other.is_none() {
+            return Ok(Ownership::Free);
+        }
         return Err(match other {
             Some(k) => format!(
                 "{}: {}, not {}; expected a new folder or {}",
@@ -205,7 +207,11 @@ pub fn ownership(dir: &Path, kind: FolderKind, also: &[FolderKind]) -> Result<Ow
             ),
         });
     };
-    let foreign: Vec<String> = entries.into_iter().filter(|e| !owned(&marker, e)).collect();
+    let foreign: Vec<String> = entries_below(dir)
+        .map_err(failed)?
+        .into_iter()
+        .filter(|e| !owned(&marker, e))
+        .collect();
     if !foreign.is_empty() {
         return Err(format!(
             "{}: navkf made this folder ({}), but it also holds {}, which navkf did not \
@@ -245,10 +251,22 @@ pub fn is_shard_file(name: &str) -> bool {
         })
 }
 
-fn has_any_marker(dir: &Path) -> bool {
-    FolderKind::ALL
-        .iter()
-        .any(|k| std::fs::symlink_metadata(dir.join(k.marker_name())).is_ok())
+/// The entries directly in `dir` (folders with a trailing `/`), sorted, markers and write
+/// probes left out.
+fn top_level(dir: &Path) -> std::io::Result<Vec<String>> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir)? {
+        let e = e?;
+        let name = e.file_name().to_string_lossy().into_owned();
+        let ours = FolderKind::ALL.iter().any(|k| k.marker_name() == name)
+            || name.starts_with(PROBE_PREFIX);
+        if !ours {
+            let folder = e.file_type().is_ok_and(|t| t.is_dir());
+            out.push(if folder { format!("{name}/") } else { name });
+        }
+    }
+    out.sort();
+    Ok(out)
 }
 
 /// Up to three names, quoted, and how many more.

@@ -364,9 +364,10 @@ fn locate(text: &str, span: std::ops::Range<usize>) -> (usize, usize, String) {
     let column = 1 + text[start..at].chars().count();
     let length = line_text.chars().count();
     // Where the carets end (0-based character index, exclusive): the span's part of this
-    // line, at least one character.
+    // line, at least one character. A span starting in the line's trailing `\r`s lies past
+    // the trimmed line, so the upper bound is kept at or above `at`.
     let marked_end = text
-        .get(at..span.end.clamp(at, start + line_text.len()))
+        .get(at..span.end.clamp(at, (start + line_text.len()).max(at)))
         .map_or(0, |s| s.chars().count())
         .max(1)
         + column
@@ -506,6 +507,16 @@ mod tests {
             shown.contains("...a") && shown.ends_with("b..."),
             "{excerpt}"
         );
+    }
+
+    #[test]
+    fn a_span_in_a_lines_trailing_carriage_returns_is_located() {
+        // The line trims to `a = 1`; a span starting on its second `\r` lies past that.
+        let text = "a = 1\r\r\nb = 2\n";
+        for start in 5..=7 {
+            let (l, c, _) = locate(text, start..start + 1);
+            assert_eq!((l, c), (1, start + 1), "span at {start}");
+        }
     }
 
     #[test]

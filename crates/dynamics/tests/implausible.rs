@@ -293,6 +293,34 @@ fn an_odometer_stuck_beyond_any_road_vehicle_is_named_as_the_odometer() {
 }
 
 #[test]
+fn an_odometer_beyond_road_speed_with_one_gps_fix_or_none_is_named_without_a_panic() {
+    // The GPS cannot confirm the speed with fewer than two fixes (with one, the check
+    // panicked on `clamp(1, 0)`).
+    for fixes_kept in [1, 0] {
+        let mut ds = clean();
+        let mut kept = 0;
+        for m in &mut ds.measurements {
+            m.velocity = m.velocity.map(|_| [300.0, 0.0]);
+            if m.position_deg.is_some() {
+                if kept < fixes_kept {
+                    kept += 1;
+                } else {
+                    m.position_deg = None;
+                }
+            }
+        }
+        let _ = ds.warnings();
+        assert!(
+            ds.implausibilities()
+                .iter()
+                .any(|i| matches!(i, Implausibility::OdometerTooFast { .. })),
+            "{fixes_kept} fixes: {:?}",
+            ds.implausibilities()
+        );
+    }
+}
+
+#[test]
 fn stated_noise_beyond_any_real_sensor_is_named_with_its_key() {
     for (noise, key) in [
         (

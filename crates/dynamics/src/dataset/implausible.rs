@@ -231,9 +231,13 @@ impl Dataset {
     pub(super) fn odometer_beyond_road(&self) -> Vec<(f64, f64)> {
         let fixes = self.fixes();
         let gps_speed = |t: f64| -> Option<f64> {
+            // Two fixes or more (with one, `clamp(1, 0)` would panic).
+            if fixes.len() < 2 {
+                return None;
+            }
             let i = fixes
                 .partition_point(|(tf, _)| *tf < t)
-                .clamp(1, fixes.len().checked_sub(1)?);
+                .clamp(1, fixes.len() - 1);
             let ((ta, a), (tb, b)) = (fixes[i - 1], fixes[i]);
             Some(distance_m(a, b) / (tb - ta))
         };

@@ -104,19 +104,19 @@ pub enum Outcome {
 }
 
 impl std::fmt::Display for Outcome {
-    /// The outcome in words, for the terminal's tables.
+    /// The outcome in words, for the report and the terminal's tables.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
             Outcome::Named => "named",
             Outcome::Manual => "added (--with)",
             Outcome::Outranked => "decisive, outranked",
             Outcome::NotDecisive => "not decisive",
-            Outcome::Confounded => "confounded",
-            Outcome::NoiseLeavesMisfit => "noise only, misfit remains",
-            Outcome::NoiseAsGoodAsStructure => "noise only, an effect fits as well",
-            Outcome::NoiseNotSpecific => "noise only, not specific",
+            Outcome::Confounded => "cannot be told apart",
+            Outcome::NoiseLeavesMisfit => "noise term, leaves misfit",
+            Outcome::NoiseAsGoodAsStructure => "noise term, no better than structure",
+            Outcome::NoiseNotSpecific => "noise term, no better than another sensor's walk",
             Outcome::Failed => "filter failed",
-            Outcome::Unphysical => "unphysical size",
+            Outcome::Unphysical => "decisive, but no real sensor's: not named",
         })
     }
 }

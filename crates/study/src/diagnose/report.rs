@@ -664,18 +664,11 @@ fn noise_table(out: &mut String, check: &NoiseFit, title: &str) {
     let _ = writeln!(out);
 }
 
-fn outcome_words(o: Outcome) -> &'static str {
+/// The outcome as the report's table shows it: in words, a named candidate in bold.
+fn outcome_words(o: Outcome) -> String {
     match o {
-        Outcome::Named => "**named**",
-        Outcome::Manual => "added (--with)",
-        Outcome::Outranked => "decisive, outranked",
-        Outcome::NotDecisive => "not decisive",
-        Outcome::Confounded => "cannot be told apart",
-        Outcome::NoiseLeavesMisfit => "noise term, leaves misfit",
-        Outcome::NoiseAsGoodAsStructure => "noise term, no better than structure",
-        Outcome::NoiseNotSpecific => "noise term, no better than another sensor's walk",
-        Outcome::Failed => "filter failed",
-        Outcome::Unphysical => "decisive, but no real sensor's: not named",
+        Outcome::Named => format!("**{o}**"),
+        _ => o.to_string(),
     }
 }
 

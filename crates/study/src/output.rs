@@ -213,7 +213,8 @@ pub fn read_partials(paths: &[PathBuf]) -> Result<Vec<Partial>, StudyError> {
             navkf_dynamics::input_file::read_text(p, &navkf_dynamics::input_file::TextFile::SHARD)?;
         let part: Partial = serde_json::from_str(&text).map_err(|e| StudyError::Config {
             path: p.clone(),
-            message: format!("not a shard file: {e}"),
+            // serde_json quotes a bad string whole: cut it.
+            message: navkf_dynamics::input_file::printable(&format!("not a shard file: {e}")),
         })?;
         // A shard file is data: its settings are checked as a study file's are (an edited
         // `name` must not send the results outside results/).

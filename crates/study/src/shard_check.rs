@@ -102,6 +102,14 @@ enum Sum {
 }
 
 impl Sum {
+    /// Whether `v` is a valid sum of this kind.
+    fn accepts(self, v: f64) -> bool {
+        match self {
+            Sum::Finite => v.is_finite(),
+            Sum::NonNegative(_) => v.is_finite() && v >= 0.0,
+        }
+    }
+
     fn check(self, field: &str, v: f64) -> Result<(), String> {
         match self {
             Sum::Finite if v.is_finite() => Ok(()),
@@ -117,7 +125,8 @@ impl Sum {
 /// `values` (the array `field`) has `len` values, each a valid `sum`.
 fn row(field: &str, values: &[f64], len: Len, sum: Sum) -> Result<(), String> {
     len.check(field, values.len(), "values")?;
-    for (k, &v) in values.iter().enumerate() {
+    // The field's name is formatted only for the value that fails (a shard holds millions).
+    if let Some((k, &v)) = values.iter().enumerate().find(|(_, &v)| !sum.accepts(v)) {
         sum.check(&format!("{field}[{k}]"), v)?;
     }
     Ok(())

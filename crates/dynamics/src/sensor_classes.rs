@@ -142,6 +142,16 @@ pub fn noise_value(noise: &crate::NoiseConfig, key: &str) -> Option<f64> {
     })
 }
 
+/// The levels of `noise` that no real sensor has: each bound it leaves, with its value.
+pub fn noise_out_of_bounds(
+    noise: &crate::NoiseConfig,
+) -> impl Iterator<Item = (&'static NoiseBound, f64)> + '_ {
+    NOISE_BOUNDS.iter().filter_map(|b| {
+        let value = noise_value(noise, b.key)?;
+        (!(b.min()..=b.max()).contains(&value)).then_some((b, value))
+    })
+}
+
 /// Fastest speed (m/s) an odometer of a road vehicle reads: the fastest production road car
 /// measured 136 m/s (490 km/h); a wheel turning faster belongs to no road vehicle (and a speed
 /// in mm/s or a stuck counter shows as one).

@@ -46,12 +46,12 @@
 //!   89.87 deg; of road vehicles only the South Pole Traverse's tractors drive nearer).
 
 use super::implausibility::{Implausibility, JumpShape};
-use super::plausibility::median_interval;
+use super::plausibility::{median, median_interval};
 use super::read::odometer_east_north;
 use super::Dataset;
 use crate::earth::{meridian_radius, normal_gravity, prime_vertical_radius};
 use crate::noise::NoiseConfig;
-use crate::sensor_classes::{noise_value, NOISE_BOUNDS, ROAD_SPEED_MAX};
+use crate::sensor_classes::{noise_out_of_bounds, ROAD_SPEED_MAX};
 
 /// The odometer's speed is multiplied by this before it bounds a GPS jump.
 pub const SPEED_MARGIN: f64 = 2.0;
@@ -72,18 +72,14 @@ const RAYLEIGH_MEDIAN: f64 = 1.177_410_022_515_474_7;
 
 /// The stated levels of `noise` that no real sensor has ([`NOISE_BOUNDS`]).
 pub fn noise_beyond_sensors(noise: &NoiseConfig) -> Vec<Implausibility> {
-    NOISE_BOUNDS
-        .iter()
-        .filter_map(|b| {
-            let value = noise_value(noise, b.key)?;
-            (!(b.min()..=b.max()).contains(&value)).then(|| Implausibility::NoiseBeyondSensors {
-                key: b.key.to_owned(),
-                value,
-                min: b.min(),
-                max: b.max(),
-                unit: b.unit.to_owned(),
-                classes: b.classes.to_owned(),
-            })
+    noise_out_of_bounds(noise)
+        .map(|(b, value)| Implausibility::NoiseBeyondSensors {
+            key: b.key.to_owned(),
+            value,
+            min: b.min(),
+            max: b.max(),
+            unit: b.unit.to_owned(),
+            classes: b.classes.to_owned(),
         })
         .collect()
 }
@@ -196,7 +192,11 @@ impl Dataset {
             if s != 0 && b - a >= SUSTAINED_S {
                 count += 1;
                 if longest.is_none_or(|(x, y, _)| b - a > y - x) {
-                    longest = Some((a, b, median(&mut magnitude[i..=j].to_vec())));
+                    longest = Some((
+                        a,
+                        b,
+                        median(magnitude[i..=j].iter().copied()).unwrap_or(f64::NAN),
+                    ));
                 }
             }
             i = j + 1;
@@ -257,7 +257,7 @@ impl Dataset {
         // The GPS's own fix-to-fix scatter, per axis: the median distance between its
         // displacement and the odometer's over the same interval (a Rayleigh median), or the
         // stated sigma when no interval has both.
-        let mut residuals: Vec<f64> = fixes
+        let residuals: Vec<f64> = fixes
             .windows(2)
             .filter_map(|w| {
                 let d = odometer_east_north(&odometer, w[0].0, w[1].0)?;
@@ -268,7 +268,7 @@ impl Dataset {
         let scatter = if residuals.is_empty() {
             std::f64::consts::SQRT_2 * self.noise.gps_m
         } else {
-            median(&mut residuals) / RAYLEIGH_MEDIAN
+            median(residuals.into_iter()).unwrap_or(f64::NAN) / RAYLEIGH_MEDIAN
         };
         let noise_allowance = (SCATTER_SIGMAS * scatter).max(GNSS_FLOOR_M);
         let mut first = None;
@@ -318,12 +318,6 @@ impl Dataset {
         }
         Some(jump)
     }
-}
-
-/// Median of finite values (sorts them); NaN when there are none.
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
 }
 
 /// East and North displacement (m) from `a` to `b` (degrees) on the local tangent plane, the

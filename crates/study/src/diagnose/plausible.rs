@@ -25,7 +25,7 @@ use super::candidates::{Candidate, Outcome};
 use super::fit::{self, FitSetup};
 use super::{priors, summarize_fit, Coefficient, DiagnoseError, Diagnosis, Fits, Options, Verdict};
 use navkf_dynamics::dataset::{Dataset, Implausibility};
-use navkf_dynamics::sensor_classes::{noise_value, NOISE_BOUNDS};
+use navkf_dynamics::sensor_classes::noise_out_of_bounds;
 use navkf_dynamics::{DynEffect, NoiseConfig, Registry};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -87,17 +87,13 @@ pub fn coefficients_beyond(
 
 /// The levels of a refitted `noise` that no real sensor has.
 pub fn noise_beyond(noise: &NoiseConfig) -> Vec<BeyondBound> {
-    NOISE_BOUNDS
-        .iter()
-        .filter_map(|b| {
-            let value = noise_value(noise, b.key)?;
-            (!(b.min()..=b.max()).contains(&value)).then(|| BeyondBound {
-                name: format!("noise.{}", b.key),
-                value,
-                min: b.min(),
-                max: b.max(),
-                reason: format!("real sensors span {}", b.classes),
-            })
+    noise_out_of_bounds(noise)
+        .map(|(b, value)| BeyondBound {
+            name: format!("noise.{}", b.key),
+            value,
+            min: b.min(),
+            max: b.max(),
+            reason: format!("real sensors span {}", b.classes),
         })
         .collect()
 }

@@ -2,7 +2,10 @@
 //! check of [`super::implausible`] (where its bounds and their reasons are), each with where it
 //! is (file, columns, times, values) and the words that say it.
 
-use super::implausible::{FALL_FRACTION, GNSS_FLOOR_M, OVERLOAD_G, POLE_DISTANCE_M, SUSTAINED_S};
+use super::implausible::{
+    FALL_FRACTION, GNSS_FLOOR_M, OVERLOAD_G, POLE_DISTANCE_M, SCATTER_SIGMAS, SPEED_MARGIN,
+    SUSTAINED_S,
+};
 use super::{CONFIG_FILE, INPUTS_FILE, MEASUREMENTS_FILE};
 use crate::sensor_classes::ROAD_SPEED_MAX;
 use serde::{Deserialize, Serialize};
@@ -213,8 +216,8 @@ impl fmt::Display for Implausibility {
                     f,
                     "{file}: columns `{column}`: the GPS fix at t = {} s ({}, {}) lies {} m from \
                      the one at t = {} s ({}, {}), but {speed}: the vehicle moves at most {} m in \
-                     {} s (twice that speed, plus ten times the GPS's own scatter, at least {} \
-                     m).{how}{}",
+                     {} s ({} times that speed, plus {} times the GPS's own scatter, at least \
+                     {} m).{how}{}",
                     g4(*to_s),
                     to_deg[0],
                     to_deg[1],
@@ -224,6 +227,8 @@ impl fmt::Display for Implausibility {
                     from_deg[1],
                     g4(*allowed_m),
                     g4(to_s - from_s),
+                    SPEED_MARGIN,
+                    SCATTER_SIGMAS,
                     GNSS_FLOOR_M,
                     in_all(*count, "such jumps")
                 )

@@ -8,10 +8,10 @@
 //! error (exit 1), as are options that make no sense (`--max-rounds 0`, a tilt sigma beyond
 //! what the attitude equations hold).
 
+use navkf_diagnose::{diagnose, report, FilterChoice, Options, RoundKind};
 use navkf_dynamics::dataset::{Dataset, CONFIG_FILE};
 use navkf_dynamics::{PlatformPrior, Registry};
-use navkf_study::diagnose::{diagnose, report, FilterChoice, Options, RoundKind};
-use navkf_study::output::write_atomic;
+use navkf_report::write_atomic;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -184,7 +184,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let out = match a.out {
         Some(out) => out,
         None => {
-            navkf_study::output::plain_name("the dataset's name", &ds.name)?;
+            navkf_report::names::plain_name("the dataset's name", &ds.name)?;
             PathBuf::from("results/diagnose").join(&ds.name)
         }
     };
@@ -193,7 +193,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             eprintln!("warning: {w}");
         }
     });
-    let staged = navkf_study::output::ResultsDir::begin(&out)?;
+    let staged = navkf_report::ResultsDir::begin(&out)?;
     let started = std::time::Instant::now();
     spinner.0.set_message(format!(
         "diagnosing {} ({} input rows, {} measurement rows)",
@@ -204,9 +204,9 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let diagnosed = diagnose(&ds, &registry, &opts);
     drop(spinner);
     let (d, fits) = diagnosed?;
-    let figures = navkf_study::diagnose::plots::draw(&d, &fits, staged.path());
+    let figures = navkf_diagnose::plots::draw(&d, &fits, staged.path());
     crate::warn_undrawn(&figures);
-    let command = navkf_study::output::command_line();
+    let command = navkf_report::provenance::command_line();
     write_atomic(
         &staged.path().join("diagnosis.json"),
         serde_json::to_string_pretty(&d)?.as_bytes(),

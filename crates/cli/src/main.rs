@@ -69,7 +69,7 @@ fn attitude_names() -> clap::builder::PossibleValuesParser {
 }
 
 /// Warns on stderr of every figure that could not be drawn (the results stand without it).
-fn warn_undrawn(figures: &[navkf_study::plots::FigureOutcome]) {
+fn warn_undrawn(figures: &[navkf_report::figure::FigureOutcome]) {
     for f in figures {
         if let Err(e) = &f.result {
             eprintln!("warning: figure {} not drawn: {e}", f.name);
@@ -82,7 +82,7 @@ fn warn_undrawn(figures: &[navkf_study::plots::FigureOutcome]) {
 const COOPERATIVE_GRACE: std::time::Duration = std::time::Duration::from_millis(800);
 
 /// Ctrl-C. A Monte Carlo or diagnosis study first stops after the runs in flight, writes
-/// nothing and says what it kept (`navkf_study::interrupt`), exiting 130 from `main`. If it
+/// nothing and says what it kept (`navkf_report::interrupt`), exiting 130 from `main`. If it
 /// has not done so within [`COOPERATIVE_GRACE`], on a second Ctrl-C, and at once during any
 /// other command, the handler removes the output folders being written, says that the ones
 /// in place are as they were, and exits 130 itself.
@@ -91,11 +91,11 @@ fn handle_ctrl_c(cooperative: bool) {
     let installed = ctrlc::set_handler(move || {
         let n = presses.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
         if cooperative && n == 0 {
-            navkf_study::interrupt::request();
+            navkf_report::interrupt::request();
             eprintln!("\ninterrupt: stopping after the runs in flight");
             std::thread::sleep(COOPERATIVE_GRACE);
         }
-        let targets = navkf_study::results_dir::live::abandon_all();
+        let targets = navkf_report::results_dir::live::abandon_all();
         eprintln!("\n{}", interrupted_message(&targets));
         std::process::exit(130);
     });
@@ -168,7 +168,7 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {}", terminal_safe(&e.to_string()));
-            if navkf_study::interrupt::requested() {
+            if navkf_report::interrupt::requested() {
                 // Stopped by Ctrl-C: the shell's code for SIGINT, as for any interrupted tool.
                 ExitCode::from(130)
             } else {

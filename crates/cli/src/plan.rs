@@ -2,7 +2,7 @@
 //! information along it, without Monte Carlo (see `navkf_study::plan`). Several study files,
 //! or one with a `[sweep]`, are compared design by design.
 
-use navkf_study::output::write_atomic;
+use navkf_report::write_atomic;
 use navkf_study::plan::{comparison_table, plan, table, Comparison, Design, Plan};
 use navkf_study::{Study, StudyConfig};
 use rayon::prelude::*;
@@ -39,10 +39,10 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("results/plan").join(&configs[0].study.name));
-    let staged = navkf_study::output::ResultsDir::begin(&out)?;
+    let staged = navkf_report::ResultsDir::begin(&out)?;
     let dir = staged.path();
     let started = std::time::Instant::now();
-    let command = navkf_study::output::command_line();
+    let command = navkf_report::provenance::command_line();
     if configs.len() == 1 && configs[0].sweep.is_none() {
         let study = Study::new(configs.into_iter().next().expect("one"))?;
         let p = plan(&study)?;
@@ -92,7 +92,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         Study::new(c).map_err(|e| format!("design {i} ({label}): {e}"))
     };
     for (i, (label, _, c)) in designs.iter().enumerate() {
-        if navkf_study::interrupt::requested() {
+        if navkf_report::interrupt::requested() {
             return Err("interrupted while checking the designs".into());
         }
         build(i, label, c.clone())?;

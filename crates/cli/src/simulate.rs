@@ -13,7 +13,7 @@ use navkf_dynamics::sensor_classes::coefficient_bound;
 use navkf_dynamics::{
     NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TrajectoryConfig, TruthConfig,
 };
-use navkf_study::output::{FolderKind, ResultsDir};
+use navkf_report::{FolderKind, ResultsDir};
 use std::path::PathBuf;
 use std::sync::Arc;
 

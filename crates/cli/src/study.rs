@@ -2,10 +2,8 @@
 //! shards.
 
 use indicatif::{ProgressBar, ProgressStyle};
-use navkf_study::output::{
-    fold, read_partials, shard_blocks, write_atomic, write_results, FolderKind, Partial,
-    ResultsDir, ShardFolder,
-};
+use navkf_report::{write_atomic, FolderKind, ResultsDir, ShardFolder};
+use navkf_study::output::{fold, read_partials, shard_blocks, write_results, Partial};
 use navkf_study::{guard, Study, StudyConfig};
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -186,7 +184,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         ),
     };
     bar.finish_and_clear();
-    if navkf_study::interrupt::requested() {
+    if navkf_report::interrupt::requested() {
         return Err(interrupted(
             tally.runs.max(tallies.iter().map(|t| t.runs).sum()),
             total_runs,
@@ -274,7 +272,7 @@ pub fn merge(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
 /// `navkf study` on a diagnosis study: every dataset simulated and diagnosed, the error rates
 /// written to `results/<name>/`.
 fn run_diagnosis_study(a: Args) -> Result<(), Box<dyn std::error::Error>> {
-    use navkf_study::diagnosis_study::{dataset_count, report, run, DiagnosisStudyConfig};
+    use navkf_diagnose::diagnosis_study::{dataset_count, report, run, DiagnosisStudyConfig};
     let config = DiagnosisStudyConfig::load(&a.file)?;
     for (flag, given) in [
         ("--shard", a.shard.is_some()),
@@ -302,9 +300,9 @@ fn run_diagnosis_study(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let started = std::time::Instant::now();
     let records =
         run(&config, Some(0..count), &|d| bar.set_position(d as u64)).map_err(|e| match e {
-            navkf_study::StudyError::Interrupted { done, total, what } => {
-                interrupted(done, total, what, &out)
-            }
+            navkf_diagnose::DiagnoseError::Report(navkf_report::ReportError::Interrupted(
+                navkf_report::Interrupted { done, total, what },
+            )) => interrupted(done, total, what, &out),
             e => e.into(),
         })?;
     bar.finish_and_clear();
@@ -312,7 +310,7 @@ fn run_diagnosis_study(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         wall_s: started.elapsed().as_secs_f64(),
         threads: rayon::current_num_threads(),
     };
-    let command = navkf_study::output::command_line();
+    let command = navkf_report::provenance::command_line();
     let summary = report::write(&config, records, staged.path(), &command, Some(timing))?;
     staged.commit()?;
     eprintln!(
@@ -368,7 +366,7 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
     check_bar.set_prefix(config.study.name.clone());
     let mut total = 0;
     for (i, c) in configs.iter().enumerate() {
-        if navkf_study::interrupt::requested() {
+        if navkf_report::interrupt::requested() {
             check_bar.finish_and_clear();
             return Err(interrupted(i, configs.len(), "points checked", &out));
         }
@@ -391,7 +389,7 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
             *example.lock().expect("no panics while holding it") = Some(study.example_of(rec))
         };
         let tally = study.run_folded(0..study.block_count(), &progress, keep_example);
-        if navkf_study::interrupt::requested() {
+        if navkf_report::interrupt::requested() {
             bar.finish_and_clear();
             return Err(interrupted(done_before + tally.runs, total, "runs", &out));
         }
@@ -415,7 +413,7 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
         &dir.join("sweep.json"),
         serde_json::to_string_pretty(&summary)?.as_bytes(),
     )?;
-    let command = navkf_study::output::command_line();
+    let command = navkf_report::provenance::command_line();
     write_atomic(
         &dir.join("sweep.md"),
         sweep::markdown(&summary, &command, &figures).as_bytes(),
@@ -445,7 +443,7 @@ fn interrupted(
     };
     format!(
         "{}; {kept}",
-        navkf_study::StudyError::Interrupted { done, total, what }
+        navkf_report::Interrupted { done, total, what }
     )
     .into()
 }

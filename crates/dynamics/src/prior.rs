@@ -21,11 +21,12 @@
 //!   [`crate::Effect::coefficient_sigma`]).
 //!
 //! A default is where a diagnosis *starts*: it widens any coefficient prior the data pull
-//! beyond (`navkf_study::diagnose`), so a wrong default costs time, not a wrong answer.
+//! beyond (`navkf_diagnose`), so a wrong default costs time, not a wrong answer.
 
 use crate::earth::WIE;
 use crate::simulate::base_coefficient_sigma;
-use crate::state::{BASE_NAMES, KA0X, KG0X, NAV_DIM};
+use crate::state::{BASE_DIM, BASE_NAMES, KA0X, KG0X, NAV_DIM};
+use crate::PlatformModel;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -155,4 +156,19 @@ pub fn default_azimuth_rad(lat: f64) -> f64 {
     } else {
         MAX_DEFAULT_AZIMUTH_RAD
     }
+}
+
+/// The typical one-sigma of state `i` of `model`: the base table
+/// ([`base_coefficient_sigma`]) or the effect's own ([`crate::Effect::coefficient_sigma`]);
+/// zero for a state that is not a coefficient. Monte Carlo draws truths at this size where a
+/// study states none, and a diagnosis starts its priors from it.
+pub fn typical_sigma(model: &PlatformModel, i: usize) -> f64 {
+    if i < BASE_DIM {
+        return base_coefficient_sigma(i);
+    }
+    model
+        .effect_coefficient_sigmas()
+        .into_iter()
+        .find(|(j, _)| *j == i)
+        .map_or(0.0, |(_, s)| s)
 }

@@ -330,7 +330,7 @@ impl StudyConfig {
             return crate::sweep::points(self).map(|_| ());
         }
         let s = &self.study;
-        crate::output::plain_name("study.name", &s.name)?;
+        navkf_report::names::plain_name("study.name", &s.name)?;
         if s.runs == 0 {
             return Err("study.runs = 0: expected at least one run".into());
         }

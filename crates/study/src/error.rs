@@ -19,9 +19,9 @@ pub enum StudyError {
     /// A filter refused its settings.
     #[error(transparent)]
     Filter(#[from] navkf_filters::FilterError),
-    /// A diagnosis could not run.
+    /// Results could not be written, or the run was stopped on request.
     #[error(transparent)]
-    Diagnose(#[from] crate::diagnose::DiagnoseError),
+    Report(#[from] navkf_report::ReportError),
     /// An I/O failure on a file.
     #[error("{}: {source}", path.display())]
     Io {
@@ -29,16 +29,6 @@ pub enum StudyError {
         path: PathBuf,
         /// The error.
         source: std::io::Error,
-    },
-    /// Stopped on request (Ctrl-C, [`crate::interrupt`]) before the work was complete.
-    #[error("interrupted after {done} of {total} {what}: nothing was written")]
-    Interrupted {
-        /// Units of work completed.
-        done: usize,
-        /// Units asked for.
-        total: usize,
-        /// What they are (runs, datasets).
-        what: &'static str,
     },
     /// Anything else, said in words (e.g. shards that do not fit together).
     #[error("{0}")]

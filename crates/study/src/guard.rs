@@ -363,7 +363,7 @@ mod tests {
 
     fn filter(rms: f64, runs: u64, nees: f64) -> FilterSummary {
         // Bounds of a consistent 20-state filter over `runs` runs.
-        let nees_bounds = crate::stats::mean_chi2_bounds(20.0 * runs as f64, runs as f64);
+        let nees_bounds = navkf_report::stats::mean_chi2_bounds(20.0 * runs as f64, runs as f64);
         let mut final_rms = BTreeMap::new();
         final_rms.insert("Kg0x".to_string(), rms);
         let final_rms_nav = (0..19).map(|i| (format!("s{i}"), 1.0)).collect();
@@ -375,7 +375,7 @@ mod tests {
             nees_mean: nees,
             nees_bounds,
             nis_mean: 4.0,
-            nis_bounds: crate::stats::mean_chi2_bounds(4.0 * 240_000.0, 240_000.0),
+            nis_bounds: navkf_report::stats::mean_chi2_bounds(4.0 * 240_000.0, 240_000.0),
             nis_dof: 4.0,
             diverged: 0,
             runs_ok: runs,

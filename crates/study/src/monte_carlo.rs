@@ -14,8 +14,8 @@ use crate::tally::{
     cost_bin, Divergence, DivergenceCause, FilterTally, PairTally, RunFailure, Tally, BLOCK,
 };
 use navkf_dynamics::effect_spec::EffectSpec;
+use navkf_dynamics::prior::typical_sigma;
 use navkf_dynamics::rng::{stream, Purpose};
-use navkf_dynamics::simulate::base_coefficient_sigma;
 use navkf_dynamics::state::*;
 use navkf_dynamics::{
     Attitude, NoiseConfig, PlatformModel, Registry, SimulatedRun, Simulator, SystemModel,
@@ -153,7 +153,7 @@ pub struct ExampleRun {
     /// Times, s.
     pub t: Vec<f64>,
     /// True value of each filter state at each time (NaN where the truth lacks the state).
-    #[serde(with = "crate::json_nan")]
+    #[serde(with = "navkf_report::json_nan")]
     pub truth: Vec<Vec<f64>>,
     /// Per filter: estimates and sigmas at each time.
     pub filters: Vec<ExampleFilter>,
@@ -167,10 +167,10 @@ pub struct ExampleFilter {
     /// Times of the estimates (may stop early if the filter diverged).
     pub t: Vec<f64>,
     /// Estimates.
-    #[serde(with = "crate::json_nan")]
+    #[serde(with = "navkf_report::json_nan")]
     pub estimate: Vec<Vec<f64>>,
     /// One-sigma.
-    #[serde(with = "crate::json_nan")]
+    #[serde(with = "navkf_report::json_nan")]
     pub sigma: Vec<Vec<f64>>,
 }
 
@@ -630,7 +630,7 @@ impl Study {
         // Groups taken from the range as they are needed: memory stays bounded by a group,
         // however many runs the study asks for.
         let mut next = blocks.start;
-        while next < blocks.end && !crate::interrupt::requested() {
+        while next < blocks.end && !navkf_report::interrupt::requested() {
             let group = next..(next + in_flight).min(blocks.end);
             next = group.end;
             let runs: Vec<usize> = group
@@ -780,16 +780,4 @@ impl Study {
         }
         ex
     }
-}
-
-/// The typical one-sigma of state `i` of `model` (base table or the effect's own).
-pub fn typical_sigma(model: &PlatformModel, i: usize) -> f64 {
-    if i < BASE_DIM {
-        return base_coefficient_sigma(i);
-    }
-    model
-        .effect_coefficient_sigmas()
-        .into_iter()
-        .find(|(j, _)| *j == i)
-        .map_or(0.0, |(_, s)| s)
 }

@@ -6,70 +6,11 @@ use crate::monte_carlo::{ExampleRun, Study};
 use crate::summary::{summarize, Summary};
 use crate::tally::Tally;
 use navkf_dynamics::state::NAV_DIM;
+use navkf_report::provenance::command_line;
+use navkf_report::write_atomic;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-
-pub use crate::results_dir::marker::FolderKind;
-pub use crate::results_dir::{ResultsDir, ShardFolder, MARKER};
-
-/// Checks that `name` (a study's or dataset's name, the last part of its default results
-/// folder) is a plain name: 1 to 100 ASCII letters, digits, `-`, `_` or `.`, not starting
-/// with `.`. Anything else (`../x`, `/tmp/x`, `""`, a control character) would write outside
-/// `results/`. `key` names the setting in the message.
-///
-/// ```
-/// use navkf_study::output::plain_name;
-/// assert!(plain_name("study.name", "paper-2009_v1.2").is_ok());
-/// for bad in ["", "../x", "/tmp/x", "a/b", ".hidden", "a\u{1b}[31m"] {
-///     assert!(plain_name("study.name", bad).is_err(), "{bad:?}");
-/// }
-/// ```
-pub fn plain_name(key: &str, name: &str) -> Result<(), String> {
-    let ok_char = |c: char| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.');
-    if name.is_empty() || name.len() > 100 || name.starts_with('.') || !name.chars().all(ok_char) {
-        return Err(format!(
-            "{key} = {}: expected a plain name (1 to 100 letters, digits, '-', '_' or '.', not starting with '.'); it names the folder under results/",
-            shown(name)
-        ));
-    }
-    Ok(())
-}
-
-/// `text` quoted for a message: control characters escaped, and cut after 40 characters
-/// with its length shown.
-pub fn shown(text: &str) -> String {
-    const MAX: usize = 40;
-    let count = text.chars().count();
-    let head: String = text.chars().take(MAX).collect();
-    let escaped = format!("{head:?}");
-    if count > MAX {
-        format!("{escaped}... ({count} characters)")
-    } else {
-        escaped
-    }
-}
-
-/// Writes `bytes` to `path` atomically.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), StudyError> {
-    let io = |source| StudyError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir).map_err(io)?;
-    }
-    let tmp = path.with_extension(format!(
-        "{}.tmp{}",
-        path.extension().and_then(|e| e.to_str()).unwrap_or(""),
-        std::process::id()
-    ));
-    std::fs::write(&tmp, bytes).map_err(|source| StudyError::Io {
-        path: tmp.clone(),
-        source,
-    })?;
-    std::fs::rename(&tmp, path).map_err(io)
-}
 
 /// A shard's output: its blocks' tallies, in order, and the example run if it holds it.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -119,15 +60,6 @@ pub fn write_results(
     }
     crate::report::write_report(study, tally, example, dir, &command_line())?;
     Ok(summary)
-}
-
-/// This process's command line, for the reports' "Command:" line. Arguments that are not
-/// UTF-8 are shown with U+FFFD in place of the bad bytes (`std::env::args` would panic).
-pub fn command_line() -> String {
-    std::env::args_os()
-        .map(|a| a.to_string_lossy().into_owned())
-        .collect::<Vec<_>>()
-        .join(" ")
 }
 
 /// `t, filter, then rms_<state>, sigma_<state> for every state, nees, nis, bound_<coef>`.

@@ -1,7 +1,8 @@
 //! Human-readable tables of a summary (terminal and report.md), and `report.md` itself.
 
-use crate::stats::Consistency;
 use crate::summary::Summary;
+use navkf_report::provenance::machine;
+use navkf_report::stats::Consistency;
 use std::fmt::Write as _;
 
 fn g(v: f64) -> String {
@@ -323,7 +324,7 @@ fn diverged(study: &crate::monte_carlo::Study, tally: &crate::tally::Tally) -> S
     out
 }
 
-fn figures(figs: &[crate::plots::FigureOutcome]) -> String {
+fn figures(figs: &[navkf_report::figure::FigureOutcome]) -> String {
     let mut out = String::new();
     let ok = |n: &str| figs.iter().any(|f| f.name == n && f.result.is_ok());
     let sections = [
@@ -366,7 +367,7 @@ fn figures(figs: &[crate::plots::FigureOutcome]) -> String {
             per.join(" · ")
         );
     }
-    let failed: Vec<&crate::plots::FigureOutcome> =
+    let failed: Vec<&navkf_report::figure::FigureOutcome> =
         figs.iter().filter(|f| f.result.is_err()).collect();
     if !failed.is_empty() {
         let _ = writeln!(out, "\nFigures that could not be drawn:\n");
@@ -389,7 +390,7 @@ pub fn report_md(
     tally: &crate::tally::Tally,
     summary: &Summary,
     command: &str,
-    figs: &[crate::plots::FigureOutcome],
+    figs: &[navkf_report::figure::FigureOutcome],
 ) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "# Monte Carlo study `{}`\n", summary.study);
@@ -432,7 +433,7 @@ pub fn write_report(
     let summary = crate::summary::summarize(study, tally);
     let figs = crate::plots::write_all(study, tally, &summary, example, dir);
     let md = report_md(study, tally, &summary, command, &figs);
-    crate::output::write_atomic(&dir.join("report.md"), md.as_bytes())?;
+    navkf_report::write_atomic(&dir.join("report.md"), md.as_bytes())?;
     let failed: Vec<String> = figs
         .iter()
         .filter_map(|f| f.result.as_ref().err().map(|e| format!("{}: {e}", f.name)))
@@ -445,20 +446,4 @@ pub fn write_report(
             failed.join("; ")
         )))
     }
-}
-
-/// The CPU this process runs on, for the step-cost note: the model name Linux reports and the
-/// logical cores the process may use (`unknown CPU` where `/proc/cpuinfo` is not readable).
-pub fn machine() -> String {
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split_once(':'))
-                .map(|(_, v)| v.trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown CPU".to_string());
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    format!("{cpu} ({cores} logical cores)")
 }

@@ -14,9 +14,10 @@
 //! none of its runs finished, and one row per stored time of one value per state after.
 
 use crate::monte_carlo::{ExampleRun, Study};
-use crate::output::{shard_blocks, shown, Partial};
+use crate::output::{shard_blocks, Partial};
 use crate::tally::{cost_bin, FilterTally, Tally, BLOCK};
 use navkf_dynamics::state::MEAS_DIM;
+use navkf_report::names::shown;
 use std::ops::Range;
 
 /// What the shard files of a study must hold, from the study built from their config.

@@ -1,10 +1,10 @@
 //! From a tally to what a reader sees: `summary.json`, CSV time series, tables.
 
 use crate::monte_carlo::Study;
-use crate::stats::mean_chi2_bounds;
 use crate::tally::{quantile, Tally};
 use navkf_dynamics::state::NAV_DIM;
 use navkf_dynamics::SystemModel;
+use navkf_report::stats::mean_chi2_bounds;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 

@@ -19,11 +19,11 @@
 
 use crate::config::StudyConfig;
 use crate::monte_carlo::Study;
-use crate::plots::FigureOutcome;
-use crate::stats::mean_chi2_bounds;
 use crate::summary::{paired_difference, PairedDifference, Summary};
 use crate::tally::{DivergenceCause, Tally};
 use navkf_dynamics::state::PHI_Z;
+use navkf_report::figure::FigureOutcome;
+use navkf_report::stats::mean_chi2_bounds;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt::Write;

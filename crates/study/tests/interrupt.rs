@@ -4,7 +4,8 @@
 mod common;
 
 use common::short_config;
-use navkf_study::{interrupt, Study};
+use navkf_report::interrupt;
+use navkf_study::Study;
 
 #[test]
 fn a_requested_stop_ends_the_study_after_the_runs_in_flight() {

@@ -8,37 +8,24 @@
 //! - `step_cost`: median and 90th percentile of one predict + update, and the distribution.
 //! - `nees_nis_over_time`: average NEES and NIS against time with their 95 % chi-square bands.
 //!
-//! Text is drawn with DejaVu Sans, compiled in from `assets/fonts/` (see the LICENSE there)
-//! and registered with plotters once, so figures render the same on a machine without fonts.
+//! They are drawn with the figure kit of `navkf-report` (bundled font, panels, grids).
 //! Degenerate data (a filter with every run diverged, NaN, a zero range, a single stored time)
 //! gives an empty or partial panel with a note, never a panic.
 
-pub(crate) mod panel;
 pub mod plan;
 pub mod sweep;
 
-use crate::error::StudyError;
 use crate::monte_carlo::{ExampleRun, Study};
-use crate::stats::mean_chi2_bounds;
 use crate::summary::Summary;
 use crate::tally::{bin_value, Tally};
 use navkf_dynamics::state::NAV_DIM;
-pub use panel::register_font;
-use panel::*;
+use navkf_report::figure::*;
+pub use navkf_report::figure::{register_font, FigureOutcome};
+use navkf_report::stats::mean_chi2_bounds;
+use navkf_report::ReportError;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
-
-/// A figure written (or not) by [`write_all`].
-#[derive(Debug, Clone)]
-pub struct FigureOutcome {
-    /// File stem: the figure is `<name>.png` and `<name>.svg`.
-    pub name: String,
-    /// What it shows, in words.
-    pub caption: String,
-    /// `Err(reason)` when it could not be drawn.
-    pub result: Result<(), String>,
-}
 
 /// Title of `rms_over_time`.
 pub const RMS_TITLE: &str = "RMS error over time, divided by the initial sigma";
@@ -48,23 +35,6 @@ pub const STEP_COST_TITLE: &str = "Cost of one filter step (predict + update)";
 pub const NEES_NIS_TITLE: &str = "Average NEES and NIS over time, with 95 % bands";
 /// Title of `estimates_all` (followed by the run index).
 pub const ESTIMATES_ALL_TITLE: &str = "Coefficient estimates against the truth";
-
-/// Draws one figure with `draw`, catching its failure, or its panic, into the outcome: a
-/// figure that cannot be drawn never costs the results it illustrates.
-pub(crate) fn outcome(
-    name: impl Into<String>,
-    caption: impl Into<String>,
-    draw: impl FnOnce() -> Result<(), StudyError>,
-) -> FigureOutcome {
-    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(draw))
-        .unwrap_or_else(|_| Err(StudyError::Other("the figure code panicked".into())))
-        .map_err(|e| e.to_string());
-    FigureOutcome {
-        name: name.into(),
-        caption: caption.into(),
-        result,
-    }
-}
 
 /// Draws every figure into `dir`. A figure that fails (or panics) is reported in its outcome;
 /// the others are still drawn.
@@ -76,7 +46,7 @@ pub fn write_all(
     dir: &Path,
 ) -> Vec<FigureOutcome> {
     let mut out = Vec::new();
-    let mut run = |name: String, caption: String, f: &dyn Fn() -> Result<(), StudyError>| {
+    let mut run = |name: String, caption: String, f: &dyn Fn() -> Result<(), ReportError>| {
         out.push(outcome(name, caption, f));
     };
     if let Some(ex) = example {
@@ -116,11 +86,11 @@ pub fn write_all(
 
 /// `estimates_<name>`: the example run's estimates of coefficient `i` (a filter state index)
 /// by every filter, with +-1 sigma bands, against the true value.
-pub fn estimates(study: &Study, ex: &ExampleRun, i: usize, dir: &Path) -> Result<(), StudyError> {
+pub fn estimates(study: &Study, ex: &ExampleRun, i: usize, dir: &Path) -> Result<(), ReportError> {
     let name = ex
         .names
         .get(i)
-        .ok_or_else(|| StudyError::Other(format!("estimates: no state {i}")))?;
+        .ok_or_else(|| ReportError::Figure(format!("estimates: no state {i}")))?;
     render(
         dir,
         &format!("estimates_{name}"),
@@ -129,12 +99,12 @@ pub fn estimates(study: &Study, ex: &ExampleRun, i: usize, dir: &Path) -> Result
 }
 
 /// `estimates_all`: one small panel per coefficient.
-pub fn estimates_all(study: &Study, ex: &ExampleRun, dir: &Path) -> Result<(), StudyError> {
+pub fn estimates_all(study: &Study, ex: &ExampleRun, dir: &Path) -> Result<(), ReportError> {
     render(dir, "estimates_all", &Fig::EstimatesAll { study, ex })
 }
 
 /// `rms_over_time`: one log panel per coefficient.
-pub fn rms_over_time(study: &Study, tally: &Tally, dir: &Path) -> Result<(), StudyError> {
+pub fn rms_over_time(study: &Study, tally: &Tally, dir: &Path) -> Result<(), ReportError> {
     render(dir, "rms_over_time", &Fig::Rms { study, tally })
 }
 
@@ -144,7 +114,7 @@ pub fn step_cost(
     tally: &Tally,
     summary: &Summary,
     dir: &Path,
-) -> Result<(), StudyError> {
+) -> Result<(), ReportError> {
     render(
         dir,
         "step_cost",
@@ -157,7 +127,7 @@ pub fn step_cost(
 }
 
 /// `nees_nis_over_time`: average NEES and NIS per filter with their 95 % bands.
-pub fn nees_nis_over_time(study: &Study, tally: &Tally, dir: &Path) -> Result<(), StudyError> {
+pub fn nees_nis_over_time(study: &Study, tally: &Tally, dir: &Path) -> Result<(), ReportError> {
     render(dir, "nees_nis_over_time", &Fig::NeesNis { study, tally })
 }
 

@@ -3,9 +3,9 @@
 //! drifts, accelerometer biases, scale factors, each effect's), with the line at half the
 //! prior that counts as identified.
 
-use super::panel::*;
 use super::{outcome, FigureOutcome};
 use crate::plan::{Plan, IDENTIFIED_BELOW};
+use navkf_report::figure::*;
 use plotters::prelude::*;
 use std::path::Path;
 

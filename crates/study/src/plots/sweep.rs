@@ -10,9 +10,9 @@
 //! The swept axis is logarithmic when every value is positive and they span more than a
 //! factor of 20 (an initial misalignment from arcminutes to tens of degrees).
 
-use super::panel::*;
 use super::{outcome, FigureOutcome};
 use crate::sweep::{PointFilter, SweepSummary};
+use navkf_report::figure::*;
 use plotters::prelude::*;
 use std::path::Path;
 

@@ -1,0 +1,311 @@
+//! What a dataset of the study hides, drawn at random, and the dataset it makes.
+//!
+//! Each dataset's draws come from its own stream (study seed, dataset index), so dataset `i`
+//! is the same bytes whatever runs beside it. Sizes are drawn log-uniformly between the
+//! class's bounds, given as multiples of the effect's typical size (in sigma); every
+//! coefficient of an effect takes that size times its own typical sigma, with a random sign.
+//! The base coefficients are drawn from their typical sizes and the initial tilt as the
+//! study file says (a gyrocompassed platform by default), as a real platform's would be.
+
+use super::{ContentClass, DiagnosisStudyConfig, OutsideEffect};
+use crate::error::DiagnoseError;
+use navkf_dynamics::dataset::Dataset;
+use navkf_dynamics::outside::{AccelWarmUp, Drag};
+use navkf_dynamics::rng::{stream, Purpose};
+use navkf_dynamics::simulate::Prior;
+use navkf_dynamics::{NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TruthConfig};
+use rand::Rng;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// The stream of a dataset's content draws.
+const CONTENT: Purpose = Purpose::Other(40);
+
+/// One thing hidden in a dataset's truth.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum Hidden {
+    /// A catalogued effect with fixed coefficients.
+    Effect {
+        /// Its name.
+        name: String,
+        /// Size as a multiple of its typical size (sigma).
+        multiple: f64,
+        /// The true coefficients (or, for a noise-only effect, its density), by name.
+        values: BTreeMap<String, f64>,
+    },
+    /// The velocity-proportional drag (outside the catalogue).
+    Drag {
+        /// Size as a multiple of [`Drag::TYPICAL`].
+        multiple: f64,
+        /// `kd`, 1/s.
+        kd: f64,
+    },
+    /// Accelerometer biases settling after switch-on (outside the catalogue).
+    AccelWarmUp {
+        /// Size as a multiple of [`AccelWarmUp::TYPICAL`].
+        multiple: f64,
+        /// The settled change, m/s^2, East and North.
+        amplitude: [f64; 2],
+        /// Time constant, s.
+        time_constant_s: f64,
+    },
+    /// The stated noise is not the truth's: each source's stated sigma is the true one
+    /// divided by its factor.
+    MisstatedNoise {
+        /// Per source (gyro, accelerometer, odometer, GPS): true sigma over stated sigma.
+        factors: [f64; 4],
+    },
+}
+
+impl Hidden {
+    /// The catalogued effect's name, if it is one.
+    pub fn effect(&self) -> Option<&str> {
+        match self {
+            Hidden::Effect { name, .. } => Some(name),
+            _ => None,
+        }
+    }
+    /// Short label for tables.
+    pub fn label(&self) -> String {
+        match self {
+            Hidden::Effect { name, .. } => name.clone(),
+            Hidden::Drag { .. } => "drag (outside)".into(),
+            Hidden::AccelWarmUp { .. } => "accel warm-up (outside)".into(),
+            Hidden::MisstatedNoise { .. } => "mis-stated noise".into(),
+        }
+    }
+    /// Its size as a multiple of its typical size (1 for mis-stated noise).
+    pub fn multiple(&self) -> f64 {
+        match self {
+            Hidden::Effect { multiple, .. }
+            | Hidden::Drag { multiple, .. }
+            | Hidden::AccelWarmUp { multiple, .. } => *multiple,
+            Hidden::MisstatedNoise { .. } => 1.0,
+        }
+    }
+}
+
+/// The content classes of the study's datasets, as the report groups them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Class {
+    /// Nothing hidden.
+    Nothing,
+    /// One catalogued effect.
+    Single,
+    /// Two catalogued effects.
+    Pair,
+    /// An effect outside the catalogue.
+    Outside,
+    /// Nothing hidden, but the stated noise is wrong.
+    MisstatedNoise,
+}
+
+/// A dataset of the study before it is simulated.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Planned {
+    /// Index (the run of its simulation).
+    pub index: usize,
+    /// Its class.
+    pub class: Class,
+    /// What its truth hides.
+    pub hidden: Vec<Hidden>,
+}
+
+fn log_uniform<R: Rng>(rng: &mut R, [lo, hi]: [f64; 2]) -> f64 {
+    (lo.ln() + rng.gen::<f64>() * (hi.ln() - lo.ln())).exp()
+}
+
+fn sign<R: Rng>(rng: &mut R) -> f64 {
+    if rng.gen::<bool>() {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
+/// A catalogued effect of size drawn from `range` (multiples of typical).
+fn draw_effect<R: Rng>(
+    rng: &mut R,
+    name: &str,
+    range: [f64; 2],
+    registry: &Registry,
+) -> Result<Hidden, DiagnoseError> {
+    let effect = registry.build(name)?;
+    let multiple = log_uniform(rng, range);
+    let mut values = BTreeMap::new();
+    if effect.coefficient_names().is_empty() {
+        // A noise-only effect: its density scales with the square of the size in sigma.
+        let typical = effect.process_noise().first().map_or(0.0, |c| c.psd);
+        values.insert("density".to_string(), typical * multiple * multiple);
+    } else {
+        for (c, s) in effect
+            .coefficient_names()
+            .iter()
+            .zip(effect.coefficient_sigma())
+        {
+            values.insert(c.to_string(), sign(rng) * multiple * s);
+        }
+    }
+    Ok(Hidden::Effect {
+        name: name.to_string(),
+        multiple,
+        values,
+    })
+}
+
+/// Every dataset of the study, in index order.
+pub fn plan(config: &DiagnosisStudyConfig) -> Result<Vec<Planned>, DiagnoseError> {
+    let registry = Registry::catalogue();
+    let catalogue = registry.names();
+    let range = |name: &str| config.size_range(name);
+    let mut out = Vec::new();
+    let seed = config.study.seed;
+    for class in &config.content {
+        let n = class.count();
+        for k in 0..n {
+            let index = out.len();
+            let mut rng = stream(seed, index as u64, CONTENT);
+            let (class_label, hidden) = match class {
+                ContentClass::Nothing { .. } => (Class::Nothing, Vec::new()),
+                ContentClass::Single { .. } => {
+                    // Every catalogued effect in turn, `count` datasets each.
+                    let name = &catalogue[k % catalogue.len()];
+                    let h = draw_effect(&mut rng, name, range(name), &registry)?;
+                    (Class::Single, vec![h])
+                }
+                ContentClass::Pair { effects, sizes, .. } => {
+                    let pool: &[String] = if effects.is_empty() {
+                        &catalogue
+                    } else {
+                        effects
+                    };
+                    let a = rng.gen_range(0..pool.len());
+                    let mut b = rng.gen_range(0..pool.len() - 1);
+                    if b >= a {
+                        b += 1;
+                    }
+                    let range = |name: &str| sizes.get(name).copied().unwrap_or(range(name));
+                    let ha = draw_effect(&mut rng, &pool[a], range(&pool[a]), &registry)?;
+                    let hb = draw_effect(&mut rng, &pool[b], range(&pool[b]), &registry)?;
+                    (Class::Pair, vec![ha, hb])
+                }
+                ContentClass::Outside { effect, sizes, .. } => {
+                    let multiple = log_uniform(&mut rng, *sizes);
+                    let h = match effect {
+                        OutsideEffect::Drag => Hidden::Drag {
+                            multiple,
+                            kd: multiple * Drag::TYPICAL,
+                        },
+                        OutsideEffect::AccelWarmUp => Hidden::AccelWarmUp {
+                            multiple,
+                            amplitude: [
+                                sign(&mut rng) * multiple * AccelWarmUp::TYPICAL,
+                                sign(&mut rng) * multiple * AccelWarmUp::TYPICAL,
+                            ],
+                            time_constant_s: 300.0 + 900.0 * rng.gen::<f64>(),
+                        },
+                    };
+                    (Class::Outside, vec![h])
+                }
+                ContentClass::MisstatedNoise { sizes, .. } => {
+                    // One or two sources off, up or down.
+                    let mut factors = [1.0; 4];
+                    let first = rng.gen_range(0..4);
+                    factors[first] = log_uniform(&mut rng, *sizes).powf(sign(&mut rng));
+                    if rng.gen::<bool>() {
+                        let second = (first + rng.gen_range(1..4)) % 4;
+                        factors[second] = log_uniform(&mut rng, *sizes).powf(sign(&mut rng));
+                    }
+                    (
+                        Class::MisstatedNoise,
+                        vec![Hidden::MisstatedNoise { factors }],
+                    )
+                }
+            };
+            out.push(Planned {
+                index,
+                class: class_label,
+                hidden,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// Simulates planned dataset `p`.
+pub fn simulate(
+    config: &DiagnosisStudyConfig,
+    trajectory: &Arc<Trajectory>,
+    p: &Planned,
+) -> Result<Dataset, DiagnoseError> {
+    let registry = Registry::catalogue();
+    let noise = config.noise;
+    let mut effects: Vec<Box<dyn navkf_dynamics::DynEffect>> = Vec::new();
+    let mut coefficients = BTreeMap::new();
+    let mut warm_up = None;
+    let mut stated = noise;
+    for h in &p.hidden {
+        match h {
+            Hidden::Effect { name, values, .. } => {
+                let mut e = registry.build(name)?;
+                if e.coefficient_names().is_empty() {
+                    if let Some(&q) = values.get("density") {
+                        e.set_parameter(q).map_err(DiagnoseError::Content)?;
+                    }
+                } else {
+                    for (c, v) in values {
+                        coefficients.insert(c.clone(), Prior::fixed(*v));
+                    }
+                }
+                effects.push(e);
+            }
+            Hidden::Drag { kd, .. } => {
+                effects.push(Box::new(Drag));
+                coefficients.insert("kd".to_string(), Prior::fixed(*kd));
+            }
+            Hidden::AccelWarmUp {
+                amplitude,
+                time_constant_s,
+                ..
+            } => {
+                warm_up = Some(AccelWarmUp {
+                    amplitude: *amplitude,
+                    time_constant_s: *time_constant_s,
+                });
+            }
+            Hidden::MisstatedNoise { factors } => stated = misstate(&noise, *factors),
+        }
+    }
+    let model = Arc::new(PlatformModel::new(effects, &noise)?);
+    let t = &config.truth;
+    let truth_cfg = TruthConfig {
+        rate_hz: t.rate_hz,
+        input_rate_hz: t.input_rate_hz,
+        measurement_rate_hz: t.measurement_rate_hz,
+        initial_tilt: t.initial_tilt,
+        coefficients,
+    };
+    let mut sim = Simulator::new(model, trajectory.clone(), truth_cfg, noise)?;
+    if let Some(w) = warm_up {
+        sim = sim.with_specific_force_error(move |t| w.at(t));
+    }
+    let run = sim.run(config.study.seed, p.index as u64);
+    let mut ds = sim.dataset(&format!("dataset-{}", p.index), config.study.seed, &run);
+    ds.noise = stated;
+    Ok(ds)
+}
+
+/// `truth` as a user would state it who has each source's sigma off by `factors` (true over
+/// stated).
+pub fn misstate(truth: &NoiseConfig, factors: [f64; 4]) -> NoiseConfig {
+    NoiseConfig {
+        gyro_psd: truth.gyro_psd / (factors[0] * factors[0]),
+        accel_psd: truth.accel_psd / (factors[1] * factors[1]),
+        odometer_rel: truth.odometer_rel / factors[2],
+        odometer_floor: truth.odometer_floor / factors[2],
+        gps_m: truth.gps_m / factors[3],
+    }
+}

@@ -1,0 +1,440 @@
+//! The diagnosis measured: hundreds of simulated datasets whose hidden content is drawn at
+//! random, each diagnosed as a user would diagnose it (default priors, noise check on), and
+//! the outcomes tallied into error rates.
+//!
+//! A study file (`studies/diagnosis.toml`, `[study] kind = "diagnosis"`) lists classes of
+//! content in `[[content]]` tables: nothing; each catalogued effect; random pairs of them;
+//! effects outside the catalogue ([`navkf_dynamics::outside`]); a stated noise that is not the
+//! truth's. [`content`] draws and simulates each dataset, [`rates`] turns the outcomes into
+//! the confusion matrix, the false-attribution rates and the detection curves, [`report`]
+//! and [`plots`] write them. Datasets are diagnosed in parallel; every draw comes from the
+//! dataset's own stream and results are kept in index order, so the outcome is the same
+//! whatever the thread count.
+
+pub mod content;
+pub mod plots;
+pub mod rates;
+pub mod report;
+
+use crate::error::DiagnoseError;
+use crate::{diagnose, FilterChoice, Options, Verdict};
+use content::{Class, Hidden, Planned};
+use navkf_dynamics::input_file::{printable, read_text, toml_error, toml_message, TextFile};
+use navkf_dynamics::simulate::{Alignment, InitialTilt};
+use navkf_dynamics::{NoiseConfig, Registry, Trajectory, TrajectoryConfig};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::sync::Arc;
+
+/// The `[study]` table of a diagnosis study.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Section {
+    /// Name: results go to `results/<name>/`.
+    pub name: String,
+    /// Must be `"diagnosis"` (what tells `navkf study` which kind of study this is).
+    pub kind: String,
+    /// Seed of every random stream.
+    pub seed: u64,
+}
+
+/// The `[truth]` table: how the datasets are simulated besides their hidden content.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TruthSection {
+    /// RK4 rate of the truth integration, Hz.
+    pub rate_hz: f64,
+    /// Input recording rate, Hz.
+    pub input_rate_hz: f64,
+    /// Odometer and GPS rate, Hz.
+    pub measurement_rate_hz: f64,
+    /// Initial tilt: by default gyrocompassed, with residuals of 2 arcsec level and 20 arcsec
+    /// azimuth (a few minutes of alignment against the sensors' noise).
+    pub initial_tilt: InitialTilt,
+}
+
+impl Default for TruthSection {
+    fn default() -> Self {
+        TruthSection {
+            rate_hz: 100.0,
+            input_rate_hz: 10.0,
+            measurement_rate_hz: 1.0,
+            initial_tilt: InitialTilt {
+                level_rad: 1e-5,
+                azimuth_rad: 1e-4,
+                alignment: Alignment::Gyrocompass,
+            },
+        }
+    }
+}
+
+/// The `[diagnosis]` table: the settings every dataset is diagnosed with.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DiagnosisSection {
+    /// The filter of the fits.
+    pub filter: String,
+    /// The attitude equations of the fits' model.
+    pub attitude: navkf_dynamics::Attitude,
+    /// Most automatic rounds.
+    pub max_rounds: usize,
+}
+
+impl Default for DiagnosisSection {
+    fn default() -> Self {
+        DiagnosisSection {
+            filter: "ekf".into(),
+            attitude: navkf_dynamics::Attitude::SmallAngle,
+            max_rounds: Options::default().max_rounds,
+        }
+    }
+}
+
+/// An effect outside the catalogue.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum OutsideEffect {
+    /// [`navkf_dynamics::outside::Drag`].
+    Drag,
+    /// [`navkf_dynamics::outside::AccelWarmUp`].
+    AccelWarmUp,
+}
+
+/// One `[[content]]` table: a class of datasets.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum ContentClass {
+    /// Nothing hidden.
+    Nothing {
+        /// Datasets.
+        count: usize,
+    },
+    /// One catalogued effect, each in turn.
+    Single {
+        /// Datasets per catalogued effect.
+        count: usize,
+    },
+    /// Two different catalogued effects, drawn at random.
+    Pair {
+        /// Datasets.
+        count: usize,
+        /// The effects drawn from (default: the whole catalogue).
+        #[serde(default)]
+        effects: Vec<String>,
+        /// Size bounds for these datasets by effect name, over `[sizes]`.
+        #[serde(default)]
+        sizes: BTreeMap<String, [f64; 2]>,
+    },
+    /// An effect outside the catalogue.
+    Outside {
+        /// Which.
+        effect: OutsideEffect,
+        /// Datasets.
+        count: usize,
+        /// Size bounds, multiples of its typical size.
+        sizes: [f64; 2],
+    },
+    /// Nothing hidden, one or two noise sources stated wrong.
+    MisstatedNoise {
+        /// Datasets.
+        count: usize,
+        /// Bounds of the factor (true over stated sigma, or its inverse).
+        sizes: [f64; 2],
+    },
+}
+
+impl ContentClass {
+    /// Number of datasets it makes.
+    pub fn count(&self) -> usize {
+        match self {
+            ContentClass::Single { count } => count * Registry::catalogue().names().len(),
+            ContentClass::Nothing { count }
+            | ContentClass::Pair { count, .. }
+            | ContentClass::Outside { count, .. }
+            | ContentClass::MisstatedNoise { count, .. } => *count,
+        }
+    }
+}
+
+/// Default size bounds of catalogued effects, multiples of their typical size (sigma): from
+/// a tenth of it to a hundred times it, three decades around the typical size.
+pub const DEFAULT_SIZES: [f64; 2] = [0.1, 100.0];
+
+/// A whole diagnosis study file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiagnosisStudyConfig {
+    /// `[study]`.
+    pub study: Section,
+    /// `[trajectory]`.
+    #[serde(default)]
+    pub trajectory: TrajectoryConfig,
+    /// `[truth]`.
+    #[serde(default)]
+    pub truth: TruthSection,
+    /// `[noise]`: the truth's noise, and the stated one (except for mis-stated-noise datasets).
+    #[serde(default)]
+    pub noise: NoiseConfig,
+    /// `[diagnosis]`.
+    #[serde(default)]
+    pub diagnosis: DiagnosisSection,
+    /// `[sizes]`: size bounds of catalogued effects by name, multiples of their typical size
+    /// (default [`DEFAULT_SIZES`]).
+    #[serde(default)]
+    pub sizes: BTreeMap<String, [f64; 2]>,
+    /// `[[content]]`.
+    pub content: Vec<ContentClass>,
+}
+
+impl DiagnosisStudyConfig {
+    /// Parses and validates study text; errors name the key.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let cfg: DiagnosisStudyConfig = toml::from_str(text).map_err(|e| toml_message(text, &e))?;
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    /// Reads and validates a study file (a regular file of at most
+    /// [`navkf_dynamics::input_file::TOML_MAX_BYTES`], see [`read_text`]).
+    pub fn load(path: &Path) -> Result<Self, DiagnoseError> {
+        let text = read_text(path, &TextFile::STUDY)?;
+        let cfg: DiagnosisStudyConfig =
+            toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))?;
+        cfg.validate().map_err(|message| DiagnoseError::Config {
+            path: path.to_path_buf(),
+            message: printable(&message),
+        })?;
+        Ok(cfg)
+    }
+
+    /// Size bounds of catalogued effect `name`.
+    pub fn size_range(&self, name: &str) -> [f64; 2] {
+        self.sizes.get(name).copied().unwrap_or(DEFAULT_SIZES)
+    }
+
+    fn validate(&self) -> Result<(), String> {
+        if self.study.kind != "diagnosis" {
+            return Err(format!(
+                "study.kind = \"{}\": expected \"diagnosis\"",
+                self.study.kind
+            ));
+        }
+        navkf_report::names::plain_name("study.name", &self.study.name)?;
+        if self.content.is_empty() {
+            return Err("content: no [[content]] table; expected at least one".into());
+        }
+        let names = Registry::catalogue().names();
+        let bounds = |key: String, [lo, hi]: [f64; 2]| {
+            if lo.is_finite() && hi.is_finite() && lo > 0.0 && hi >= lo {
+                Ok(())
+            } else {
+                Err(format!("{key} = [{lo}, {hi}]: expected 0 < low <= high"))
+            }
+        };
+        let catalogued = |key: String, name: &String| {
+            if names.contains(name) {
+                Ok(())
+            } else {
+                Err(format!(
+                    "{key}: `{name}` is not a catalogued effect; expected one of {}",
+                    names.join(", ")
+                ))
+            }
+        };
+        for (name, r) in &self.sizes {
+            catalogued(format!("sizes.{name}"), name)?;
+            bounds(format!("sizes.{name}"), *r)?;
+        }
+        for (i, c) in self.content.iter().enumerate() {
+            if c.count() == 0 {
+                return Err(format!("content[{i}].count = 0: expected at least one"));
+            }
+            match c {
+                ContentClass::Outside { sizes, .. }
+                | ContentClass::MisstatedNoise { sizes, .. } => {
+                    bounds(format!("content[{i}].sizes"), *sizes)?
+                }
+                ContentClass::Pair { effects, sizes, .. } => {
+                    for (j, name) in effects.iter().enumerate() {
+                        catalogued(format!("content[{i}].effects"), name)?;
+                        if effects[..j].contains(name) {
+                            return Err(format!(
+                                "content[{i}].effects: `{name}` listed twice; a pair draws two \
+                                 different effects"
+                            ));
+                        }
+                    }
+                    if effects.len() == 1 {
+                        return Err(format!(
+                            "content[{i}].effects: one effect; a pair needs at least two"
+                        ));
+                    }
+                    for (name, r) in sizes {
+                        catalogued(format!("content[{i}].sizes.{name}"), name)?;
+                        bounds(format!("content[{i}].sizes.{name}"), *r)?;
+                    }
+                }
+                _ => {}
+            }
+        }
+        if self
+            .diagnosis
+            .filter
+            .parse::<navkf_filters::FilterKind>()
+            .is_err()
+        {
+            return Err(format!(
+                "diagnosis.filter = \"{}\": expected one of {}",
+                self.diagnosis.filter,
+                navkf_filters::FilterKind::names()
+            ));
+        }
+        self.noise.validate()
+    }
+
+    /// The diagnosis options every dataset gets.
+    pub fn options(&self) -> Options {
+        Options {
+            filter: FilterChoice {
+                name: self.diagnosis.filter.clone(),
+                attitude: self.diagnosis.attitude,
+                ..Default::default()
+            },
+            max_rounds: self.diagnosis.max_rounds,
+            ..Default::default()
+        }
+    }
+}
+
+/// What one dataset's diagnosis said.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Record {
+    /// Index.
+    pub index: usize,
+    /// Its class.
+    pub class: Class,
+    /// What its truth hid.
+    pub hidden: Vec<Hidden>,
+    /// The verdict; `None` if the diagnosis stopped with an error.
+    pub verdict: Option<Verdict>,
+    /// The effects named, in order.
+    pub named: Vec<String>,
+    /// Whether the noise levels were refitted (named in a round).
+    pub noise_named: bool,
+    /// Named effects withdrawn by the constancy test.
+    pub withdrawn: Vec<String>,
+    /// Automatic rounds run.
+    pub rounds: usize,
+    /// BIC gain, in the first automatic round, of each hidden catalogued effect (what the
+    /// detection curves are made of).
+    pub first_round_bic: BTreeMap<String, f64>,
+    /// For the coefficients of hidden effects that were named: (estimate - truth) / sigma in
+    /// the final model (standard normal if the estimates and their sigmas are honest).
+    pub estimate_errors: BTreeMap<String, f64>,
+    /// The error, if the diagnosis stopped.
+    pub error: Option<String>,
+}
+
+/// Simulates and diagnoses planned dataset `p`.
+fn run_one(
+    config: &DiagnosisStudyConfig,
+    trajectory: &Arc<Trajectory>,
+    options: &Options,
+    p: &Planned,
+) -> Record {
+    let mut record = Record {
+        index: p.index,
+        class: p.class,
+        hidden: p.hidden.clone(),
+        verdict: None,
+        named: Vec::new(),
+        noise_named: false,
+        withdrawn: Vec::new(),
+        rounds: 0,
+        first_round_bic: BTreeMap::new(),
+        estimate_errors: BTreeMap::new(),
+        error: None,
+    };
+    let result = content::simulate(config, trajectory, p)
+        .and_then(|ds| diagnose(&ds, &Registry::catalogue(), options));
+    match result {
+        Ok((d, _)) => {
+            record.verdict = Some(d.verdict);
+            record.named = d.effects.clone();
+            record.withdrawn = d.withdrawn.iter().map(|w| w.effect.clone()).collect();
+            record.rounds = d.rounds.len();
+            record.noise_named = d
+                .rounds
+                .iter()
+                .any(|r| r.named.iter().any(|n| n == "noise levels"));
+            for c in &d.model.coefficients {
+                let hidden_named = p.hidden.iter().any(|h| match h {
+                    Hidden::Effect { name, values, .. } => {
+                        d.effects.contains(name) && values.contains_key(&c.name)
+                    }
+                    _ => false,
+                });
+                if let (true, Some(t)) = (hidden_named, c.truth) {
+                    record
+                        .estimate_errors
+                        .insert(c.name.clone(), (c.estimate - t) / c.sigma);
+                }
+            }
+            if let Some(first) = d.rounds.first() {
+                for h in &p.hidden {
+                    if let Some(e) = h.effect() {
+                        if let Some(c) = first.candidates.iter().find(|c| c.effect == e) {
+                            record.first_round_bic.insert(e.to_string(), c.bic_gain);
+                        }
+                    }
+                }
+            }
+        }
+        Err(e) => record.error = Some(e.to_string()),
+    }
+    record
+}
+
+/// Runs the study: every planned dataset (or those in `only`), in parallel, results in index
+/// order. `progress` is told how many are done.
+pub fn run(
+    config: &DiagnosisStudyConfig,
+    only: Option<std::ops::Range<usize>>,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<Vec<Record>, DiagnoseError> {
+    let planned = content::plan(config)?;
+    let trajectory = Arc::new(Trajectory::build(&config.trajectory)?);
+    let options = config.options();
+    let range = only.unwrap_or(0..planned.len());
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let chosen = &planned[range.start.min(planned.len())..range.end.min(planned.len())];
+    // A dataset not started when a stop is asked for is skipped (navkf_report::interrupt).
+    let records: Vec<Option<Record>> = chosen
+        .par_iter()
+        .map(|p| {
+            if navkf_report::interrupt::requested() {
+                return None;
+            }
+            let r = run_one(config, &trajectory, &options, p);
+            progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+            Some(r)
+        })
+        .collect();
+    let finished = records.iter().flatten().count();
+    if finished < chosen.len() {
+        return Err(navkf_report::Interrupted {
+            done: finished,
+            total: chosen.len(),
+            what: "datasets",
+        }
+        .into());
+    }
+    Ok(records.into_iter().flatten().collect())
+}
+
+/// Number of datasets the study makes.
+pub fn dataset_count(config: &DiagnosisStudyConfig) -> usize {
+    config.content.iter().map(ContentClass::count).sum()
+}

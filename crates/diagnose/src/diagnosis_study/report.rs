@@ -1,0 +1,250 @@
+//! `report.md` and `summary.json` of a diagnosis study.
+
+use super::rates::{rates, sig, Rates};
+use super::{DiagnosisStudyConfig, Record};
+use crate::error::DiagnoseError;
+use navkf_report::write_atomic;
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// `summary.json`: the study file as run, every dataset's outcome and the rates.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// The study file.
+    pub config: DiagnosisStudyConfig,
+    /// The rates.
+    pub rates: Rates,
+    /// Every dataset's outcome, in index order.
+    pub records: Vec<super::Record>,
+}
+
+/// How long the study took, for the report (not part of the results).
+#[derive(Debug, Clone, Copy)]
+pub struct Timing {
+    /// Wall time, s.
+    pub wall_s: f64,
+    /// Worker threads.
+    pub threads: usize,
+}
+
+fn pct(v: f64) -> String {
+    if v.is_finite() {
+        format!("{:.1} %", 100.0 * v)
+    } else {
+        "-".into()
+    }
+}
+
+/// The report's text.
+pub fn markdown(s: &Summary, command: &str, timing: Option<Timing>) -> String {
+    let r = &s.rates;
+    let mut out = String::new();
+    let _ = writeln!(out, "# Diagnosis study `{}`\n", s.config.study.name);
+    let _ = writeln!(out, "Command: `{command}`\n");
+    let _ = writeln!(
+        out,
+        "{} simulated 2400 s vehicle tests on the paper's trajectory, seed {}, each diagnosed as a user would (default priors, noise check on, filter `{}`). {} diagnoses stopped with an error.{}\n",
+        r.datasets,
+        s.config.study.seed,
+        s.config.diagnosis.filter,
+        r.errors,
+        timing.map_or(String::new(), |t| format!(
+            " Wall time {:.0} s on {} threads of {} ({:.2} s per dataset per thread).",
+            t.wall_s,
+            t.threads,
+            navkf_report::provenance::machine(),
+            t.wall_s * t.threads as f64 / r.datasets.max(1) as f64
+        ))
+    );
+    let _ = writeln!(
+        out,
+        "## Targets\n\n| what | target | measured | met |\n|---|---|---|---|"
+    );
+    for t in &r.targets {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} |",
+            t.what,
+            t.target,
+            t.measured,
+            if t.met { "yes" } else { "**no**" }
+        );
+    }
+    let _ = writeln!(out, "\n## False attribution\n");
+    let _ = writeln!(out, "| data | an effect named | other |\n|---|---|---|");
+    let _ = writeln!(
+        out,
+        "| clean | {} | verdict not `consistent`: {}; noise refitted: {} |",
+        r.clean_named, r.clean_not_consistent, r.clean_noise_refitted
+    );
+    let _ = writeln!(
+        out,
+        "| outside the catalogue, pooled | {} | |",
+        r.outside_named
+    );
+    for (e, rate) in &r.outside_by_effect {
+        let _ = writeln!(out, "| {e} | {rate} | |");
+    }
+    let _ = writeln!(
+        out,
+        "| mis-stated noise, nothing hidden | {} | noise refitted: {} |",
+        r.noise_named, r.noise_found
+    );
+    let _ = writeln!(
+        out,
+        "\nSingle catalogued effects, all sizes: the hidden effect named {}; something else named too or instead {}.\n",
+        r.single_found, r.single_extra
+    );
+    let _ = writeln!(
+        out,
+        "Estimates of the named hidden effects' coefficients (final model): within 3 sigma of the truth {}; RMS of (estimate - truth) / sigma {:.2} (1 if the sigmas are honest).\n",
+        r.estimates_within_3_sigma, r.estimate_error_rms
+    );
+    let _ = writeln!(
+        out,
+        "## Detection\n\nPer catalogued effect, over the datasets that hid it alone (sizes log-uniform, as multiples of its typical size): the size named 90 % of the time on a logistic fit, and the share named above it. ![detection](detection.png)\n"
+    );
+    let _ = writeln!(
+        out,
+        "| effect | datasets | typical size | named 90 % of the time from | named above it | share named per size bin (multiples of typical) |\n|---|---|---|---|---|---|"
+    );
+    for d in &r.detection {
+        let bins: Vec<String> = d
+            .bins
+            .iter()
+            .filter(|b| b.named.n > 0)
+            .map(|b| {
+                format!(
+                    "{}-{}: {}/{}",
+                    sig(b.multiples[0], 2),
+                    sig(b.multiples[1], 2),
+                    b.named.k,
+                    b.named.n
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            out,
+            "| {} | {} | {:.2e} {} | {} | {} | {} |",
+            d.effect,
+            d.n,
+            d.typical,
+            d.unit,
+            match (d.limit_multiple, &d.no_limit) {
+                (Some(m), _) => format!("{} x ({:.2e} {})", sig(m, 3), m * d.typical, d.unit),
+                (None, Some(why)) => why.clone(),
+                _ => "-".into(),
+            },
+            d.above_limit.map_or("-".to_string(), |r| r.to_string()),
+            bins.join("; ")
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\nPairs of catalogued effects: both named in one command {} over all sizes, {} when both sizes are above their limits.\n",
+        r.pairs_both, r.pairs_both_above
+    );
+    let _ = writeln!(out, "## Confusion matrix\n");
+    let mut match_cols: Vec<String> = r
+        .confusion
+        .iter()
+        .flat_map(|c| c.matches.keys().cloned())
+        .collect();
+    match_cols.sort();
+    match_cols.dedup();
+    let mut verdict_cols: Vec<String> = r
+        .confusion
+        .iter()
+        .flat_map(|c| c.verdicts.keys().cloned())
+        .collect();
+    verdict_cols.sort();
+    verdict_cols.dedup();
+    let _ = writeln!(
+        out,
+        "| hidden | n | {} | {} | noise refitted | effects named (count) |",
+        match_cols.join(" | "),
+        verdict_cols
+            .iter()
+            .map(|v| format!("verdict {v}"))
+            .collect::<Vec<_>>()
+            .join(" | ")
+    );
+    let _ = writeln!(
+        out,
+        "|---|---|{}{}---|---|",
+        "---|".repeat(match_cols.len()),
+        "---|".repeat(verdict_cols.len())
+    );
+    for c in &r.confusion {
+        let cells = |m: &std::collections::BTreeMap<String, usize>, cols: &[String]| {
+            cols.iter()
+                .map(|k| m.get(k).copied().unwrap_or(0).to_string())
+                .collect::<Vec<_>>()
+                .join(" | ")
+        };
+        let named: Vec<String> = c.named.iter().map(|(k, v)| format!("{k} {v}")).collect();
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} | {} | {} |",
+            c.hidden,
+            c.n,
+            cells(&c.matches, &match_cols),
+            cells(&c.verdicts, &verdict_cols),
+            c.noise_refitted,
+            named.join(", ")
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\nColumns: `exact` names exactly the hidden catalogued effects, `hidden-and-more` them and others, `part-of-hidden` some of them, `only-others` none of them but others, `nothing-named` nothing.\n\nSingle effects, hidden (rows) against named (columns):\n"
+    );
+    let mut cols: Vec<String> = r
+        .effect_matrix
+        .values()
+        .flat_map(|m| m.keys().cloned())
+        .collect();
+    cols.sort();
+    cols.dedup();
+    let _ = writeln!(out, "| hidden | {} |", cols.join(" | "));
+    let _ = writeln!(out, "|---|{}", "---|".repeat(cols.len()));
+    for (e, m) in &r.effect_matrix {
+        let cells: Vec<String> = cols
+            .iter()
+            .map(|c| m.get(c).copied().unwrap_or(0).to_string())
+            .collect();
+        let _ = writeln!(out, "| {e} | {} |", cells.join(" | "));
+    }
+    let _ = writeln!(
+        out,
+        "\nRates as fractions: clean {} named, outside {} named.",
+        pct(r.clean_named.rate),
+        pct(r.outside_named.rate)
+    );
+    out
+}
+
+/// Writes `summary.json`, `report.md` and the figure into `dir`.
+pub fn write(
+    config: &DiagnosisStudyConfig,
+    records: Vec<Record>,
+    dir: &Path,
+    command: &str,
+    timing: Option<Timing>,
+) -> Result<Summary, DiagnoseError> {
+    let summary = Summary {
+        config: config.clone(),
+        rates: rates(&records),
+        records,
+    };
+    let json = serde_json::to_string_pretty(&summary)
+        .map_err(|e| DiagnoseError::Content(format!("summary.json: {e}")))?;
+    write_atomic(&dir.join("summary.json"), json.as_bytes())?;
+    let figure = super::plots::detection(&summary.rates, dir);
+    let mut md = markdown(&summary, command, timing);
+    if let Err(e) = figure {
+        let _ = writeln!(md, "\nThe detection figure could not be drawn: {e}");
+    }
+    write_atomic(&dir.join("report.md"), md.as_bytes())?;
+    Ok(summary)
+}

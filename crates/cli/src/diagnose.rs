@@ -46,7 +46,7 @@ pub struct Args {
     noise: NoiseMode,
     /// The filter of every fit.
     #[arg(long, default_value = "ekf", value_parser = filter_names())]
-    filter: String,
+    filter: navkf_filters::FilterKind,
     /// The attitude equations of the fits' model: `small-angle` (the paper's) or `exact`
     /// (Euler angles; for a platform that may be misaligned by degrees).
     #[arg(long, default_value = "small-angle", value_parser = crate::attitude_names())]
@@ -174,7 +174,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         prior: flags,
         fit_noise: matches!(a.noise, NoiseMode::Fit),
         filter: FilterChoice {
-            name: a.filter.clone(),
+            name: a.filter.name().into(),
             attitude,
             ..Default::default()
         },
@@ -277,10 +277,12 @@ impl Drop for ClearedOnDrop {
 }
 
 /// The filters' names with their one-line documentation, for `--filter` (from the one list,
-/// [`navkf_filters::FilterKind`]).
-fn filter_names() -> clap::builder::PossibleValuesParser {
+/// [`navkf_filters::FilterKind`]), parsed into the kind at the edge.
+fn filter_names() -> impl clap::builder::TypedValueParser<Value = navkf_filters::FilterKind> {
+    use clap::builder::TypedValueParser;
     clap::builder::PossibleValuesParser::new(
         navkf_filters::FilterKind::ALL
             .map(|k| clap::builder::PossibleValue::new(k.name()).help(k.doc())),
     )
+    .try_map(|name| name.parse::<navkf_filters::FilterKind>())
 }

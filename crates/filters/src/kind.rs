@@ -124,3 +124,17 @@ impl FromStr for FilterKind {
             })
     }
 }
+
+/// Study files write a filter by its name; an unknown name is refused with the list.
+impl serde::Serialize for FilterKind {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for FilterKind {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        name.parse().map_err(serde::de::Error::custom)
+    }
+}

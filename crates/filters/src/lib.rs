@@ -11,6 +11,7 @@
 
 pub mod ekf;
 pub mod error;
+pub mod failure;
 pub mod filter;
 pub mod kernels;
 pub mod kind;
@@ -18,6 +19,7 @@ pub mod linalg;
 pub mod runner;
 pub mod sigma_points;
 mod simd;
+pub mod spec;
 pub mod square_root_ukf;
 mod tangent;
 pub mod triangular;
@@ -27,10 +29,12 @@ pub mod view;
 
 pub use ekf::Ekf;
 pub use error::FilterError;
+pub use failure::{DivergenceCause, RunFailure};
 pub use filter::{nees, Filter};
 pub use kind::FilterKind;
 pub use runner::{RunError, Runner, StepView};
 pub use sigma_points::{SigmaPoints, SigmaScaling};
+pub use spec::FilterSpec;
 pub use square_root_ukf::SquareRootUkf;
 pub use ukf::{NoiseHandling, Ukf};
 pub use update::{Observation, UpdateReport};

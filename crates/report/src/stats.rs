@@ -124,6 +124,49 @@ impl std::fmt::Display for Consistency {
     }
 }
 
+/// A mean of chi-square variables (a mean NEES or NIS) with its two-sided 95 % bounds for a
+/// consistent filter: the one shape of such a statistic, whose verdict is computed in one
+/// place ([`Consistency::of`]).
+///
+/// ```
+/// use navkf_report::stats::{Consistency, MeanChi2};
+/// // 100 NIS values of 2 degrees of freedom each, summing to 260: mean 2.6, above the band.
+/// let nis = MeanChi2::of_sum(260.0, 200.0, 100.0);
+/// assert!((nis.mean - 2.6).abs() < 1e-12);
+/// assert!(nis.bounds[0] < 2.0 && 2.0 < nis.bounds[1] && nis.bounds[1] < 2.6);
+/// assert_eq!(nis.verdict(), Consistency::Optimistic);
+/// assert_eq!(MeanChi2::of_sum(0.0, 0.0, 0.0).verdict(), Consistency::NoVerdict);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct MeanChi2 {
+    /// The mean (NaN without data).
+    pub mean: f64,
+    /// Its 95 % bounds for a consistent filter (NaN without data).
+    pub bounds: [f64; 2],
+}
+
+impl MeanChi2 {
+    /// The mean of `count` variables whose values sum to `sum` and whose degrees of freedom
+    /// sum to `dof_total`, with [`mean_chi2_bounds`].
+    pub fn of_sum(sum: f64, dof_total: f64, count: f64) -> Self {
+        if !(count > 0.0 && dof_total > 0.0) {
+            return MeanChi2 {
+                mean: f64::NAN,
+                bounds: [f64::NAN; 2],
+            };
+        }
+        MeanChi2 {
+            mean: sum / count,
+            bounds: mean_chi2_bounds(dof_total, count),
+        }
+    }
+
+    /// Where the mean lies against its bounds.
+    pub fn verdict(&self) -> Consistency {
+        Consistency::of(self.mean, self.bounds)
+    }
+}
+
 /// `ln Gamma(x)` for `x > 0` (Lanczos, g = 7, nine terms; relative error below 1e-14).
 #[allow(clippy::excessive_precision)] // the published coefficients, as printed
 pub fn ln_gamma(x: f64) -> f64 {

@@ -11,7 +11,7 @@ use crate::error::StudyError;
 use navkf_dynamics::input_file::{printable, read_text, toml_error, toml_message, TextFile};
 use navkf_dynamics::simulate::InitialTilt;
 use navkf_dynamics::{Attitude, NoiseConfig, TrajectoryConfig, TruthConfig};
-use navkf_filters::{FilterKind, SigmaScaling};
+use navkf_filters::{FilterKind, FilterSpec, SigmaScaling};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -159,7 +159,7 @@ pub struct FilterSection {
 #[serde(deny_unknown_fields)]
 pub struct FilterVariant {
     /// The filter kind (`ekf`, `simplified_ukf`, ...).
-    pub kind: String,
+    pub kind: FilterKind,
     /// Its attitude equations.
     pub attitude: Option<Attitude>,
     /// Sigma-point alpha.
@@ -170,31 +170,17 @@ pub struct FilterVariant {
     pub kappa: Option<f64>,
 }
 
-/// One compared filter, resolved: its label (the name results are keyed by), kind, attitude
-/// equations and sigma-point scaling.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FilterPlan<'a> {
-    /// The name in `study.filters`.
-    pub label: &'a str,
-    /// What is built.
-    pub kind: FilterKind,
-    /// The model's attitude equations.
-    pub attitude: Attitude,
-    /// Sigma-point scaling (UKFs only).
-    pub scaling: SigmaScaling,
-}
-
 impl FilterSection {
-    /// The filter listed as `label` in `study.filters`; the message names the key.
-    pub fn plan<'a>(&self, label: &'a str) -> Result<FilterPlan<'a>, String> {
+    /// The filter listed as `label` in `study.filters` (a kind's name, or a label under
+    /// `[filter.variants]`); the message names the key.
+    pub fn plan(&self, label: &str) -> Result<FilterSpec, String> {
         let defaults = SigmaScaling {
             alpha: self.alpha,
             beta: self.beta,
             kappa: self.kappa,
         };
         if let Ok(kind) = label.parse::<FilterKind>() {
-            return Ok(FilterPlan {
-                label,
+            return Ok(FilterSpec {
                 kind,
                 attitude: self.attitude,
                 scaling: defaults,
@@ -207,13 +193,8 @@ impl FilterSection {
                 FilterKind::names()
             ));
         };
-        let kind = v
-            .kind
-            .parse::<FilterKind>()
-            .map_err(|e| format!("filter.variants.{label}.kind: {e}"))?;
-        Ok(FilterPlan {
-            label,
-            kind,
+        Ok(FilterSpec {
+            kind: v.kind,
             attitude: v.attitude.unwrap_or(self.attitude),
             scaling: SigmaScaling {
                 alpha: v.alpha.unwrap_or(defaults.alpha),

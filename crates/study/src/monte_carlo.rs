@@ -10,9 +10,7 @@
 
 use crate::config::StudyConfig;
 use crate::error::StudyError;
-use crate::tally::{
-    cost_bin, Divergence, DivergenceCause, FilterTally, PairTally, RunFailure, Tally, BLOCK,
-};
+use crate::tally::{cost_bin, Divergence, FilterTally, PairTally, Tally, BLOCK};
 use navkf_dynamics::effect_spec::EffectSpec;
 use navkf_dynamics::prior::typical_sigma;
 use navkf_dynamics::rng::{stream, Purpose};
@@ -21,7 +19,7 @@ use navkf_dynamics::{
     Attitude, NoiseConfig, PlatformModel, Registry, SimulatedRun, Simulator, SystemModel,
     Trajectory,
 };
-use navkf_filters::{nees, Ekf, Filter, FilterKind, Runner, SigmaScaling};
+use navkf_filters::{nees, DivergenceCause, Ekf, Filter, FilterSpec, RunFailure, Runner};
 use rand::Rng;
 use rand_distr::StandardNormal;
 use rayon::prelude::*;
@@ -48,12 +46,11 @@ pub struct Study {
     filters: Vec<FilterSetup>,
 }
 
-/// One compared filter's kind, model (the filters' model in its attitude equations) and
-/// sigma-point scaling.
+/// One compared filter as specified, with its model (the filters' model in the spec's
+/// attitude equations).
 struct FilterSetup {
-    kind: FilterKind,
+    spec: FilterSpec,
     model: Arc<PlatformModel>,
-    scaling: SigmaScaling,
 }
 
 /// An estimate at one time, for the example run's plots.
@@ -230,20 +227,16 @@ impl Study {
         let filter_model = filter_model_in(config.filter.attitude)?;
         let mut filters = Vec::new();
         for label in &config.study.filters {
-            let plan = config.filter.plan(label).map_err(StudyError::Other)?;
-            let model = if plan.attitude == filter_model.attitude() {
+            let spec = config.filter.plan(label).map_err(StudyError::Other)?;
+            let model = if spec.attitude == filter_model.attitude() {
                 filter_model.clone()
             } else {
-                filter_model_in(plan.attitude)?
+                filter_model_in(spec.attitude)?
             };
-            navkf_filters::SigmaPoints::new(model.dim(), plan.scaling).map_err(|e| {
+            navkf_filters::SigmaPoints::new(model.dim(), spec.scaling).map_err(|e| {
                 StudyError::Other(format!("the sigma-point scaling of `{label}`: {e}"))
             })?;
-            filters.push(FilterSetup {
-                kind: plan.kind,
-                model,
-                scaling: plan.scaling,
-            });
+            filters.push(FilterSetup { spec, model });
         }
         let trajectory = Arc::new(Trajectory::build(&config.trajectory)?);
         let mut sim_cfg = config.truth.sim_config();
@@ -394,7 +387,7 @@ impl Study {
             step_ns: Vec::with_capacity(sim_run.measurements.len()),
             trace: example.then(Vec::new),
         };
-        let mut filter = match setup.kind.build(setup.model.clone(), setup.scaling) {
+        let mut filter = match setup.spec.build(setup.model.clone()) {
             Ok(f) => f,
             Err(e) => {
                 out.outcome = Err(RunFailure::new(DivergenceCause::Setup, e.to_string()));
@@ -514,7 +507,8 @@ impl Study {
                 out.push((0..nt).map(|i| p[i + i * nt]).collect());
                 next += 1;
             }
-        })?;
+        })
+        .ok()?;
         Some(out)
     }
 
@@ -538,12 +532,13 @@ impl Study {
     /// The truth-linearised bound's covariance recursion along `sim_run` (see the module
     /// documentation): the EKF with the truth model, its state reset to the true state before
     /// each step. `visit(t, P, n)` sees the covariance (column-major, `n` = the truth model's
-    /// dimension) after each update. `None` if the recursion failed.
+    /// dimension) after each update. Fails with the filter's own cause, at the measurement
+    /// where the recursion broke.
     pub fn bound_recursion(
         &self,
         sim_run: &SimulatedRun,
         mut visit: impl FnMut(f64, &[f64], usize),
-    ) -> Option<()> {
+    ) -> Result<(), RunFailure> {
         let model = self.sim.model().clone();
         let nt = model.dim();
         let mut ekf = Ekf::new(model.clone());
@@ -553,7 +548,8 @@ impl Study {
         }
         let mut xt0 = sim_run.truth.states[0].clone();
         xt0.truncate(nt);
-        ekf.reset(&xt0, &p0).ok()?;
+        ekf.reset(&xt0, &p0)
+            .map_err(|e| RunFailure::of_filter(&e, format!("the initial covariance: {e}")))?;
         let mut window = navkf_dynamics::InputWindow::with_capacity(16);
         let inputs = self.sim.inputs();
         let mut t_prev = 0.0;
@@ -569,8 +565,12 @@ impl Study {
                 window.push_linear(inputs[c].t, inputs[c].f);
                 c += 1;
             }
+            let at = |e: navkf_filters::FilterError| {
+                let reason = format!("measurement {k} (t = {} s): {e}", m.t);
+                RunFailure::of_filter(&e, reason)
+            };
             ekf.set_state(&sim_run.truth.states[k]);
-            ekf.predict(&window).ok()?;
+            ekf.predict(&window).map_err(at)?;
             ekf.set_state(&sim_run.truth.states[k + 1]);
             let (z, sigma, avail) =
                 navkf_dynamics::sensors::observation_of(m, self.sim.noise(), 0.0);
@@ -579,11 +579,11 @@ impl Study {
                 sigma: &sigma,
                 available: &avail,
             })
-            .ok()?;
+            .map_err(at)?;
             t_prev = m.t;
             visit(m.t, ekf.covariance(), nt);
         }
-        Some(())
+        Ok(())
     }
 
     /// Runs `runs` (a range of run indices) and folds them into one tally per block of

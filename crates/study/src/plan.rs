@@ -101,12 +101,11 @@ pub fn plan(study: &Study) -> Result<Plan, StudyError> {
             last.clear();
             last.extend_from_slice(p);
         })
-        .ok_or_else(|| {
-            StudyError::Other(
-                "the bound's covariance recursion failed along the test (a covariance not \
-                 positive definite)"
-                    .into(),
-            )
+        .map_err(|failure| {
+            StudyError::Other(format!(
+                "the bound's covariance recursion failed along the test ({}): {}",
+                failure.cause, failure.reason
+            ))
         })?;
     if t.is_empty() {
         return Err(StudyError::Other(

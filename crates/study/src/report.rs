@@ -2,7 +2,6 @@
 
 use crate::summary::Summary;
 use navkf_report::provenance::machine;
-use navkf_report::stats::Consistency;
 use std::fmt::Write as _;
 
 fn g(v: f64) -> String {
@@ -103,21 +102,6 @@ fn cell(s: &str) -> String {
     s.replace('|', "\\|").replace('\n', " ")
 }
 
-/// What a paired difference says: its 95 % interval above zero means `a` has the larger
-/// squared error, below zero `b`.
-pub fn paired_verdict(d: &crate::summary::PairedDifference) -> String {
-    let [lo, hi] = d.ci95;
-    if !(lo.is_finite() && hi.is_finite()) {
-        "no verdict".into()
-    } else if !d.significant() {
-        "no significant difference".into()
-    } else if lo > 0.0 {
-        format!("{} worse", d.a)
-    } else {
-        format!("{} worse", d.b)
-    }
-}
-
 /// A Markdown table of the paired differences of final squared errors, with their 95 %
 /// intervals and what they say.
 pub fn paired_table(s: &Summary) -> String {
@@ -137,7 +121,7 @@ pub fn paired_table(s: &Summary) -> String {
     let _ = writeln!(out, "|---|---|---|---|---|---|---|---|");
     let mut significant = 0;
     for d in &s.paired {
-        let v = paired_verdict(d);
+        let v = d.verdict_words();
         if d.significant() {
             significant += 1;
         }
@@ -184,8 +168,8 @@ pub fn consistency(s: &Summary) -> String {
             );
             continue;
         }
-        let nees = Consistency::of(f.nees_mean, f.nees_bounds);
-        let nis = Consistency::of(f.nis_mean, f.nis_bounds);
+        let nees = f.nees().verdict();
+        let nis = f.nis().verdict();
         let overall = if nees == nis {
             nees.to_string()
         } else {

@@ -4,7 +4,7 @@ use crate::monte_carlo::Study;
 use crate::tally::{quantile, Tally};
 use navkf_dynamics::state::NAV_DIM;
 use navkf_dynamics::SystemModel;
-use navkf_report::stats::mean_chi2_bounds;
+use navkf_report::stats::{mean_chi2_bounds, MeanChi2};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -34,7 +34,7 @@ pub struct FilterSummary {
     /// Those runs counted by cause (causes with none left out). Absent from summaries
     /// written before causes were typed.
     #[serde(default)]
-    pub diverged_by_cause: BTreeMap<crate::tally::DivergenceCause, u64>,
+    pub diverged_by_cause: BTreeMap<navkf_filters::DivergenceCause, u64>,
     /// Runs included.
     pub runs_ok: u64,
     /// Median cost of one predict + update, ns (measured inside the runs).
@@ -43,6 +43,25 @@ pub struct FilterSummary {
     pub step_ns_p90: f64,
     /// The first diverged runs and why (at most 20).
     pub diverged_examples: Vec<crate::tally::Divergence>,
+}
+
+impl FilterSummary {
+    /// The final average NEES with its bounds (kept as two flat fields in `summary.json`,
+    /// the format baselines and shards are written in).
+    pub fn nees(&self) -> MeanChi2 {
+        MeanChi2 {
+            mean: self.nees_mean,
+            bounds: self.nees_bounds,
+        }
+    }
+
+    /// The average NIS over all updates with its bounds.
+    pub fn nis(&self) -> MeanChi2 {
+        MeanChi2 {
+            mean: self.nis_mean,
+            bounds: self.nis_bounds,
+        }
+    }
 }
 
 /// Paired comparison of two filters on one coefficient.
@@ -64,11 +83,50 @@ pub struct PairedDifference {
     pub relative: f64,
 }
 
+/// What a paired difference says.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PairedVerdict {
+    /// The interval is not finite (fewer than two runs where both finished).
+    NoVerdict,
+    /// The 95 % interval holds zero.
+    NoSignificantDifference,
+    /// The interval is above zero: `a` has the larger squared error.
+    AWorse,
+    /// The interval is below zero: `b` has the larger squared error.
+    BWorse,
+}
+
 impl PairedDifference {
     /// Whether the 95 % interval excludes zero (a NaN interval is no verdict, so `false`).
     pub fn significant(&self) -> bool {
+        matches!(
+            self.verdict(),
+            PairedVerdict::AWorse | PairedVerdict::BWorse
+        )
+    }
+
+    /// What the 95 % interval says.
+    pub fn verdict(&self) -> PairedVerdict {
         let [lo, hi] = self.ci95;
-        lo.is_finite() && hi.is_finite() && (lo > 0.0 || hi < 0.0)
+        if !(lo.is_finite() && hi.is_finite()) {
+            PairedVerdict::NoVerdict
+        } else if lo > 0.0 {
+            PairedVerdict::AWorse
+        } else if hi < 0.0 {
+            PairedVerdict::BWorse
+        } else {
+            PairedVerdict::NoSignificantDifference
+        }
+    }
+
+    /// The verdict in words, naming the filter: `ekf worse`, `no significant difference`.
+    pub fn verdict_words(&self) -> String {
+        match self.verdict() {
+            PairedVerdict::NoVerdict => "no verdict".into(),
+            PairedVerdict::NoSignificantDifference => "no significant difference".into(),
+            PairedVerdict::AWorse => format!("{} worse", self.a),
+            PairedVerdict::BWorse => format!("{} worse", self.b),
+        }
     }
 }
 

@@ -20,8 +20,9 @@
 use crate::config::StudyConfig;
 use crate::monte_carlo::Study;
 use crate::summary::{paired_difference, PairedDifference, Summary};
-use crate::tally::{DivergenceCause, Tally};
+use crate::tally::Tally;
 use navkf_dynamics::state::PHI_Z;
+use navkf_filters::DivergenceCause;
 use navkf_report::figure::FigureOutcome;
 use navkf_report::stats::mean_chi2_bounds;
 use serde::{Deserialize, Serialize};

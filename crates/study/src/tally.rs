@@ -6,84 +6,12 @@
 //! point addition is not associative, so this fixed tree is what makes "merged shards equal
 //! the single-machine run" exact rather than approximate.
 
+use navkf_filters::{DivergenceCause, RunFailure};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// Runs per block.
 pub const BLOCK: usize = 10;
-
-/// What excluded a run: the class of failure, for counting. The detail (step, matrix,
-/// value) is in [`RunFailure::reason`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum DivergenceCause {
-    /// The filter refused its settings or its initial estimate.
-    Setup,
-    /// A covariance (`P`, the innovation covariance `S`, or a factor) lost positive
-    /// definiteness: in a filter step, or in the NEES at a stored time.
-    NotPositiveDefinite,
-    /// The state, the covariance or an innovation became NaN or infinite.
-    NonFinite,
-    /// The run stopped before the last stored time.
-    Stopped,
-    /// It finished, but a coefficient's final error exceeds the study's divergence bound
-    /// (`[divergence] max_error_initial_sigmas`).
-    ErrorBound,
-}
-
-impl DivergenceCause {
-    /// The class of a filter's error.
-    pub fn of_filter_error(e: &navkf_filters::FilterError) -> Self {
-        use navkf_filters::FilterError as E;
-        match e {
-            E::NotPositiveDefinite { .. } => DivergenceCause::NotPositiveDefinite,
-            E::NonFinite { .. } => DivergenceCause::NonFinite,
-            E::Invalid(_) => DivergenceCause::Setup,
-        }
-    }
-
-    /// The cause in words, as in the report.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            DivergenceCause::Setup => "setup refused",
-            DivergenceCause::NotPositiveDefinite => "covariance not positive definite",
-            DivergenceCause::NonFinite => "non-finite value",
-            DivergenceCause::Stopped => "stopped early",
-            DivergenceCause::ErrorBound => "final error beyond the bound",
-        }
-    }
-}
-
-impl std::fmt::Display for DivergenceCause {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-/// Why a run was excluded: its class, and the detail in words.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct RunFailure {
-    /// The class, for counting.
-    pub cause: DivergenceCause,
-    /// What happened (the filter's error with its step, or the bound exceeded).
-    pub reason: String,
-}
-
-impl RunFailure {
-    /// A failure of class `cause`.
-    pub fn new(cause: DivergenceCause, reason: impl Into<String>) -> Self {
-        RunFailure {
-            cause,
-            reason: reason.into(),
-        }
-    }
-
-    /// A filter's error, classed by [`DivergenceCause::of_filter_error`]; `reason` says it
-    /// in words with its context (the time, the measurement).
-    pub fn of_filter(e: &navkf_filters::FilterError, reason: impl Into<String>) -> Self {
-        Self::new(DivergenceCause::of_filter_error(e), reason)
-    }
-}
 
 /// A run excluded from one filter's statistics.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -19,7 +19,7 @@ fn with_exact_ekf(truth: Attitude) -> StudyConfig {
     c.filter.variants.insert(
         "ekf_exact".into(),
         navkf_study::config::FilterVariant {
-            kind: "ekf".into(),
+            kind: navkf_filters::FilterKind::Ekf,
             attitude: Some(Attitude::Exact),
             alpha: None,
             beta: None,
@@ -117,7 +117,11 @@ fn filter_variants_are_checked_with_their_key() {
         "{e}"
     );
     let e = parse_error(r#", "v""#, "[filter.variants.v]\nkind = \"ukf\"\n");
-    assert!(e.contains("filter.variants.v.kind"), "{e}");
+    // Refused where it is read, by line and column, with the list of filters.
+    assert!(
+        e.contains("column 8") && e.contains("unknown filter `ukf`; expected one of ekf"),
+        "{e}"
+    );
     let e = parse_error("", "[filter.variants.unused]\nkind = \"ekf\"\n");
     assert!(
         e.contains("filter.variants.unused is defined but not listed"),

@@ -4,8 +4,8 @@ mod common;
 
 use common::short_config;
 use navkf_dynamics::state::NAV_DIM;
+use navkf_filters::DivergenceCause;
 use navkf_study::summary::summarize;
-use navkf_study::tally::DivergenceCause;
 use navkf_study::Study;
 
 const RUNS: usize = 20;

@@ -2,11 +2,12 @@
 //! path): every figure is written as PNG and SVG with its title, and degenerate data (every
 //! run of a filter diverged, NaN, one stored time, nothing at all) draws without a panic.
 
+use navkf_filters::{DivergenceCause, RunFailure};
 use navkf_report::stats::Consistency;
 use navkf_study::monte_carlo::ExampleRun;
 use navkf_study::output::{fold, write_results};
 use navkf_study::summary::summarize;
-use navkf_study::tally::{Divergence, DivergenceCause, RunFailure};
+use navkf_study::tally::Divergence;
 use navkf_study::{plots, report, Study, StudyConfig, Tally};
 use std::path::{Path, PathBuf};
 

@@ -75,7 +75,7 @@ impl Default for TruthSection {
 #[serde(deny_unknown_fields, default)]
 pub struct DiagnosisSection {
     /// The filter of the fits.
-    pub filter: String,
+    pub filter: navkf_filters::FilterKind,
     /// The attitude equations of the fits' model.
     pub attitude: navkf_dynamics::Attitude,
     /// Most automatic rounds.
@@ -85,7 +85,7 @@ pub struct DiagnosisSection {
 impl Default for DiagnosisSection {
     fn default() -> Self {
         DiagnosisSection {
-            filter: "ekf".into(),
+            filter: navkf_filters::FilterKind::Ekf,
             attitude: navkf_dynamics::Attitude::SmallAngle,
             max_rounds: Options::default().max_rounds,
         }
@@ -279,18 +279,6 @@ impl DiagnosisStudyConfig {
                 _ => {}
             }
         }
-        if self
-            .diagnosis
-            .filter
-            .parse::<navkf_filters::FilterKind>()
-            .is_err()
-        {
-            return Err(format!(
-                "diagnosis.filter = \"{}\": expected one of {}",
-                self.diagnosis.filter,
-                navkf_filters::FilterKind::names()
-            ));
-        }
         self.noise.validate()
     }
 
@@ -298,7 +286,7 @@ impl DiagnosisStudyConfig {
     pub fn options(&self) -> Options {
         Options {
             filter: FilterChoice {
-                name: self.diagnosis.filter.clone(),
+                name: self.diagnosis.filter.name().into(),
                 attitude: self.diagnosis.attitude,
                 ..Default::default()
             },

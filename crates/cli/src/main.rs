@@ -26,6 +26,7 @@ mod effects;
 mod plan;
 mod simulate;
 mod study;
+mod study_file;
 
 #[derive(Parser)]
 #[command(

@@ -2,6 +2,7 @@
 //! information along it, without Monte Carlo (see `navkf_study::plan`). Several study files,
 //! or one with a `[sweep]`, are compared design by design.
 
+use crate::study_file::StudyFile;
 use navkf_report::write_atomic;
 use navkf_study::plan::{comparison_table, plan, table, Comparison, Design, Plan};
 use navkf_study::{Study, StudyConfig};
@@ -20,22 +21,21 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
+    let mut configs = Vec::with_capacity(a.files.len());
     for f in &a.files {
-        if crate::study::is_diagnosis_study(f)? {
-            return Err(format!(
-                "{}: a diagnosis study ([study] kind = \"diagnosis\"); plan predicts what the \
-                 test of a Monte Carlo study file identifies (e.g. studies/paper.toml), and a \
-                 diagnosis study has no single test to plan",
-                f.display()
-            )
-            .into());
+        match crate::study_file::load(f)? {
+            StudyFile::MonteCarlo(config) => configs.push(*config),
+            StudyFile::Diagnosis(_) => {
+                return Err(format!(
+                    "{}: a diagnosis study ([study] kind = \"diagnosis\"); plan predicts what \
+                     the test of a Monte Carlo study file identifies (e.g. studies/paper.toml), \
+                     and a diagnosis study has no single test to plan",
+                    f.display()
+                )
+                .into());
+            }
         }
     }
-    let configs = a
-        .files
-        .iter()
-        .map(|f| StudyConfig::load(f))
-        .collect::<Result<Vec<_>, _>>()?;
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("results/plan").join(&configs[0].study.name));

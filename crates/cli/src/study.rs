@@ -1,6 +1,7 @@
 //! `navkf study` and `navkf merge`: run a Monte Carlo study (or a shard of it) and combine
 //! shards.
 
+use crate::study_file::StudyFile;
 use indicatif::{ProgressBar, ProgressStyle};
 use navkf_report::{write_atomic, FolderKind, ResultsDir, ShardFolder};
 use navkf_study::output::{fold, read_partials, shard_blocks, write_results, Partial};
@@ -85,31 +86,11 @@ fn progress_bar(quiet: bool, total: usize, what: &str) -> ProgressBar {
     bar
 }
 
-/// Whether the study file is a diagnosis study (`[study] kind = "diagnosis"`). The file is
-/// read as the loaders read it: anything but a regular file of bounded size is refused here,
-/// before it is opened.
-pub(crate) fn is_diagnosis_study(
-    path: &std::path::Path,
-) -> Result<bool, Box<dyn std::error::Error>> {
-    use navkf_dynamics::input_file::{read_text, TextFile};
-    let text = read_text(path, &TextFile::STUDY)?;
-    let value: toml::Value = match toml::from_str(&text) {
-        Ok(v) => v,
-        // Let the full parser report the syntax error with its line.
-        Err(_) => return Ok(false),
-    };
-    Ok(value
-        .get("study")
-        .and_then(|s| s.get("kind"))
-        .and_then(|k| k.as_str())
-        == Some("diagnosis"))
-}
-
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
-    if is_diagnosis_study(&a.file)? {
-        return run_diagnosis_study(a);
-    }
-    let mut config = StudyConfig::load(&a.file)?;
+    let mut config = match crate::study_file::load(&a.file)? {
+        StudyFile::Diagnosis(config) => return run_diagnosis_study(a, *config),
+        StudyFile::MonteCarlo(config) => *config,
+    };
     if let Some(r) = a.runs {
         if r == 0 {
             return Err("--runs 0: expected at least one run".into());
@@ -271,9 +252,11 @@ pub fn merge(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
 
 /// `navkf study` on a diagnosis study: every dataset simulated and diagnosed, the error rates
 /// written to `results/<name>/`.
-fn run_diagnosis_study(a: Args) -> Result<(), Box<dyn std::error::Error>> {
-    use navkf_diagnose::diagnosis_study::{dataset_count, report, run, DiagnosisStudyConfig};
-    let config = DiagnosisStudyConfig::load(&a.file)?;
+fn run_diagnosis_study(
+    a: Args,
+    config: navkf_diagnose::diagnosis_study::DiagnosisStudyConfig,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use navkf_diagnose::diagnosis_study::{dataset_count, report, run};
     for (flag, given) in [
         ("--shard", a.shard.is_some()),
         ("--baseline", a.baseline.is_some()),

@@ -62,6 +62,49 @@ fn a_study_name_that_is_not_a_plain_name_is_refused() {
 }
 
 #[test]
+fn a_study_file_is_what_its_declared_kind_says() {
+    let dir = scratch("kind");
+    // An unknown kind: refused where it is written, with the kinds there are.
+    let bad = dir.join("sweep-kind.toml");
+    let edited = include_str!("../../../studies/paper.toml").replacen(
+        "[study]\n",
+        "[study]\nkind = \"sweep\"\n",
+        1,
+    );
+    std::fs::write(&bad, edited).unwrap();
+    let t = Instant::now();
+    let o = navkf([Path::new("study"), &bad, Path::new("--quiet")]);
+    refused_at_once(&o, t.elapsed(), "unknown variant `sweep`");
+    assert!(
+        text(&o.stderr).contains("sweep-kind.toml:"),
+        "{}",
+        text(&o.stderr)
+    );
+    // A Monte Carlo study that says so is read as one: its own checks run (2 runs asked,
+    // example_run 0 kept), here refused on a bad name to stay fast.
+    let declared = dir.join("declared.toml");
+    let edited = include_str!("../../../studies/paper.toml")
+        .replacen("[study]\n", "[study]\nkind = \"monte-carlo\"\n", 1)
+        .replacen("name = \"paper\"", "name = \"../x\"", 1);
+    std::fs::write(&declared, edited).unwrap();
+    let t = Instant::now();
+    let o = navkf([Path::new("study"), &declared, Path::new("--quiet")]);
+    refused_at_once(&o, t.elapsed(), "study.name");
+    // A diagnosis study's file is read by the diagnosis study's loader: its key `content`
+    // is required there, and the error is the diagnosis loader's.
+    let diagnosis = dir.join("diagnosis.toml");
+    std::fs::write(
+        &diagnosis,
+        "[study]\nname = \"d\"\nkind = \"diagnosis\"\nseed = 1\n",
+    )
+    .unwrap();
+    let t = Instant::now();
+    let o = navkf([Path::new("study"), &diagnosis, Path::new("--quiet")]);
+    refused_at_once(&o, t.elapsed(), "missing field `content`");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn an_occupied_or_unwritable_out_fails_before_the_runs() {
     let dir = scratch("out");
     let study = study_file(&dir, "s.toml", &[]);

@@ -14,9 +14,11 @@ pub mod names;
 pub mod provenance;
 pub mod results_dir;
 pub mod stats;
+pub mod study_kind;
 
 pub use atomic_write::write_atomic;
 pub use error::ReportError;
 pub use interrupt::Interrupted;
 pub use results_dir::marker::FolderKind;
 pub use results_dir::{ResultsDir, ShardFolder, MARKER};
+pub use study_kind::StudyKind;

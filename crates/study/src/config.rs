@@ -12,6 +12,7 @@ use navkf_dynamics::input_file::{printable, read_text, toml_error, toml_message,
 use navkf_dynamics::simulate::InitialTilt;
 use navkf_dynamics::{Attitude, NoiseConfig, TrajectoryConfig, TruthConfig};
 use navkf_filters::{FilterKind, FilterSpec, SigmaScaling};
+use navkf_report::StudyKind;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -22,6 +23,10 @@ use std::path::Path;
 pub struct StudySection {
     /// Name: results go to `results/<name>/`.
     pub name: String,
+    /// The kind of study: `monte-carlo` (the default; not written when it is). A diagnosis
+    /// study is another file format, loaded by `navkf-diagnose`.
+    #[serde(default, skip_serializing_if = "StudyKind::is_monte_carlo")]
+    pub kind: StudyKind,
     /// Number of Monte Carlo runs.
     pub runs: usize,
     /// Seed of every random stream.
@@ -287,8 +292,12 @@ impl StudyConfig {
     /// [`navkf_dynamics::input_file::TOML_MAX_BYTES`] is refused unread
     /// ([`read_text`]).
     pub fn load(path: &Path) -> Result<Self, StudyError> {
-        let text = read_text(path, &TextFile::STUDY)?;
-        let cfg: StudyConfig = toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))?;
+        Self::from_file_text(path, &read_text(path, &TextFile::STUDY)?)
+    }
+
+    /// Parses and validates `text`, read from `path` (errors name the file, line and column).
+    pub fn from_file_text(path: &Path, text: &str) -> Result<Self, StudyError> {
+        let cfg: StudyConfig = toml::from_str(text).map_err(|e| toml_error(path, text, &e))?;
         cfg.validate().map_err(|message| StudyError::Config {
             path: path.to_path_buf(),
             message: printable(&message),
@@ -311,6 +320,13 @@ impl StudyConfig {
             return crate::sweep::points(self).map(|_| ());
         }
         let s = &self.study;
+        if !s.kind.is_monte_carlo() {
+            return Err(
+                "study.kind = \"diagnosis\": a diagnosis study is not a Monte Carlo study; \
+                 run it with `navkf study`, which reads the declared kind"
+                    .into(),
+            );
+        }
         navkf_report::names::plain_name("study.name", &s.name)?;
         if s.runs == 0 {
             return Err("study.runs = 0: expected at least one run".into());

@@ -22,6 +22,7 @@ use content::{Class, Hidden, Planned};
 use navkf_dynamics::input_file::{printable, read_text, toml_error, toml_message, TextFile};
 use navkf_dynamics::simulate::{Alignment, InitialTilt};
 use navkf_dynamics::{NoiseConfig, Registry, Trajectory, TrajectoryConfig};
+use navkf_report::StudyKind;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -34,8 +35,8 @@ use std::sync::Arc;
 pub struct Section {
     /// Name: results go to `results/<name>/`.
     pub name: String,
-    /// Must be `"diagnosis"` (what tells `navkf study` which kind of study this is).
-    pub kind: String,
+    /// Must be `"diagnosis"`: the kind a study file declares (see [`StudyKind`]).
+    pub kind: StudyKind,
     /// Seed of every random stream.
     pub seed: u64,
 }
@@ -199,9 +200,13 @@ impl DiagnosisStudyConfig {
     /// Reads and validates a study file (a regular file of at most
     /// [`navkf_dynamics::input_file::TOML_MAX_BYTES`], see [`read_text`]).
     pub fn load(path: &Path) -> Result<Self, DiagnoseError> {
-        let text = read_text(path, &TextFile::STUDY)?;
+        Self::from_file_text(path, &read_text(path, &TextFile::STUDY)?)
+    }
+
+    /// Parses and validates `text`, read from `path` (errors name the file, line and column).
+    pub fn from_file_text(path: &Path, text: &str) -> Result<Self, DiagnoseError> {
         let cfg: DiagnosisStudyConfig =
-            toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))?;
+            toml::from_str(text).map_err(|e| toml_error(path, text, &e))?;
         cfg.validate().map_err(|message| DiagnoseError::Config {
             path: path.to_path_buf(),
             message: printable(&message),
@@ -215,11 +220,11 @@ impl DiagnosisStudyConfig {
     }
 
     fn validate(&self) -> Result<(), String> {
-        if self.study.kind != "diagnosis" {
-            return Err(format!(
-                "study.kind = \"{}\": expected \"diagnosis\"",
-                self.study.kind
-            ));
+        if self.study.kind != StudyKind::Diagnosis {
+            return Err(
+                "study.kind: expected \"diagnosis\" (a file without it is a Monte Carlo study)"
+                    .into(),
+            );
         }
         navkf_report::names::plain_name("study.name", &self.study.name)?;
         if self.content.is_empty() {

@@ -3,7 +3,7 @@
 
 use crate::study_file::StudyFile;
 use indicatif::{ProgressBar, ProgressStyle};
-use navkf_report::{write_atomic, FolderKind, ResultsDir, ShardFolder};
+use navkf_report::{write_atomic, FolderKind, ResultsDir, ShardFolder, StudyKind};
 use navkf_study::output::{fold, read_partials, shard_blocks, write_results, Partial};
 use navkf_study::{guard, Study, StudyConfig};
 use std::path::PathBuf;
@@ -44,9 +44,9 @@ pub struct MergeArgs {
     out: Option<PathBuf>,
 }
 
-/// `--shard i/n` of a study of `runs` runs: at most one shard per run (more would be empty,
-/// and an absurd n overflowed the block arithmetic).
-fn parse_shard(s: &str, runs: usize) -> Result<(usize, usize), String> {
+/// `--shard i/n` of a study of `units` runs or datasets (`what`): at most one shard per
+/// unit (more would be empty, and an absurd n overflowed the block arithmetic).
+fn parse_shard(s: &str, units: usize, what: &str) -> Result<(usize, usize), String> {
     let (i, n) = s
         .split_once('/')
         .ok_or_else(|| format!("--shard {s}: expected i/n, e.g. 0/4"))?;
@@ -61,9 +61,9 @@ fn parse_shard(s: &str, runs: usize) -> Result<(usize, usize), String> {
     if n == 0 || i >= n {
         return Err(format!("--shard {s}: expected 0 <= i < n"));
     }
-    if n > runs {
+    if n > units {
         return Err(format!(
-            "--shard {s}: the study has {runs} runs; expected at most one shard per run"
+            "--shard {s}: the study has {units} {what}s; expected at most one shard per {what}"
         ));
     }
     Ok((i, n))
@@ -104,7 +104,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let shard = a
         .shard
         .as_deref()
-        .map(|s| parse_shard(s, config.study.runs))
+        .map(|s| parse_shard(s, config.study.runs, "run"))
         .transpose()?;
     let baseline = match &a.baseline {
         Some(_) if shard.is_some() => {
@@ -154,25 +154,16 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         *example.lock().expect("no panics while holding it") = Some(study.example_of(rec))
     };
     // A shard keeps its blocks for `merge`; a whole study folds them as they complete.
-    let (tallies, tally) = match shard {
-        Some(_) => (
-            study.run_blocks(blocks, &progress, keep_example),
-            Default::default(),
-        ),
-        None => (
-            Vec::new(),
-            study.run_folded(blocks, &progress, keep_example),
-        ),
+    let ran = match shard {
+        Some(_) => study
+            .run_blocks(blocks, &progress, keep_example)
+            .map(|tallies| (tallies, Default::default())),
+        None => study
+            .run_folded(blocks, &progress, keep_example)
+            .map(|tally| (Vec::new(), tally)),
     };
     bar.finish_and_clear();
-    if navkf_report::interrupt::requested() {
-        return Err(interrupted(
-            tally.runs.max(tallies.iter().map(|t| t.runs).sum()),
-            total_runs,
-            "runs",
-            &out,
-        ));
-    }
+    let (tallies, tally) = ran.map_err(|stop| interrupted(stop.done, stop.total, "runs", &out))?;
     let example = example.into_inner().expect("not poisoned");
     let wall = started.elapsed().as_secs_f64();
     match shard {
@@ -222,6 +213,9 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
 }
 
 pub fn merge(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
+    if shard_kind(&a.partials[0])? == StudyKind::Diagnosis {
+        return merge_diagnosis_study(a);
+    }
     let parts = read_partials(&a.partials)?;
     let config = parts[0].config.clone();
     let out = a
@@ -250,22 +244,65 @@ pub fn merge(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
+/// The kind of study a shard file ran (`kind`, absent in a Monte Carlo study's shard). A
+/// file that is not JSON is left to the Monte Carlo reader, which names what is wrong.
+fn shard_kind(path: &std::path::Path) -> Result<StudyKind, Box<dyn std::error::Error>> {
+    #[derive(serde::Deserialize)]
+    struct Head {
+        #[serde(default)]
+        kind: StudyKind,
+    }
+    let text =
+        navkf_dynamics::input_file::read_text(path, &navkf_dynamics::input_file::TextFile::SHARD)?;
+    Ok(serde_json::from_str::<Head>(&text).map_or(StudyKind::MonteCarlo, |h| h.kind))
+}
+
+/// `navkf merge` of a diagnosis study's shards: checked to tile one run, then the report a
+/// single machine writes.
+fn merge_diagnosis_study(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
+    use navkf_diagnose::diagnosis_study::{report, shard};
+    let (config, records) = shard::merge(&a.partials)?;
+    let out = a
+        .out
+        .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
+    let staged = ResultsDir::begin_kind(&out, FolderKind::Results, &[FolderKind::Shards])?;
+    let command = navkf_report::provenance::command_line();
+    let summary = report::write(&config, records, staged.path(), &command, None)?;
+    staged.carry_over(|name| name.starts_with("partial-") && name.ends_with(".json"))?;
+    staged.commit()?;
+    eprintln!(
+        "merged {} shards ({} datasets) into {}",
+        a.partials.len(),
+        summary.records.len(),
+        out.display()
+    );
+    say_targets(&summary.rates.targets);
+    Ok(())
+}
+
+/// Each error-rate target of a diagnosis study, met or missed.
+fn say_targets(targets: &[navkf_diagnose::diagnosis_study::rates::Target]) {
+    for t in targets {
+        say!(
+            "{} {}: {} (target {})",
+            if t.met { "met    " } else { "MISSED " },
+            t.what,
+            t.measured,
+            t.target
+        );
+    }
+}
+
 /// `navkf study` on a diagnosis study: every dataset simulated and diagnosed, the error rates
 /// written to `results/<name>/`.
 fn run_diagnosis_study(
     a: Args,
     config: navkf_diagnose::diagnosis_study::DiagnosisStudyConfig,
 ) -> Result<(), Box<dyn std::error::Error>> {
+    use navkf_diagnose::diagnosis_study::shard::DiagnosisShard;
     use navkf_diagnose::diagnosis_study::{dataset_count, report, run};
-    for (flag, given) in [
-        ("--shard", a.shard.is_some()),
-        ("--baseline", a.baseline.is_some()),
-    ] {
-        if given {
-            return Err(
-                format!("{flag} applies to Monte Carlo studies, not to a diagnosis study").into(),
-            );
-        }
+    if a.baseline.is_some() {
+        return Err("--baseline applies to Monte Carlo studies, not to a diagnosis study".into());
     }
     let total = dataset_count(&config);
     let count = match a.runs {
@@ -273,16 +310,29 @@ fn run_diagnosis_study(
         Some(r) => r.min(total),
         None => total,
     };
+    let shard = a
+        .shard
+        .as_deref()
+        .map(|s| parse_shard(s, count, "dataset"))
+        .transpose()?;
     set_threads(a.threads)?;
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
-    let staged = ResultsDir::begin(&out)?;
-    let bar = progress_bar(a.quiet, count, "datasets");
+    // Shards share their folder (each adds its file); a whole study replaces its folder whole.
+    let (staged, shard_folder) = match shard {
+        Some(_) => (None, Some(ShardFolder::check(&out)?)),
+        None => (Some(ResultsDir::begin(&out)?), None),
+    };
+    let datasets = match shard {
+        Some((i, n)) => navkf_report::executor::shard_range(count, i, n),
+        None => 0..count,
+    };
+    let bar = progress_bar(a.quiet, datasets.len(), "datasets");
     bar.set_prefix(config.study.name.clone());
     let started = std::time::Instant::now();
     let records =
-        run(&config, Some(0..count), &|d| bar.set_position(d as u64)).map_err(|e| match e {
+        run(&config, Some(datasets), &|d| bar.set_position(d as u64)).map_err(|e| match e {
             navkf_diagnose::DiagnoseError::Report(navkf_report::ReportError::Interrupted(
                 navkf_report::Interrupted { done, total, what },
             )) => interrupted(done, total, what, &out),
@@ -293,6 +343,22 @@ fn run_diagnosis_study(
         wall_s: started.elapsed().as_secs_f64(),
         threads: rayon::current_num_threads(),
     };
+    if let Some((i, n)) = shard {
+        let folder = shard_folder.expect("a shard checks its folder");
+        let diagnosed = records.len();
+        let part = DiagnosisShard::new(&config, (i, n), count, records);
+        let path = folder.write(
+            &format!("partial-{i}-of-{n}.json"),
+            serde_json::to_string(&part)?.as_bytes(),
+        )?;
+        eprintln!(
+            "shard {i}/{n}: {diagnosed} datasets in {:.0} s, wrote {}",
+            timing.wall_s,
+            path.display()
+        );
+        return Ok(());
+    }
+    let staged = staged.expect("a whole study is staged");
     let command = navkf_report::provenance::command_line();
     let summary = report::write(&config, records, staged.path(), &command, Some(timing))?;
     staged.commit()?;
@@ -302,15 +368,7 @@ fn run_diagnosis_study(
         timing.wall_s,
         out.display()
     );
-    for t in &summary.rates.targets {
-        say!(
-            "{} {}: {} (target {})",
-            if t.met { "met    " } else { "MISSED " },
-            t.what,
-            t.measured,
-            t.target
-        );
-    }
+    say_targets(&summary.rates.targets);
     Ok(())
 }
 
@@ -371,11 +429,12 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
         let keep_example = |rec: &navkf_study::monte_carlo::RunRecord| {
             *example.lock().expect("no panics while holding it") = Some(study.example_of(rec))
         };
-        let tally = study.run_folded(0..study.block_count(), &progress, keep_example);
-        if navkf_report::interrupt::requested() {
-            bar.finish_and_clear();
-            return Err(interrupted(done_before + tally.runs, total, "runs", &out));
-        }
+        let tally = study
+            .run_folded(0..study.block_count(), &progress, keep_example)
+            .map_err(|stop| {
+                bar.finish_and_clear();
+                interrupted(done_before + stop.done, total, "runs", &out)
+            })?;
         done_before += study.config.study.runs;
         let example = example.into_inner().expect("not poisoned");
         let point_dir = dir.join(sweep::point_folder(i));

@@ -7,6 +7,7 @@
 
 pub mod atomic_write;
 pub mod error;
+pub mod executor;
 pub mod figure;
 pub mod interrupt;
 pub mod json_nan;

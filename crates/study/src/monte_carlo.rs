@@ -20,9 +20,10 @@ use navkf_dynamics::{
     Trajectory,
 };
 use navkf_filters::{nees, DivergenceCause, Ekf, Filter, FilterSpec, RunFailure, Runner};
+use navkf_report::executor::Executor;
+use navkf_report::Interrupted;
 use rand::Rng;
 use rand_distr::StandardNormal;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -587,16 +588,17 @@ impl Study {
     }
 
     /// Runs `runs` (a range of run indices) and folds them into one tally per block of
-    /// [`BLOCK`] runs, in order. `progress` is told how many runs are done.
+    /// [`BLOCK`] runs, in order. `progress` is told how many runs are done. A stop on
+    /// request ([`navkf_report::interrupt`]) ends it with what was done.
     pub fn run_blocks(
         &self,
         blocks: std::ops::Range<usize>,
         progress: &(dyn Fn(usize) + Sync),
         example: impl FnMut(&RunRecord),
-    ) -> Vec<Tally> {
+    ) -> Result<Vec<Tally>, Interrupted> {
         let mut out = Vec::with_capacity(blocks.len());
-        self.for_each_block(blocks, progress, example, |t| out.push(t));
-        out
+        self.for_each_block(blocks, progress, example, |t| out.push(t))?;
+        Ok(out)
     }
 
     /// [`Study::run_blocks`] folded into one tally as the blocks complete: bit-identical to
@@ -607,56 +609,42 @@ impl Study {
         blocks: std::ops::Range<usize>,
         progress: &(dyn Fn(usize) + Sync),
         example: impl FnMut(&RunRecord),
-    ) -> Tally {
+    ) -> Result<Tally, Interrupted> {
         let mut total = Tally::default();
-        self.for_each_block(blocks, progress, example, |t| total.merge(&t));
-        total
+        self.for_each_block(blocks, progress, example, |t| total.merge(&t))?;
+        Ok(total)
     }
 
     /// Runs `blocks` and hands each block's tally to `sink` as soon as it is complete, in
-    /// block order.
+    /// block order. The runs go through the one executor
+    /// ([`navkf_report::executor::Executor`]), which hands them on in run order, so the
+    /// thread count changes nothing but speed. A stop on request ends it within one run,
+    /// with [`Interrupted`]; the blocks not complete are not handed on.
     fn for_each_block(
         &self,
         blocks: std::ops::Range<usize>,
         progress: &(dyn Fn(usize) + Sync),
         mut example: impl FnMut(&RunRecord),
         mut sink: impl FnMut(Tally),
-    ) {
+    ) -> Result<(), Interrupted> {
         let total = self.config.study.runs;
-        // Several blocks in flight at once for parallelism; folding stays per block, in
-        // order, so the thread count changes nothing but speed.
-        let in_flight = (rayon::current_num_threads() * 4).div_ceil(BLOCK).max(1);
-        let done = std::sync::atomic::AtomicUsize::new(0);
-        // Groups taken from the range as they are needed: memory stays bounded by a group,
+        let runs = (blocks.start * BLOCK).min(total)..(blocks.end * BLOCK).min(total);
+        // Several blocks in flight at once for parallelism; memory stays bounded by them,
         // however many runs the study asks for.
-        let mut next = blocks.start;
-        while next < blocks.end && !navkf_report::interrupt::requested() {
-            let group = next..(next + in_flight).min(blocks.end);
-            next = group.end;
-            let runs: Vec<usize> = group
-                .clone()
-                .flat_map(|b| (b * BLOCK)..((b + 1) * BLOCK).min(total))
-                .collect();
-            let records: Vec<RunRecord> = runs
-                .par_iter()
-                .map(|&r| {
-                    let rec = self.run_one(r);
-                    let d = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-                    progress(d);
-                    rec
-                })
-                .collect();
-            for b in group {
-                let mut tally = self.empty_tally(b * BLOCK);
-                for rec in records.iter().filter(|r| r.run / BLOCK == b) {
-                    self.add_run(&mut tally, rec);
-                    if rec.run == self.config.study.example_run {
-                        example(rec);
-                    }
-                }
-                sink(tally);
+        let in_flight = (rayon::current_num_threads() * 4).div_ceil(BLOCK).max(1);
+        let executor = Executor::new("runs", in_flight * BLOCK);
+        let mut tally: Option<Tally> = None;
+        // Groups hold whole blocks, so the blocks handed on before a stop are whole.
+        executor.run(runs, &|r| self.run_one(r), &progress, |r, rec| {
+            let block = tally.get_or_insert_with(|| self.empty_tally(r / BLOCK * BLOCK));
+            self.add_run(block, &rec);
+            if rec.run == self.config.study.example_run {
+                example(&rec);
             }
-        }
+            if (r + 1) % BLOCK == 0 || r + 1 == total {
+                sink(tally.take().expect("the block was started above"));
+            }
+        })
     }
 
     /// Number of blocks in the study.

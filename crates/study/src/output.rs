@@ -25,9 +25,9 @@ pub struct Partial {
     pub example: Option<ExampleRun>,
 }
 
-/// The blocks of shard `i` of `n`: contiguous, as equal as possible.
+/// The blocks of shard `i` of `n` ([`navkf_report::executor::shard_range`] over blocks).
 pub fn shard_blocks(blocks: usize, i: usize, n: usize) -> std::ops::Range<usize> {
-    (i * blocks / n)..((i + 1) * blocks / n)
+    navkf_report::executor::shard_range(blocks, i, n)
 }
 
 /// Folds block tallies in order into the study's tally.

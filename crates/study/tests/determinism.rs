@@ -47,7 +47,9 @@ fn one_two_and_four_threads_give_identical_results() {
         );
     }
     // Folding as blocks complete (what `navkf study` does) is the same fold.
-    let folded = study.run_folded(0..study.block_count(), &|_| {}, |_| {});
+    let folded = study
+        .run_folded(0..study.block_count(), &|_| {}, |_| {})
+        .expect("not interrupted");
     assert!(
         without_timings(folded) == one,
         "run_folded differs from folding run_blocks"

@@ -73,7 +73,7 @@ fn peak_memory_does_not_grow_with_runs() {
         c.study.series_every_s = 1.0;
         Study::new(c).unwrap()
     };
-    let run = |s: &Study| s.run_folded(0..s.block_count(), &|_| {}, |_| {});
+    let run = |s: &Study| s.run_folded(0..s.block_count(), &|_| {}, |_| {}).unwrap();
     // Both prepared before measuring: a study's simulator holds its own inputs.
     let (small, large) = (study(20), study(100));
     let _ = run(&small); // warms up the allocator's arenas

@@ -24,9 +24,11 @@ fn tiny(series_every_s: f64) -> (Study, Tally, Option<ExampleRun>) {
     c.trajectory.leg_east_m = 1000.0;
     let study = Study::new(c).unwrap();
     let mut example = None;
-    let blocks = study.run_blocks(0..study.block_count(), &|_| {}, |rec| {
-        example = Some(study.example_of(rec))
-    });
+    let blocks = study
+        .run_blocks(0..study.block_count(), &|_| {}, |rec| {
+            example = Some(study.example_of(rec))
+        })
+        .expect("not interrupted");
     let tally = fold(&blocks);
     (study, tally, example)
 }

@@ -43,10 +43,11 @@ fn shards(study: &Study) -> Vec<Partial> {
     (0..3)
         .map(|i| {
             let mut example = None;
-            let blocks =
-                study.run_blocks(shard_blocks(study.block_count(), i, 3), &|_| {}, |rec| {
+            let blocks = study
+                .run_blocks(shard_blocks(study.block_count(), i, 3), &|_| {}, |rec| {
                     example = Some(study.example_of(rec))
-                });
+                })
+                .expect("not interrupted");
             Partial {
                 config: study.config.clone(),
                 shard: (i, 3),
@@ -524,9 +525,11 @@ fn shards_with_diverged_runs_pass_the_check() {
         let paths: Vec<PathBuf> = (0..2)
             .map(|i| {
                 let mut example = None;
-                let blocks = study.run_blocks(shard_blocks(2, i, 2), &|_| {}, |rec| {
-                    example = Some(study.example_of(rec))
-                });
+                let blocks = study
+                    .run_blocks(shard_blocks(2, i, 2), &|_| {}, |rec| {
+                        example = Some(study.example_of(rec))
+                    })
+                    .expect("not interrupted");
                 let p = Partial {
                     config: study.config.clone(),
                     shard: (i, 2),

@@ -15,6 +15,7 @@ pub mod content;
 pub mod plots;
 pub mod rates;
 pub mod report;
+pub mod shard;
 
 use crate::error::DiagnoseError;
 use crate::{diagnose, FilterChoice, Options, Verdict};
@@ -22,8 +23,8 @@ use content::{Class, Hidden, Planned};
 use navkf_dynamics::input_file::{printable, read_text, toml_error, toml_message, TextFile};
 use navkf_dynamics::simulate::{Alignment, InitialTilt};
 use navkf_dynamics::{NoiseConfig, Registry, Trajectory, TrajectoryConfig};
+use navkf_report::executor::Executor;
 use navkf_report::StudyKind;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -401,30 +402,18 @@ pub fn run(
     let trajectory = Arc::new(Trajectory::build(&config.trajectory)?);
     let options = config.options();
     let range = only.unwrap_or(0..planned.len());
-    let done = std::sync::atomic::AtomicUsize::new(0);
-    let chosen = &planned[range.start.min(planned.len())..range.end.min(planned.len())];
-    // A dataset not started when a stop is asked for is skipped (navkf_report::interrupt).
-    let records: Vec<Option<Record>> = chosen
-        .par_iter()
-        .map(|p| {
-            if navkf_report::interrupt::requested() {
-                return None;
-            }
-            let r = run_one(config, &trajectory, &options, p);
-            progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
-            Some(r)
-        })
-        .collect();
-    let finished = records.iter().flatten().count();
-    if finished < chosen.len() {
-        return Err(navkf_report::Interrupted {
-            done: finished,
-            total: chosen.len(),
-            what: "datasets",
-        }
-        .into());
-    }
-    Ok(records.into_iter().flatten().collect())
+    let range = range.start.min(planned.len())..range.end.min(planned.len());
+    // Datasets are small once diagnosed: all are in one group, so no thread waits for a
+    // group's slowest dataset (they take 0.5 to 5 s).
+    let executor = Executor::new("datasets", usize::MAX);
+    let mut records = Vec::with_capacity(range.len());
+    executor.run(
+        range,
+        &|i| run_one(config, &trajectory, &options, &planned[i]),
+        &progress,
+        |_, record| records.push(record),
+    )?;
+    Ok(records)
 }
 
 /// Number of datasets the study makes.

@@ -22,7 +22,11 @@ pub fn short_config(runs: usize) -> StudyConfig {
 
 /// Runs every block of `study` on the current rayon pool and folds them.
 pub fn run_all(study: &Study) -> Tally {
-    fold(&study.run_blocks(0..study.block_count(), &|_| {}, |_| {}))
+    fold(
+        &study
+            .run_blocks(0..study.block_count(), &|_| {}, |_| {})
+            .expect("not interrupted"),
+    )
 }
 
 /// The tally without its step-cost histograms (timings differ from run to run).

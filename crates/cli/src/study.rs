@@ -3,7 +3,7 @@
 
 use crate::study_file::StudyFile;
 use indicatif::{ProgressBar, ProgressStyle};
-use navkf_report::{write_atomic, FolderKind, ResultsDir, ShardFolder, StudyKind};
+use navkf_report::{FolderKind, ResultsDir, ShardFolder, StudyKind};
 use navkf_study::output::{fold, read_partials, shard_blocks, write_results, Partial};
 use navkf_study::{guard, Study, StudyConfig};
 use std::path::PathBuf;
@@ -213,8 +213,10 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
 }
 
 pub fn merge(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
-    if shard_kind(&a.partials[0])? == StudyKind::Diagnosis {
-        return merge_diagnosis_study(a);
+    match shard_kind(&a.partials[0])? {
+        ShardKind::Diagnosis => return merge_diagnosis_study(a),
+        ShardKind::Sweep => return merge_sweep(a),
+        ShardKind::MonteCarlo => {}
     }
     let parts = read_partials(&a.partials)?;
     let config = parts[0].config.clone();
@@ -244,17 +246,40 @@ pub fn merge(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// The kind of study a shard file ran (`kind`, absent in a Monte Carlo study's shard). A
-/// file that is not JSON is left to the Monte Carlo reader, which names what is wrong.
-fn shard_kind(path: &std::path::Path) -> Result<StudyKind, Box<dyn std::error::Error>> {
+/// What a shard file holds.
+#[derive(PartialEq)]
+enum ShardKind {
+    MonteCarlo,
+    Sweep,
+    Diagnosis,
+}
+
+/// The kind of study a shard file ran: its `kind` (absent in a Monte Carlo study's shard),
+/// and for a Monte Carlo study whether its `config` sweeps. A file that is not JSON is left
+/// to the Monte Carlo reader, which names what is wrong.
+fn shard_kind(path: &std::path::Path) -> Result<ShardKind, Box<dyn std::error::Error>> {
     #[derive(serde::Deserialize)]
     struct Head {
         #[serde(default)]
         kind: StudyKind,
+        #[serde(default)]
+        config: Option<HeadConfig>,
+    }
+    #[derive(serde::Deserialize)]
+    struct HeadConfig {
+        #[serde(default)]
+        sweep: Option<serde::de::IgnoredAny>,
     }
     let text =
         navkf_dynamics::input_file::read_text(path, &navkf_dynamics::input_file::TextFile::SHARD)?;
-    Ok(serde_json::from_str::<Head>(&text).map_or(StudyKind::MonteCarlo, |h| h.kind))
+    let Ok(head) = serde_json::from_str::<Head>(&text) else {
+        return Ok(ShardKind::MonteCarlo);
+    };
+    Ok(match head.kind {
+        StudyKind::Diagnosis => ShardKind::Diagnosis,
+        StudyKind::MonteCarlo if head.config.is_some_and(|c| c.sweep.is_some()) => ShardKind::Sweep,
+        StudyKind::MonteCarlo => ShardKind::MonteCarlo,
+    })
 }
 
 /// `navkf merge` of a diagnosis study's shards: checked to tile one run, then the report a
@@ -373,30 +398,46 @@ fn run_diagnosis_study(
 }
 
 /// `navkf study` on a study with a `[sweep]`: every point run as a study of its own into
-/// `point-NN/` of the results folder, then `sweep.json`, `sweep.md` and the sweep's figures.
+/// `point-NN/` of the results folder, then `sweep.json`, `sweep.md` and the sweep's figures;
+/// or, with `--shard i/n`, shard `i` of every point's blocks into one shard file.
 fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Error>> {
     use navkf_study::sweep;
-    for (flag, given) in [
-        ("--shard", a.shard.is_some()),
-        ("--baseline", a.baseline.is_some()),
-    ] {
-        if given {
-            return Err(format!(
-                "{flag} applies to a single study; this one sweeps `{}` (run each point's \
-                 study file on its own to shard or guard it)",
-                config.sweep.as_ref().map_or("", |s| s.key.as_str())
-            )
-            .into());
-        }
+    use navkf_study::sweep_shard::{max_shards, point_blocks, SweepShard};
+    if a.baseline.is_some() {
+        return Err(format!(
+            "--baseline applies to a single study; this one sweeps `{}` (run each point's \
+             study file on its own to guard it)",
+            config.sweep.as_ref().map_or("", |s| s.key.as_str())
+        )
+        .into());
     }
+    let shard = match a.shard.as_deref() {
+        None => None,
+        Some(s) => {
+            let most = max_shards(&config)?;
+            let (i, n) = parse_shard(s, usize::MAX, "run")?;
+            if n > most {
+                return Err(format!(
+                    "--shard {s}: the sweep's smallest point has {most} blocks of {} runs; \
+                     expected at most one shard per block",
+                    navkf_study::tally::BLOCK
+                )
+                .into());
+            }
+            Some((i, n))
+        }
+    };
     set_threads(a.threads)?;
     let key = config.sweep.as_ref().expect("a sweep").key.clone();
     let values = config.sweep.as_ref().expect("a sweep").values.clone();
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
-    let staged = ResultsDir::begin(&out)?;
-    let dir = staged.path();
+    // Shards share their folder (each adds its file); a whole sweep replaces its folder whole.
+    let (staged, shard_folder) = match shard {
+        Some(_) => (None, Some(ShardFolder::check(&out)?)),
+        None => (Some(ResultsDir::begin(&out)?), None),
+    };
     // Every point is built, and so checked, before the first run; each is dropped at once
     // and built again when its turn comes, so memory does not grow with the points.
     let configs = sweep::points(&config)?;
@@ -411,13 +452,19 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
             check_bar.finish_and_clear();
             return Err(interrupted(i, configs.len(), "points checked", &out));
         }
-        total += build(i, c.clone())?.config.study.runs;
+        let study = build(i, c.clone())?;
+        let blocks = match shard {
+            Some(s) => point_blocks(study.block_count(), s),
+            None => 0..study.block_count(),
+        };
+        total += runs_in(&study, blocks);
         check_bar.set_position(i as u64 + 1);
     }
     check_bar.finish_and_clear();
     let bar = progress_bar(a.quiet, total, "runs");
     let started = std::time::Instant::now();
     let mut points = Vec::new();
+    let mut partials = Vec::new();
     let mut done_before = 0;
     let mut state_count = 0;
     for (i, c) in configs.into_iter().enumerate() {
@@ -429,19 +476,64 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
         let keep_example = |rec: &navkf_study::monte_carlo::RunRecord| {
             *example.lock().expect("no panics while holding it") = Some(study.example_of(rec))
         };
-        let tally = study
-            .run_folded(0..study.block_count(), &progress, keep_example)
-            .map_err(|stop| {
-                bar.finish_and_clear();
-                interrupted(done_before + stop.done, total, "runs", &out)
-            })?;
-        done_before += study.config.study.runs;
-        let example = example.into_inner().expect("not poisoned");
-        let point_dir = dir.join(sweep::point_folder(i));
-        let summary = write_results(&study, &tally, example.as_ref(), &point_dir)?;
-        points.push(sweep::point(i, values[i], &study, &tally, &summary));
+        let stopped = |stop: navkf_report::Interrupted| {
+            bar.finish_and_clear();
+            interrupted(done_before + stop.done, total, "runs", &out)
+        };
+        match (shard, &staged) {
+            (Some(s), _) => {
+                let blocks = point_blocks(study.block_count(), s);
+                let runs = runs_in(&study, blocks.clone());
+                let tallies = study
+                    .run_blocks(blocks, &progress, keep_example)
+                    .map_err(stopped)?;
+                done_before += runs;
+                partials.push(Partial {
+                    config: study.config.clone(),
+                    shard: s,
+                    blocks: tallies,
+                    example: example.into_inner().expect("not poisoned"),
+                });
+            }
+            (None, Some(staged)) => {
+                let tally = study
+                    .run_folded(0..study.block_count(), &progress, keep_example)
+                    .map_err(stopped)?;
+                done_before += study.config.study.runs;
+                let example = example.into_inner().expect("not poisoned");
+                points.push(sweep::write_point(
+                    i,
+                    values[i],
+                    &study,
+                    &tally,
+                    example.as_ref(),
+                    staged.path(),
+                )?);
+            }
+            (None, None) => unreachable!("a whole sweep is staged"),
+        }
     }
     bar.finish_and_clear();
+    let wall = started.elapsed().as_secs_f64();
+    if let Some((i, n)) = shard {
+        let file = SweepShard {
+            config: config.clone(),
+            shard: (i, n),
+            points: partials,
+        };
+        let folder = shard_folder.expect("a shard checks its folder");
+        let path = folder.write(
+            &format!("partial-{i}-of-{n}.json"),
+            serde_json::to_string(&file)?.as_bytes(),
+        )?;
+        eprintln!(
+            "shard {i}/{n}: {total} runs of {} points in {wall:.1} s, wrote {}",
+            values.len(),
+            path.display()
+        );
+        return Ok(());
+    }
+    let staged = staged.expect("a whole sweep is staged");
     let summary = sweep::SweepSummary {
         study: config.study.name.clone(),
         key: key.clone(),
@@ -449,28 +541,79 @@ fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std::error::Err
         filters: config.study.filters.clone(),
         points,
     };
-    let figures = navkf_study::plots::sweep::draw(&summary, state_count, dir);
-    crate::warn_undrawn(&figures);
-    write_atomic(
-        &dir.join("sweep.json"),
-        serde_json::to_string_pretty(&summary)?.as_bytes(),
-    )?;
     let command = navkf_report::provenance::command_line();
-    write_atomic(
-        &dir.join("sweep.md"),
-        sweep::markdown(&summary, &command, &figures).as_bytes(),
-    )?;
+    let figures = sweep::write_sweep(&summary, state_count, staged.path(), &command)?;
+    crate::warn_undrawn(&figures);
     staged.commit()?;
     eprintln!(
-        "{} points x {} runs in {:.1} s, wrote {}",
+        "{} points x {} runs in {wall:.1} s, wrote {}",
         summary.points.len(),
         summary.runs,
-        started.elapsed().as_secs_f64(),
         out.display()
     );
     Ok(())
 }
 
+/// `navkf merge` of a sweep's shards: every point's partials checked and folded in block
+/// order, its results folder written, then the sweep's files; what one machine writes.
+fn merge_sweep(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
+    use navkf_study::{sweep, sweep_shard};
+    let (config, per_point) = sweep_shard::read(&a.partials)?;
+    let sweep_table = config
+        .sweep
+        .clone()
+        .expect("a sweep's shard has its [sweep]");
+    let out = a
+        .out
+        .unwrap_or_else(|| PathBuf::from("results").join(&config.study.name));
+    let staged = ResultsDir::begin_kind(&out, FolderKind::Results, &[FolderKind::Shards])?;
+    let mut points = Vec::with_capacity(per_point.len());
+    let mut state_count = 0;
+    for (i, parts) in per_point.into_iter().enumerate() {
+        let study = Study::new(parts[0].config.clone())?;
+        state_count = study.names.len();
+        let blocks: Vec<_> = parts
+            .iter()
+            .flat_map(|p| p.blocks.iter().cloned())
+            .collect();
+        let example = parts.iter().find_map(|p| p.example.clone());
+        let tally = fold(&blocks);
+        points.push(sweep::write_point(
+            i,
+            sweep_table.values[i],
+            &study,
+            &tally,
+            example.as_ref(),
+            staged.path(),
+        )?);
+    }
+    let summary = sweep::SweepSummary {
+        study: config.study.name.clone(),
+        key: sweep_table.key.clone(),
+        runs: config.study.runs,
+        filters: config.study.filters.clone(),
+        points,
+    };
+    let command = navkf_report::provenance::command_line();
+    let figures = sweep::write_sweep(&summary, state_count, staged.path(), &command)?;
+    crate::warn_undrawn(&figures);
+    staged.carry_over(|name| name.starts_with("partial-") && name.ends_with(".json"))?;
+    staged.commit()?;
+    eprintln!(
+        "merged {} shards of {} points into {}",
+        a.partials.len(),
+        summary.points.len(),
+        out.display()
+    );
+    Ok(())
+}
+
+/// Runs in `blocks` of `study`.
+fn runs_in(study: &Study, blocks: std::ops::Range<usize>) -> usize {
+    let block = navkf_study::tally::BLOCK;
+    let runs = study.config.study.runs;
+    (blocks.end * block).min(runs) - (blocks.start * block).min(runs)
+}
 /// The error of a study stopped by Ctrl-C: what was done, and that `out` is as it was.
 fn interrupted(
     done: usize,

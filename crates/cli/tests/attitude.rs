@@ -72,7 +72,7 @@ fn a_misaligned_dataset_is_consistent_with_the_exact_model_and_warned_about_with
 }
 
 #[test]
-fn a_sweep_writes_every_point_and_the_summary_and_refuses_shards() {
+fn a_sweep_writes_every_point_and_the_summary_and_refuses_more_shards_than_blocks() {
     let dir = scratch("sweep");
     let paper = include_str!("../../../studies/paper.toml");
     let mut text_file = String::new();
@@ -124,8 +124,9 @@ fn a_sweep_writes_every_point_and_the_summary_and_refuses_shards() {
         dir.join("shard").as_os_str(),
     ]);
     assert_eq!(o.status.code(), Some(1));
+    // 3 runs a point: one block, so one shard at most.
     assert!(
-        text(&o.stderr).contains("applies to a single study"),
+        text(&o.stderr).contains("expected at most one shard per block"),
         "{}",
         text(&o.stderr)
     );

@@ -17,6 +17,7 @@ pub mod report;
 pub mod shard_check;
 pub mod summary;
 pub mod sweep;
+pub mod sweep_shard;
 pub mod tally;
 
 pub use config::StudyConfig;

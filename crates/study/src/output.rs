@@ -138,16 +138,31 @@ fn example_csv(ex: &ExampleRun) -> String {
 
 /// Reads shard files and checks they are one study, complete and not overlapping.
 pub fn read_partials(paths: &[PathBuf]) -> Result<Vec<Partial>, StudyError> {
+    let parts = paths
+        .iter()
+        .map(|p| Ok((p.clone(), read_shard_file::<Partial>(p)?)))
+        .collect::<Result<Vec<_>, StudyError>>()?;
+    check_partials(parts)
+}
+
+/// Reads a shard file as `T` (a regular file of bounded size; a message naming the file if
+/// it is not one).
+pub fn read_shard_file<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, StudyError> {
+    let text =
+        navkf_dynamics::input_file::read_text(path, &navkf_dynamics::input_file::TextFile::SHARD)?;
+    serde_json::from_str(&text).map_err(|e| StudyError::Config {
+        path: path.to_path_buf(),
+        // serde_json quotes a bad string whole: cut it.
+        message: navkf_dynamics::input_file::printable(&format!("not a shard file: {e}")),
+    })
+}
+
+/// Checks that the shards (each with the file it came from) are one study, each consistent
+/// with it, complete and not overlapping; returns them in run order.
+pub fn check_partials(parts: Vec<(PathBuf, Partial)>) -> Result<Vec<Partial>, StudyError> {
     let mut out: Vec<Partial> = Vec::new();
     let mut study: Option<Study> = None;
-    for p in paths {
-        let text =
-            navkf_dynamics::input_file::read_text(p, &navkf_dynamics::input_file::TextFile::SHARD)?;
-        let part: Partial = serde_json::from_str(&text).map_err(|e| StudyError::Config {
-            path: p.clone(),
-            // serde_json quotes a bad string whole: cut it.
-            message: navkf_dynamics::input_file::printable(&format!("not a shard file: {e}")),
-        })?;
+    for (p, part) in parts {
         // A shard file is data: its settings are checked as a study file's are (an edited
         // `name` must not send the results outside results/).
         part.config

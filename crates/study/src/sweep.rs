@@ -18,16 +18,20 @@
 //! [`crate::plots::sweep`]).
 
 use crate::config::StudyConfig;
-use crate::monte_carlo::Study;
+use crate::error::StudyError;
+use crate::monte_carlo::{ExampleRun, Study};
+use crate::output::write_results;
 use crate::summary::{paired_difference, PairedDifference, Summary};
 use crate::tally::Tally;
 use navkf_dynamics::state::PHI_Z;
 use navkf_filters::DivergenceCause;
 use navkf_report::figure::FigureOutcome;
 use navkf_report::stats::mean_chi2_bounds;
+use navkf_report::write_atomic;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt::Write;
+use std::path::Path;
 
 /// The study of every point of `config`'s sweep, in order (each without the `[sweep]`
 /// table and checked); the message names the key and the value's index.
@@ -367,6 +371,39 @@ pub fn point(
         paired_heading,
         paired: summary.paired.clone(),
     }
+}
+
+/// Writes point `index` (value `value`) of a sweep: its results folder, `point-NN/` of
+/// `dir` (as any study's), and returns its row of the sweep's summary.
+pub fn write_point(
+    index: usize,
+    value: f64,
+    study: &Study,
+    tally: &Tally,
+    example: Option<&ExampleRun>,
+    dir: &Path,
+) -> Result<SweepPoint, StudyError> {
+    let summary = write_results(study, tally, example, &dir.join(point_folder(index)))?;
+    Ok(point(index, value, study, tally, &summary))
+}
+
+/// Writes the sweep's own files into `dir`: its figures, `sweep.json` and `sweep.md` (with
+/// `command`); returns the figures' outcomes.
+pub fn write_sweep(
+    summary: &SweepSummary,
+    state_count: usize,
+    dir: &Path,
+    command: &str,
+) -> Result<Vec<FigureOutcome>, StudyError> {
+    let figures = crate::plots::sweep::draw(summary, state_count, dir);
+    let json =
+        serde_json::to_string_pretty(summary).map_err(|e| StudyError::Other(e.to_string()))?;
+    write_atomic(&dir.join("sweep.json"), json.as_bytes())?;
+    write_atomic(
+        &dir.join("sweep.md"),
+        markdown(summary, command, &figures).as_bytes(),
+    )?;
+    Ok(figures)
 }
 
 fn cell(v: f64, digits: usize) -> String {

@@ -130,7 +130,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     if comparison.key.is_some() {
         let f = navkf_study::plots::plan::draw_sweep(&comparison, dir);
         if f.result.is_ok() {
-            md.push_str(&format!("\n![{}]({}.svg)\n", f.caption, f.name));
+            md.push_str(&format!("\n![{}]({}.png)\n", f.caption, f.name));
         }
         crate::warn_undrawn(std::slice::from_ref(&f));
     }
@@ -171,7 +171,7 @@ fn write_plan(
     if figure {
         let f = navkf_study::plots::plan::draw(p, dir);
         if f.result.is_ok() {
-            md.push_str(&format!("\n![{}]({}.svg)\n", f.caption, f.name));
+            md.push_str(&format!("\n![{}]({}.png)\n", f.caption, f.name));
         }
         crate::warn_undrawn(std::slice::from_ref(&f));
     }

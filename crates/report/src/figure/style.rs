@@ -26,13 +26,21 @@ pub fn tick(v: f64, span: f64) -> String {
     }
 }
 
-const PALETTE: [RGBColor; 6] = [
+/// Ten colours a reader tells apart (Tableau's, without its grey, which marks bands and
+/// reference lines here, and with navy in its place): a study compares at most ten filters
+/// before a colour repeats. Six were too few: the seventh filter of the misalignment sweep
+/// was drawn in the first one's red, thinner, on top of it, and could not be seen.
+const PALETTE: [RGBColor; 10] = [
     RGBColor(214, 39, 40),
     RGBColor(31, 119, 180),
     RGBColor(44, 160, 44),
     RGBColor(255, 127, 14),
     RGBColor(148, 103, 189),
     RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
+    RGBColor(188, 189, 34),
+    RGBColor(0, 0, 128),
 ];
 
 pub fn color(i: usize) -> RGBColor {
@@ -40,15 +48,20 @@ pub fn color(i: usize) -> RGBColor {
 }
 
 /// The line of filter `k` of `n`: earlier filters wider, so that filters whose curves
-/// coincide show as nested stripes instead of hiding one another.
+/// coincide show as nested stripes instead of hiding one another. Widths step by 2 pixels
+/// (a pixel each side) up to [`WIDEST_LINE`], so seven filters all show; a cap of 7 gave
+/// the first four of seven one width, and the last drawn hid the other three.
 pub fn filter_line(k: usize, n: usize) -> ShapeStyle {
     let w = if n <= 1 {
         2
     } else {
-        (2 * (n - 1 - k.min(n - 1)) + 1).min(7)
+        (2 * (n - 1 - k.min(n - 1)) + 1).min(WIDEST_LINE)
     };
     color(k).stroke_width(w as u32)
 }
+
+/// The widest filter line, pixels (seven filters: 13, 11, ..., 1).
+pub const WIDEST_LINE: usize = 13;
 
 pub const GREY: RGBColor = RGBColor(110, 110, 110);
 

@@ -1,10 +1,20 @@
-//! Average NEES and NIS over time against the 95 % band of a consistent filter.
+//! Average NEES and NIS over time against the 95 % band of a consistent filter. The question
+//! it answers: is each filter's covariance honest, and when does it stop being so?
+//!
+//! The axes are linear and fitted to the band and the curves, so the band is as tall as the
+//! spread it allows (on a log axis over a decade the band of 250 runs was a hairline under
+//! the lines). A curve far above the band (a diverging start) is cut at the top of the axis,
+//! and the panel says how far it went.
 
 use crate::monte_carlo::Study;
 use crate::tally::Tally;
 use navkf_report::figure::*;
 use navkf_report::stats::mean_chi2_bounds;
 use plotters::prelude::*;
+
+/// How far above the band's top a curve may rise before it is cut (4x: the band, the
+/// expected value and a factor-four misfit all stay readable on one linear axis).
+const CUT_ABOVE_BAND: f64 = 4.0;
 
 /// The 95 % band of the average NIS over one stored interval: the window mean over about `w`
 /// updates of `d` degrees of freedom each, averaged over `ok` runs.
@@ -30,7 +40,7 @@ pub(super) fn consistency_panel(study: &Study, tally: &Tally, nis: bool) -> (Pan
         caption.into(),
         "time (s)",
         format!("average {what} (dimensionless)"),
-        Scale::Log,
+        Scale::Linear,
         BIG,
     );
     let mut legend = Vec::new();
@@ -75,6 +85,23 @@ pub(super) fn consistency_panel(study: &Study, tally: &Tally, nis: bool) -> (Pan
         let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
         close(w[0].1, w[1].1) && close(w[0].2[0], w[1].2[0]) && close(w[0].2[1], w[1].2[1])
     });
+    // Cut a curve far above every band, so the band keeps a readable height; say so.
+    let top_band = bands.iter().map(|b| b.2[1]).fold(f64::NAN, f64::max);
+    let highest = p
+        .lines
+        .iter()
+        .flat_map(|l| l.pts.iter().map(|q| q.1))
+        .filter(|v| v.is_finite())
+        .fold(f64::NAN, f64::max);
+    if top_band.is_finite() && highest > CUT_ABOVE_BAND * top_band {
+        let cut = CUT_ABOVE_BAND * top_band;
+        p.y_limit = Some((0.0, cut));
+        p.notes.push(format!(
+            "{what} above {} is off the top (it reaches {})",
+            tick(cut, cut),
+            tick(highest, highest)
+        ));
+    }
     let flat = |v: f64| vec![(t0, v), (t1, v)];
     if same {
         if let Some(&(_, dof, b)) = bands.first() {

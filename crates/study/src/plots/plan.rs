@@ -76,72 +76,108 @@ pub fn draw(p: &Plan, dir: &Path) -> FigureOutcome {
 pub const SWEEP_TITLE: &str =
     "Predicted final sigma / prior against the swept setting (below the dashed line: identified)";
 
-/// Draws `plan_sweep` into `dir`: one panel per coefficient, its predicted final sigma over
-/// its prior against the swept value (designs without a value are left out).
+/// Draws `plan_sweep` into `dir`, answering "which coefficients does the swept setting make
+/// identifiable?": one panel with a line for each coefficient whose predicted final sigma
+/// over its prior changes across the designs (it crosses the identified line, or moves by
+/// more than [`CHANGES_BY`]), and notes naming the others, identified or not at every value.
+/// Designs without a value are left out.
 pub fn draw_sweep(c: &crate::plan::Comparison, dir: &Path) -> FigureOutcome {
     let key = c.key.clone().unwrap_or_default();
+    let (words, factor) = crate::sweep::axis(&key);
     let points: Vec<(f64, &crate::plan::Design)> = c
         .designs
         .iter()
-        .filter_map(|d| d.value.map(|v| (v, d)))
+        .filter_map(|d| d.value.map(|v| (v * factor, d)))
         .collect();
     let (lo, hi) = points
         .iter()
         .fold((f64::INFINITY, 0.0f64), |(lo, hi), (v, _)| {
             (lo.min(*v), hi.max(*v))
         });
-    let x_scale = if lo > 0.0 && hi / lo > 20.0 {
-        Scale::Log
-    } else {
-        Scale::Linear
-    };
+    let mut panel = Panel::new(
+        "Coefficients whose identifiability the setting changes".into(),
+        &words,
+        "predicted final sigma / prior".into(),
+        Scale::Log,
+        BIG,
+    );
+    if lo > 0.0 && hi / lo > 20.0 {
+        panel.x_scale = Scale::Log;
+    }
     let names: Vec<String> = c
         .designs
         .first()
         .map(|d| d.coefficients.iter().map(|k| k.name.clone()).collect())
         .unwrap_or_default();
-    let panels: Vec<Panel> = names
-        .iter()
-        .map(|name| {
-            let mut panel = Panel::new(
-                name.clone(),
-                &key,
-                "sigma / prior".into(),
-                Scale::Log,
-                SMALL,
-            );
-            panel.x_scale = x_scale;
-            let pts = points
-                .iter()
-                .map(|(v, d)| {
-                    let r = d
-                        .coefficients
-                        .iter()
-                        .find(|k| k.name == *name)
-                        .map_or(f64::NAN, |k| k.ratio);
-                    (*v, r)
-                })
-                .collect();
-            panel.line(color(0).stroke_width(2), false, pts);
-            if let (Some(a), Some(b)) = (points.first(), points.last()) {
-                panel.line(
-                    GREY.stroke_width(1),
-                    true,
-                    vec![(a.0, IDENTIFIED_BELOW), (b.0, IDENTIFIED_BELOW)],
-                );
-            }
-            panel.y_include.extend([IDENTIFIED_BELOW, 1.0]);
-            panel
-        })
-        .collect();
+    let (mut always, mut never, mut drawn) = (Vec::new(), Vec::new(), Vec::new());
+    for name in &names {
+        let pts: Vec<(f64, f64)> = points
+            .iter()
+            .map(|(v, d)| {
+                let r = d
+                    .coefficients
+                    .iter()
+                    .find(|k| k.name == *name)
+                    .map_or(f64::NAN, |k| k.ratio);
+                (*v, r)
+            })
+            .collect();
+        let ratios = pts.iter().map(|p| p.1).filter(|r| r.is_finite());
+        let (min, max) = ratios.fold((f64::INFINITY, 0.0f64), |(a, b), r| (a.min(r), b.max(r)));
+        let crosses = min < IDENTIFIED_BELOW && max >= IDENTIFIED_BELOW;
+        if crosses || max > CHANGES_BY * min {
+            drawn.push((name.clone(), pts));
+        } else if max < IDENTIFIED_BELOW {
+            always.push(name.as_str());
+        } else {
+            never.push(name.as_str());
+        }
+    }
+    // Nested widths: coefficients whose curves coincide (Ka1x and Ka1y, say) both show.
+    let mut legend = Vec::new();
+    let n = drawn.len();
+    for (k, (name, pts)) in drawn.into_iter().enumerate() {
+        legend.push(entry(name, filter_line(k, n), Mark::Line));
+        panel.line(filter_line(k, n), false, pts);
+    }
+    if let (Some(a), Some(b)) = (points.first(), points.last()) {
+        panel.line(
+            GREY.stroke_width(1),
+            true,
+            vec![(a.0, IDENTIFIED_BELOW), (b.0, IDENTIFIED_BELOW)],
+        );
+    }
+    panel.y_include.extend([IDENTIFIED_BELOW, 1.0]);
+    if legend.is_empty() {
+        panel
+            .notes
+            .push("no coefficient changes across the designs".into());
+    }
+    for (what, list) in [
+        ("identified at every value", &always),
+        ("never identified", &never),
+    ] {
+        if !list.is_empty() {
+            panel.notes.push(format!("{what}: {}", list.join(", ")));
+        }
+    }
+    legend.push(entry(
+        format!("identified below {IDENTIFIED_BELOW}"),
+        GREY.stroke_width(1),
+        Mark::Dashed,
+    ));
     let grid = Grid {
         title: SWEEP_TITLE.into(),
-        cols: 4,
-        panels,
-        cell: (380, 280),
-        legend: Vec::new(),
+        cols: 1,
+        panels: vec![panel],
+        cell: (900, 520),
+        legend,
     };
     outcome("plan_sweep", SWEEP_TITLE, || {
         render(dir, "plan_sweep", &grid)
     })
 }
+
+/// A coefficient whose sigma ratio moves by more than this factor across the designs is
+/// drawn even if it stays on one side of the identified line.
+pub const CHANGES_BY: f64 = 1.25;

@@ -11,7 +11,7 @@
 //! factor of 20 (an initial misalignment from arcminutes to tens of degrees).
 
 use super::{outcome, FigureOutcome};
-use crate::sweep::{PointFilter, SweepSummary};
+use crate::sweep::{axis, PointFilter, SweepSummary};
 use navkf_report::figure::*;
 use plotters::prelude::*;
 use std::path::Path;
@@ -52,14 +52,15 @@ fn per_filter(
     y_scale: Scale,
     y: impl Fn(&PointFilter) -> f64,
 ) -> Panel {
-    let mut p = Panel::new(caption.into(), &s.key, y_desc.into(), y_scale, BIG);
+    let (words, factor) = axis(&s.key);
+    let mut p = Panel::new(caption.into(), &words, y_desc.into(), y_scale, BIG);
     p.x_scale = x_scale(s);
     let n = s.filters.len();
     for (k, f) in s.filters.iter().enumerate() {
         let pts = s
             .points
             .iter()
-            .map(|pt| (pt.value, pt.filters.get(f).map_or(f64::NAN, &y)))
+            .map(|pt| (pt.value * factor, pt.filters.get(f).map_or(f64::NAN, &y)))
             .collect();
         p.line(filter_line(k, n), false, pts);
     }
@@ -69,6 +70,7 @@ fn per_filter(
 /// Adds the 95 % band of a consistent filter's average NEES / dimension (the widest over
 /// the filters at each point: runs excluded as diverged widen it) and the line at 1.
 fn nees_band(p: &mut Panel, s: &SweepSummary, dim: f64, bounds: impl Fn(&PointFilter) -> [f64; 2]) {
+    let factor = axis(&s.key).1;
     let pts: Vec<(f64, f64, f64)> = s
         .points
         .iter()
@@ -80,7 +82,7 @@ fn nees_band(p: &mut Panel, s: &SweepSummary, dim: f64, bounds: impl Fn(&PointFi
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), b| {
                     (lo.min(b[0]), hi.max(b[1]))
                 });
-            (pt.value, lo / dim, hi / dim)
+            (pt.value * factor, lo / dim, hi / dim)
         })
         .filter(|(_, lo, hi)| lo.is_finite() && hi.is_finite())
         .collect();

@@ -93,3 +93,45 @@ sizes = { torquer-scale = [40.0, 100.0] }
     let again = plan(&cfg).unwrap();
     assert_eq!(format!("{planned:?}"), format!("{again:?}"));
 }
+
+#[test]
+fn the_committed_study_hides_at_least_300_things_outside_the_catalogue_of_five_kinds() {
+    use navkf_diagnose::diagnosis_study::content::Fault;
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../studies/diagnosis.toml");
+    let config = DiagnosisStudyConfig::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let planned = plan(&config).unwrap();
+    let outside: Vec<&Hidden> = planned
+        .iter()
+        .filter(|p| p.class == Class::Outside)
+        .flat_map(|p| &p.hidden)
+        .collect();
+    assert!(outside.len() >= 300, "{} outside", outside.len());
+    let mut kinds = std::collections::BTreeMap::new();
+    for h in &outside {
+        *kinds.entry(h.label()).or_insert(0) += 1;
+        if let Hidden::Fault { multiple, fault } = h {
+            match *fault {
+                Fault::GpsStep {
+                    offset_m,
+                    start_s,
+                    duration_s,
+                } => {
+                    // `multiple` typical offsets (3 m) per axis, in any direction.
+                    let size = offset_m[0].hypot(offset_m[1]);
+                    assert!((size - multiple * 3.0 * 2f64.sqrt()).abs() < 1e-9);
+                    assert!((120.0..=600.0).contains(&duration_s));
+                    assert!(start_s >= 0.0 && start_s + duration_s <= 2400.0);
+                }
+                Fault::OdometerSlip { gain_s2_m } => {
+                    assert!((gain_s2_m - multiple * 0.02).abs() < 1e-12)
+                }
+                Fault::GpsLeverArm { forward_m, right_m } => {
+                    assert!((forward_m.abs() - multiple * 1.5).abs() < 1e-12);
+                    assert!(right_m.abs() <= 0.25 * forward_m.abs() + 1e-12);
+                }
+            }
+        }
+    }
+    assert_eq!(kinds.len(), 5, "{kinds:?}");
+    assert!(kinds.values().all(|&n| n == 60), "{kinds:?}");
+}

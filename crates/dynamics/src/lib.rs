@@ -27,6 +27,7 @@ pub mod real;
 pub mod rng;
 pub mod segments;
 pub mod sensor_classes;
+pub mod sensor_faults;
 pub mod sensors;
 pub mod simulate;
 pub mod state;

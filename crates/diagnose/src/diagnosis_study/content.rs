@@ -12,6 +12,7 @@ use crate::error::DiagnoseError;
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::outside::{AccelWarmUp, Drag};
 use navkf_dynamics::rng::{stream, Purpose};
+use navkf_dynamics::sensor_faults::SensorFault;
 use navkf_dynamics::simulate::Prior;
 use navkf_dynamics::{NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TruthConfig};
 use rand::Rng;
@@ -51,6 +52,14 @@ pub enum Hidden {
         /// Time constant, s.
         time_constant_s: f64,
     },
+    /// A fault of the recorded measurements (outside the catalogue): GPS multipath, wheel
+    /// slip, a GPS lever arm.
+    Fault {
+        /// Size as a multiple of the fault's typical size.
+        multiple: f64,
+        /// The fault.
+        fault: Fault,
+    },
     /// The stated noise is not the truth's: each source's stated sigma is the true one
     /// divided by its factor.
     MisstatedNoise {
@@ -73,6 +82,7 @@ impl Hidden {
             Hidden::Effect { name, .. } => name.clone(),
             Hidden::Drag { .. } => "drag (outside)".into(),
             Hidden::AccelWarmUp { .. } => "accel warm-up (outside)".into(),
+            Hidden::Fault { fault, .. } => format!("{} (outside)", fault.label()),
             Hidden::MisstatedNoise { .. } => "mis-stated noise".into(),
         }
     }
@@ -81,8 +91,66 @@ impl Hidden {
         match self {
             Hidden::Effect { multiple, .. }
             | Hidden::Drag { multiple, .. }
-            | Hidden::AccelWarmUp { multiple, .. } => *multiple,
+            | Hidden::AccelWarmUp { multiple, .. }
+            | Hidden::Fault { multiple, .. } => *multiple,
             Hidden::MisstatedNoise { .. } => 1.0,
+        }
+    }
+}
+
+/// A sensor fault as the study records it ([`SensorFault`] with its sizes by name).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "fault", rename_all = "kebab-case")]
+pub enum Fault {
+    /// [`SensorFault::GpsStep`].
+    GpsStep {
+        /// East and North offset, m.
+        offset_m: [f64; 2],
+        /// Start, s.
+        start_s: f64,
+        /// Duration, s.
+        duration_s: f64,
+    },
+    /// [`SensorFault::OdometerSlip`].
+    OdometerSlip {
+        /// s^2/m.
+        gain_s2_m: f64,
+    },
+    /// [`SensorFault::GpsLeverArm`].
+    GpsLeverArm {
+        /// Ahead, m.
+        forward_m: f64,
+        /// To the right, m.
+        right_m: f64,
+    },
+}
+
+impl Fault {
+    /// The fault to apply.
+    pub fn sensor_fault(&self) -> SensorFault {
+        match *self {
+            Fault::GpsStep {
+                offset_m,
+                start_s,
+                duration_s,
+            } => SensorFault::GpsStep {
+                offset_m,
+                start_s,
+                duration_s,
+            },
+            Fault::OdometerSlip { gain_s2_m } => SensorFault::OdometerSlip { gain_s2_m },
+            Fault::GpsLeverArm { forward_m, right_m } => {
+                SensorFault::GpsLeverArm { forward_m, right_m }
+            }
+        }
+    }
+
+    /// Its name in tables.
+    pub fn label(&self) -> &'static str {
+        match self {
+            Fault::GpsStep { .. } => "GPS multipath step",
+            Fault::OdometerSlip { .. } => "odometer slip",
+            Fault::GpsLeverArm { .. } => "GPS lever arm",
         }
     }
 }
@@ -163,6 +231,7 @@ pub fn plan(config: &DiagnosisStudyConfig) -> Result<Vec<Planned>, DiagnoseError
     let range = |name: &str| config.size_range(name);
     let mut out = Vec::new();
     let seed = config.study.seed;
+    let trajectory_s = config.trajectory.duration_s;
     for class in &config.content {
         let n = class.count();
         for k in 0..n {
@@ -207,6 +276,39 @@ pub fn plan(config: &DiagnosisStudyConfig) -> Result<Vec<Planned>, DiagnoseError
                             ],
                             time_constant_s: 300.0 + 900.0 * rng.gen::<f64>(),
                         },
+                        OutsideEffect::GpsStep => {
+                            // `multiple` typical offsets per axis, in a direction drawn
+                            // uniformly; somewhere in the record, for 2 to 10 minutes.
+                            let size = multiple * SensorFault::TYPICAL_STEP_M * 2f64.sqrt();
+                            let direction = std::f64::consts::TAU * rng.gen::<f64>();
+                            let duration_s = 120.0 + 480.0 * rng.gen::<f64>();
+                            let span = (trajectory_s - duration_s).max(0.0);
+                            Hidden::Fault {
+                                multiple,
+                                fault: Fault::GpsStep {
+                                    offset_m: [size * direction.sin(), size * direction.cos()],
+                                    start_s: span * rng.gen::<f64>(),
+                                    duration_s,
+                                },
+                            }
+                        }
+                        OutsideEffect::OdometerSlip => Hidden::Fault {
+                            multiple,
+                            fault: Fault::OdometerSlip {
+                                gain_s2_m: multiple * SensorFault::TYPICAL_SLIP_S2_M,
+                            },
+                        },
+                        OutsideEffect::GpsLeverArm => {
+                            // Mostly ahead (a roof antenna), ahead or behind, a little aside.
+                            let arm = multiple * SensorFault::TYPICAL_LEVER_ARM_M;
+                            Hidden::Fault {
+                                multiple,
+                                fault: Fault::GpsLeverArm {
+                                    forward_m: sign(&mut rng) * arm,
+                                    right_m: arm * (rng.gen::<f64>() - 0.5) * 0.5,
+                                },
+                            }
+                        }
                     };
                     (Class::Outside, vec![h])
                 }
@@ -246,6 +348,7 @@ pub fn simulate(
     let mut effects: Vec<Box<dyn navkf_dynamics::DynEffect>> = Vec::new();
     let mut coefficients = BTreeMap::new();
     let mut warm_up = None;
+    let mut faults = Vec::new();
     let mut stated = noise;
     for h in &p.hidden {
         match h {
@@ -276,6 +379,7 @@ pub fn simulate(
                     time_constant_s: *time_constant_s,
                 });
             }
+            Hidden::Fault { fault, .. } => faults.push(fault.sensor_fault()),
             Hidden::MisstatedNoise { factors } => stated = misstate(&noise, *factors),
         }
     }
@@ -294,6 +398,9 @@ pub fn simulate(
     }
     let run = sim.run(config.study.seed, p.index as u64);
     let mut ds = sim.dataset(&format!("dataset-{}", p.index), config.study.seed, &run);
+    for fault in faults {
+        fault.apply(&mut ds).map_err(DiagnoseError::Content)?;
+    }
     ds.noise = stated;
     Ok(ds)
 }

@@ -8,7 +8,7 @@
 //! error (exit 1), as are options that make no sense (`--max-rounds 0`, a tilt sigma beyond
 //! what the attitude equations hold).
 
-use navkf_diagnose::{diagnose, report, FilterChoice, Options, RoundKind};
+use navkf_diagnose::{diagnose, report, Options, RoundKind};
 use navkf_dynamics::dataset::{Dataset, CONFIG_FILE};
 use navkf_dynamics::{PlatformPrior, Registry};
 use navkf_report::write_atomic;
@@ -173,10 +173,9 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         window_s: a.window,
         prior: flags,
         fit_noise: matches!(a.noise, NoiseMode::Fit),
-        filter: FilterChoice {
-            name: a.filter.name().into(),
+        filter: navkf_filters::FilterSpec {
             attitude,
-            ..Default::default()
+            ..navkf_filters::FilterSpec::new(a.filter)
         },
         max_rounds: a.max_rounds,
         ..Default::default()

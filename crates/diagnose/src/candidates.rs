@@ -44,12 +44,13 @@
 //! conservative: a true `gps-latency` failed it.)
 
 use super::consistency::NisStat;
-use super::fit::{FilterChoice, Fit};
+use super::fit::Fit;
 use super::priors::{fit_adaptive, Widening};
 use super::{summarize_fit, Coefficient, DiagnoseError, FitSummary, Options};
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::state::NAV_DIM;
 use navkf_dynamics::Registry;
+use navkf_filters::FilterSpec;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -326,7 +327,7 @@ pub fn fit_density(
     name: &str,
     typical: f64,
     registry: &Registry,
-    filter: &FilterChoice,
+    filter: &FilterSpec,
 ) -> Result<DensityFit, DiagnoseError> {
     // (decade, profile log-likelihood, fit)
     let at = |decade: f64| -> Result<(f64, f64, Fit), DiagnoseError> {
@@ -601,7 +602,7 @@ pub fn constancy(
     setup: &super::fit::FitSetup,
     names: &[String],
     registry: &Registry,
-    filter: &FilterChoice,
+    filter: &FilterSpec,
 ) -> Result<Option<Constancy>, DiagnoseError> {
     let halves = split_in_halves(ds);
     let fits = halves
@@ -657,7 +658,7 @@ pub fn density_constancy(
     setup: &super::fit::FitSetup,
     name: &str,
     registry: &Registry,
-    filter: &FilterChoice,
+    filter: &FilterSpec,
 ) -> Result<Option<Constancy>, DiagnoseError> {
     let typical = registry
         .build(name)?

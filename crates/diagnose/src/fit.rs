@@ -26,8 +26,8 @@ use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::prior::typical_sigma;
 use navkf_dynamics::state::*;
 use navkf_dynamics::trajectory::Phase;
-use navkf_dynamics::{Attitude, NoiseConfig, PlatformModel, Registry, SystemModel};
-use navkf_filters::{Filter, Runner, SigmaScaling};
+use navkf_dynamics::{NoiseConfig, PlatformModel, Registry, SystemModel};
+use navkf_filters::{Filter, FilterSpec, Runner};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
@@ -64,32 +64,6 @@ impl FitSetup {
             }
         }
         Ok(PlatformModel::new(effects, &self.noise)?)
-    }
-}
-
-/// The filter a diagnosis runs, by name (see [`navkf_filters::FilterKind`]), with its sigma-point
-/// scaling and the attitude equations of its model.
-#[derive(Debug, Clone, PartialEq)]
-pub struct FilterChoice {
-    /// Filter name.
-    pub name: String,
-    /// Sigma-point scaling (UKFs only).
-    pub scaling: SigmaScaling,
-    /// The model's attitude equations (the exact variant for a platform with a large
-    /// misalignment).
-    pub attitude: Attitude,
-}
-
-impl Default for FilterChoice {
-    /// The EKF: on this model it gives the UKFs' likelihood to 1e-3 of 7e4 (the paper study
-    /// finds the filters equal to four digits), and with effects that add rates it costs about
-    /// half a sigma-point filter's step (README, Speed).
-    fn default() -> Self {
-        FilterChoice {
-            name: "ekf".into(),
-            scaling: SigmaScaling::default(),
-            attitude: Attitude::SmallAngle,
-        }
     }
 }
 
@@ -215,7 +189,7 @@ pub fn fit(
     ds: &Dataset,
     setup: &FitSetup,
     registry: &Registry,
-    filter: &FilterChoice,
+    filter: &FilterSpec,
 ) -> Result<Fit, DiagnoseError> {
     let model = Arc::new(setup.model(registry)?.with_attitude(filter.attitude));
     let n = model.dim();
@@ -249,10 +223,7 @@ pub fn fit(
     for c in model.noise_channels() {
         noisy[c.state] = true;
     }
-    let mut filt: Box<dyn Filter> = filter
-        .name
-        .parse::<navkf_filters::FilterKind>()?
-        .build(model.clone(), filter.scaling)?;
+    let mut filt: Box<dyn Filter> = filter.build(model.clone())?;
     filt.reset(&x0, &pm)?;
     let cap = ds.measurements.len();
     let width = n - NAV_DIM;

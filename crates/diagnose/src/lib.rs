@@ -51,11 +51,12 @@ use candidates::{
 };
 use consistency::{nis_windows, whiteness, NisStat, NisWindow, Whiteness};
 pub use error::DiagnoseError;
-pub use fit::{FilterChoice, Fit, FitSetup};
+pub use fit::{Fit, FitSetup};
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::state::*;
 use navkf_dynamics::trajectory::Phase;
 use navkf_dynamics::{NoiseConfig, PlatformPrior, Registry};
+use navkf_filters::FilterSpec;
 use noise::NoiseFit;
 use priors::{fit_adaptive, PriorEntry, Widening};
 use serde::{Deserialize, Serialize};
@@ -79,7 +80,7 @@ pub struct Options {
     /// noise is taken as it is).
     pub fit_noise: bool,
     /// The filter the fits run.
-    pub filter: FilterChoice,
+    pub filter: FilterSpec,
     /// Most automatic rounds.
     pub max_rounds: usize,
 }
@@ -92,7 +93,7 @@ impl Default for Options {
             lags: 20,
             prior: PlatformPrior::default(),
             fit_noise: true,
-            filter: FilterChoice::default(),
+            filter: FilterSpec::default(),
             max_rounds: 6,
         }
     }

@@ -32,10 +32,11 @@
 //! candidate like an effect, which the diagnosis weighs against the structured ones
 //! ([`super::candidates`]).
 
-use super::fit::{fit, FilterChoice, FitSetup};
+use super::fit::{fit, FitSetup};
 use super::DiagnoseError;
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::{NoiseConfig, Registry};
+use navkf_filters::FilterSpec;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -203,7 +204,7 @@ struct Surface<'a> {
     setup: &'a FitSetup,
     stated: NoiseConfig,
     registry: &'a Registry,
-    filter: &'a FilterChoice,
+    filter: &'a FilterSpec,
     passes: std::sync::atomic::AtomicUsize,
 }
 
@@ -474,7 +475,7 @@ pub fn check(
     stated: &NoiseConfig,
     theta_start: [f64; 4],
     registry: &Registry,
-    filter: &FilterChoice,
+    filter: &FilterSpec,
 ) -> Result<NoiseFit, DiagnoseError> {
     let surface = Surface {
         ds,

@@ -33,13 +33,14 @@
 //! afterwards do not depend on the prior's width ([`super::fit::Fit::profile_loglik`]), so a
 //! real effect found with a wide prior is not punished for it.
 
-use super::fit::{fit, FilterChoice, Fit, FitSetup};
+use super::fit::{fit, Fit, FitSetup};
 use super::DiagnoseError;
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::prior::{default_azimuth_rad, default_level_rad, PlatformPrior, PriorSource};
 use navkf_dynamics::simulate::base_coefficient_sigma;
 use navkf_dynamics::state::{BASE_DIM, BASE_NAMES, NAV_DIM};
 use navkf_dynamics::Registry;
+use navkf_filters::FilterSpec;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -279,7 +280,7 @@ pub fn fit_adaptive(
     ds: &Dataset,
     setup: &FitSetup,
     registry: &Registry,
-    filter: &FilterChoice,
+    filter: &FilterSpec,
 ) -> Result<(Fit, Vec<Widening>), DiagnoseError> {
     let mut f = fit(ds, setup, registry, filter)?;
     let mut log = Vec::new();
@@ -320,7 +321,7 @@ pub fn widen_tilt(
     ds: &Dataset,
     f: Fit,
     registry: &Registry,
-    filter: &FilterChoice,
+    filter: &FilterSpec,
 ) -> Result<(Fit, Vec<Widening>), DiagnoseError> {
     use rayon::prelude::*;
     let trials: Vec<(usize, f64)> = (0..2)

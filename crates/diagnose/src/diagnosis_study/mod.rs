@@ -18,7 +18,7 @@ pub mod report;
 pub mod shard;
 
 use crate::error::DiagnoseError;
-use crate::{diagnose, FilterChoice, Options, Verdict};
+use crate::{diagnose, Options, Verdict};
 use content::{Class, Hidden, Planned};
 use navkf_dynamics::input_file::{printable, read_text, toml_error, toml_message, TextFile};
 use navkf_dynamics::simulate::{Alignment, InitialTilt};
@@ -297,10 +297,9 @@ impl DiagnosisStudyConfig {
     /// The diagnosis options every dataset gets.
     pub fn options(&self) -> Options {
         Options {
-            filter: FilterChoice {
-                name: self.diagnosis.filter.name().into(),
+            filter: navkf_filters::FilterSpec {
                 attitude: self.diagnosis.attitude,
-                ..Default::default()
+                ..navkf_filters::FilterSpec::new(self.diagnosis.filter)
             },
             max_rounds: self.diagnosis.max_rounds,
             ..Default::default()

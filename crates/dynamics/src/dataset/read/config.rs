@@ -1,0 +1,85 @@
+//! `dataset.toml`: noise, prior and provenance, every key known, an unknown one named with
+//! its line.
+
+use super::*;
+
+/// `dataset.toml`: the `[noise]`, `[prior]` and `[simulation]` tables, nothing else.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ConfigFile {
+    #[serde(default)]
+    pub(super) noise: Option<NoiseConfig>,
+    #[serde(default)]
+    pub(super) prior: PlatformPrior,
+    #[serde(default)]
+    pub(super) simulation: Option<Provenance>,
+}
+
+/// Every coefficient name a `[prior.coefficients]` key may take: the base model's and those
+/// of `registry`'s effects.
+pub(super) fn known_coefficients(registry: &Registry) -> Vec<String> {
+    let mut names: Vec<String> = BASE_NAMES[NAV_DIM..]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    for effect in registry.names() {
+        if let Ok(e) = registry.build(&effect) {
+            names.extend(e.coefficient_names().iter().map(|s| s.to_string()));
+        }
+    }
+    names
+}
+
+pub(super) fn read_config(path: &Path, known: &[String]) -> Result<ConfigFile, DynamicsError> {
+    let text = read_text(path, &TextFile::DATASET_CONFIG)?;
+    let config: ConfigFile = toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))?;
+    if let Err(message) = config.noise.unwrap_or_default().validate() {
+        // validate() names the key as `noise.<key>`; point at its line when we can find it.
+        let key = message
+            .strip_prefix("noise.")
+            .and_then(|m| m.split_whitespace().next())
+            .unwrap_or("");
+        return Err(match key_line(&text, "noise", key) {
+            Some(line) => data_error(path, line, &format!("noise.{key}"), message),
+            None => DynamicsError::File {
+                path: path.to_path_buf(),
+                message: printable(&message),
+            },
+        });
+    }
+    if let Err((key, message)) = config.prior.validate(known) {
+        // `prior.level_rad` sits in [prior]; `prior.coefficients.X` in [prior.coefficients].
+        let (table, name) = key.rsplit_once('.').unwrap_or(("prior", &key));
+        return Err(match key_line(&text, table, name) {
+            Some(line) => data_error(path, line, &key, message),
+            None => DynamicsError::File {
+                path: path.to_path_buf(),
+                message: printable(&format!("{key}: {message}")),
+            },
+        });
+    }
+    Ok(config)
+}
+
+/// The 1-based line of `key = ...` inside `[table]`, for the simple layout this project
+/// writes; `None` for other layouts (inline or dotted tables).
+pub(super) fn key_line(text: &str, table: &str, key: &str) -> Option<usize> {
+    if key.is_empty() {
+        return None;
+    }
+    let header = format!("[{table}]");
+    let mut inside = false;
+    for (i, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.starts_with('[') {
+            inside = line.split('#').next().is_some_and(|h| h.trim() == header);
+        } else if inside {
+            if let Some(rest) = line.strip_prefix(key) {
+                if rest.trim_start().starts_with('=') {
+                    return Some(i + 1);
+                }
+            }
+        }
+    }
+    None
+}

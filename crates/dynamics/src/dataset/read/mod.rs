@@ -1,0 +1,119 @@
+//! Reading a dataset folder, with validation.
+//!
+//! The files come from users (recorded or simulated elsewhere), so a mistake in them must be
+//! fixable without guessing: every error names the file, the 1-based line (the header is
+//! line 1), the column and what was expected. Nothing here panics on user input. The checks
+//! are the ones of `docs/data-format.md`: exact headers, one cell per column, finite
+//! numbers, strictly increasing times, measurements inside the inputs' span, plausible
+//! latitude/longitude in degrees, sensor pairs either complete or empty.
+
+use crate::dataset::{
+    Dataset, InputSample, Measurement, Provenance, Truth, CONFIG_FILE, INPUTS_FILE, INPUT_COLUMNS,
+    MEASUREMENTS_FILE, MEASUREMENT_COLUMNS, TRUTH_FILE,
+};
+use crate::earth::{meridian_radius, prime_vertical_radius};
+use crate::effects::Registry;
+use crate::error::DynamicsError;
+use crate::input_file::{
+    check_regular, other_encoding, printable, read_text, toml_error, LineLimit, LineTooLong,
+    TextFile, CSV_LINE_MAX_BYTES,
+};
+use crate::noise::NoiseConfig;
+use crate::prior::PlatformPrior;
+use crate::state::{BASE_NAMES, NAV_DIM};
+use serde::Deserialize;
+use std::io::ErrorKind;
+use std::path::{Path, PathBuf};
+
+mod config;
+mod csv_table;
+mod measurements;
+mod truth;
+mod units;
+
+use config::*;
+use csv_table::*;
+use measurements::*;
+use truth::*;
+use units::*;
+
+pub(super) use units::{chord_m, odometer_east_north};
+
+impl Dataset {
+    /// Reads and validates the dataset folder `dir` (`docs/data-format.md`): `inputs.csv` and
+    /// `measurements.csv` (required), `dataset.toml` and `truth.csv` (optional). The name is
+    /// the folder's final path component. Coefficient names in `[prior.coefficients]` must be
+    /// base coefficients or coefficients of the catalogue's effects.
+    pub fn read(dir: &Path) -> Result<Dataset, DynamicsError> {
+        Self::read_with(dir, &Registry::catalogue())
+    }
+
+    /// [`Dataset::read`], knowing the coefficients of `registry`'s effects (a user's own
+    /// effects among them) for `[prior.coefficients]`.
+    pub fn read_with(dir: &Path, registry: &Registry) -> Result<Dataset, DynamicsError> {
+        if !dir.is_dir() {
+            return Err(DynamicsError::File {
+                path: dir.to_path_buf(),
+                message: format!(
+                    "not a folder; expected a dataset folder holding {INPUTS_FILE} and \
+                     {MEASUREMENTS_FILE}"
+                ),
+            });
+        }
+        let inputs = read_inputs(&dir.join(INPUTS_FILE))?;
+        let measurements = read_measurements(&dir.join(MEASUREMENTS_FILE), &inputs)?;
+        let config_path = dir.join(CONFIG_FILE);
+        let config = if exists(&config_path)? {
+            read_config(&config_path, &known_coefficients(registry))?
+        } else {
+            ConfigFile::default()
+        };
+        let truth_path = dir.join(TRUTH_FILE);
+        let truth = if exists(&truth_path)? {
+            let mut known: Vec<String> = BASE_NAMES.iter().map(|s| s.to_string()).collect();
+            known.extend(known_coefficients(registry));
+            Some(read_truth(&truth_path, &known, &inputs, &measurements)?)
+        } else {
+            None
+        };
+        Ok(Dataset {
+            name: folder_name(dir),
+            inputs,
+            measurements,
+            noise: config.noise.unwrap_or_default(),
+            noise_stated: config.noise.is_some(),
+            prior: config.prior,
+            provenance: config.simulation,
+            truth,
+        })
+    }
+}
+
+/// The folder's final component; for paths like `.` the canonical path's.
+fn folder_name(dir: &Path) -> String {
+    let named = |p: &Path| p.file_name().map(|n| n.to_string_lossy().into_owned());
+    named(dir)
+        .or_else(|| dir.canonicalize().ok().and_then(|p| named(&p)))
+        .unwrap_or_else(|| "dataset".to_owned())
+}
+
+/// Whether an optional file is there (an I/O failure other than "not found" is an error).
+fn exists(path: &Path) -> Result<bool, DynamicsError> {
+    match std::fs::metadata(path) {
+        Ok(_) => Ok(true),
+        Err(e) if e.kind() == ErrorKind::NotFound => Ok(false),
+        Err(source) => Err(DynamicsError::Io {
+            path: path.to_path_buf(),
+            source,
+        }),
+    }
+}
+
+fn data_error(path: &Path, line: usize, column: &str, message: String) -> DynamicsError {
+    DynamicsError::Data {
+        path: path.to_path_buf(),
+        line,
+        column: printable(column),
+        message: printable(&message),
+    }
+}

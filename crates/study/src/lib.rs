@@ -17,7 +17,6 @@ pub mod report;
 pub mod shard_check;
 pub mod summary;
 pub mod sweep;
-pub mod sweep_shard;
 pub mod tally;
 
 pub use config::StudyConfig;

@@ -4,10 +4,10 @@
 //! of partials as it checks a study's ([`check_partials`]), folds them in block order and
 //! writes the sweep a single machine writes, bit for bit.
 
+use super::points;
 use crate::config::StudyConfig;
 use crate::error::StudyError;
 use crate::output::{check_partials, read_shard_file, shard_blocks, Partial};
-use crate::sweep::points;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 

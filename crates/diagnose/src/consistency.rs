@@ -7,7 +7,9 @@
 //! then chi-square with `L` degrees of freedom.
 
 use navkf_dynamics::trajectory::Phase;
-use navkf_report::stats::{chi2_quantile, mean_chi2_bounds, normal_quantile, Consistency};
+use navkf_report::stats::{
+    chi2_quantile, mean_chi2_band, mean_chi2_bounds, normal_quantile, Band, Consistency,
+};
 use serde::{Deserialize, Serialize};
 
 use navkf_dynamics::trajectory::phase_thresholds as thresholds;
@@ -75,6 +77,17 @@ impl NisStat {
             bounds,
             verdict,
         }
+    }
+}
+
+impl NisStat {
+    /// Whether the mean lies inside `band` (false without updates).
+    pub fn within(&self, band: Band) -> bool {
+        if self.count == 0 {
+            return false;
+        }
+        let [lo, hi] = mean_chi2_band(band, self.dof * self.count as f64, self.count as f64);
+        self.mean >= lo && self.mean <= hi
     }
 }
 

@@ -181,21 +181,10 @@ pub fn summarize_fit(ds: &Dataset, fit: &Fit, opts: &Options) -> FitSummary {
             )
         })
         .collect();
-    // The verdict uses the 99 % NIS bounds (the 95 % ones are shown); with the whiteness
-    // tests at a family-wise 1 %, a consistent model is called inconsistent about 2 % of
-    // the time.
-    let nis99 = if nis.count > 0 {
-        let total = nis.dof * nis.count as f64;
-        [
-            navkf_report::stats::chi2_quantile(0.005, total) / nis.count as f64,
-            navkf_report::stats::chi2_quantile(0.995, total) / nis.count as f64,
-        ]
-    } else {
-        [f64::NAN; 2]
-    };
+    // The verdict uses the 99 % NIS band (the 95 % one is shown); with the whiteness tests
+    // at a family-wise 1 %, a consistent model is called inconsistent about 2 % of the time.
     let consistent = fit.failure.is_none()
-        && nis.mean >= nis99[0]
-        && nis.mean <= nis99[1]
+        && nis.within(navkf_report::stats::Band::Percent99)
         && whites.iter().filter(|w| w.count > 0).all(|w| w.white);
     let excess = fit
         .nis
@@ -309,6 +298,19 @@ pub struct Round {
     /// Remarks (competing explanations).
     pub notes: Vec<String>,
 }
+
+impl Round {
+    /// Whether this round named the refitted noise levels (a candidate of kind
+    /// [`CandidateKind::NoiseLevels`]), whatever its label.
+    pub fn named_noise_levels(&self) -> bool {
+        self.candidates
+            .iter()
+            .any(|c| c.kind == CandidateKind::NoiseLevels && self.named.contains(&c.effect))
+    }
+}
+
+/// How the noise-levels candidate is labelled among effects in rounds and reports.
+pub const NOISE_LEVELS_LABEL: &str = "noise levels";
 
 /// A named effect withdrawn because its coefficients are not constant.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -715,7 +717,7 @@ fn noise_candidate(
     let ln_n = (model.fit.measurement_count().max(1) as f64).ln();
     let excess = model.summary.excess_nis;
     let candidate = Candidate {
-        effect: "noise levels".into(),
+        effect: NOISE_LEVELS_LABEL.into(),
         kind: CandidateKind::NoiseLevels,
         delta_loglik: dll,
         parameters: changed,

@@ -798,7 +798,7 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
                 match c.kind {
                     CandidateKind::Structured => "structured",
                     CandidateKind::NoiseOnly => "noise only",
-                    CandidateKind::NoiseLevels => "noise levels",
+                    CandidateKind::NoiseLevels => crate::NOISE_LEVELS_LABEL,
                 },
                 c.delta_loglik,
                 c.parameters,

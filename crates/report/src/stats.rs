@@ -63,9 +63,38 @@ pub fn chi2_quantile(p: f64, dof: f64) -> f64 {
 /// Two-sided 95 % bounds of the average of `count` chi-square variables with `dof` degrees
 /// of freedom each (total degrees `count * dof`), divided by `count`.
 pub fn mean_chi2_bounds(dof_total: f64, count: f64) -> [f64; 2] {
+    mean_chi2_band(Band::Percent95, dof_total, count)
+}
+
+/// A two-sided band of a chi-square statistic: 95 % (what reports show) or 99 % (what a
+/// verdict that runs several tests at once may use, so that a consistent model is rarely
+/// called inconsistent).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Band {
+    /// 2.5 % in each tail.
+    Percent95,
+    /// 0.5 % in each tail.
+    Percent99,
+}
+
+impl Band {
+    /// The lower and upper tail probabilities, written out (`(1 - 0.95) / 2` is not 0.025
+    /// in floating point).
+    pub fn tails(self) -> (f64, f64) {
+        match self {
+            Band::Percent95 => (0.025, 0.975),
+            Band::Percent99 => (0.005, 0.995),
+        }
+    }
+}
+
+/// The `band` of the average of `count` chi-square variables with `dof_total` degrees of
+/// freedom in all, divided by `count`.
+pub fn mean_chi2_band(band: Band, dof_total: f64, count: f64) -> [f64; 2] {
+    let (lo, hi) = band.tails();
     [
-        chi2_quantile(0.025, dof_total) / count,
-        chi2_quantile(0.975, dof_total) / count,
+        chi2_quantile(lo, dof_total) / count,
+        chi2_quantile(hi, dof_total) / count,
     ]
 }
 

@@ -364,10 +364,7 @@ fn run_one(
             record.named = d.effects.clone();
             record.withdrawn = d.withdrawn.iter().map(|w| w.effect.clone()).collect();
             record.rounds = d.rounds.len();
-            record.noise_named = d
-                .rounds
-                .iter()
-                .any(|r| r.named.iter().any(|n| n == "noise levels"));
+            record.noise_named = d.rounds.iter().any(|r| r.named_noise_levels());
             for c in &d.model.coefficients {
                 let hidden_named = p.hidden.iter().any(|h| match h {
                     Hidden::Effect { name, values, .. } => {

@@ -3,11 +3,11 @@
 //! or one with a `[sweep]`, are compared design by design.
 
 use crate::study_file::StudyFile;
-use navkf_report::write_atomic;
-use navkf_study::plan::{comparison_table, plan, table, Comparison, Design, Plan};
+use navkf_study::plan::{comparison_table, plan, table, Comparison, Design};
+use navkf_study::plan_output::{write_comparison, write_plan};
 use navkf_study::{Study, StudyConfig};
 use rayon::prelude::*;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -46,7 +46,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     if configs.len() == 1 && configs[0].sweep.is_none() {
         let study = Study::new(configs.into_iter().next().expect("one"))?;
         let p = plan(&study)?;
-        write_plan(&p, dir, &command, true)?;
+        crate::warn_undrawn(&write_plan(&p, dir, &command, true)?);
         staged.commit()?;
         say!("{}", table(&p).trim_end());
         eprintln!(
@@ -106,13 +106,14 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         .map(|(i, (label, v, c))| {
             let study = build(i, &label, c)?;
             let p = plan(&study).map_err(|e| format!("design {label}: {e}"))?;
-            write_plan(
+            let figures = write_plan(
                 &p,
                 &dir.join(format!("design-{i:02}")),
                 &command,
                 one_figure_each,
             )
             .map_err(|e| e.to_string())?;
+            crate::warn_undrawn(&figures);
             Ok(Design::of(label, v, &p))
         })
         .collect::<Result<Vec<Design>, String>>()?;
@@ -120,25 +121,8 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         key,
         designs: planned,
     };
-    let mut md = format!(
-        "# Test designs compared\n\nCommand: `{command}`\n\nPredicted final sigma / prior \
-         of every coefficient (in bold: identified, below {}); each design's plan in \
-         `design-NN/`.\n\n{}",
-        navkf_study::plan::IDENTIFIED_BELOW,
-        comparison_table(&comparison)
-    );
-    if comparison.key.is_some() {
-        let f = navkf_study::plots::plan::draw_sweep(&comparison, dir);
-        if f.result.is_ok() {
-            md.push_str(&format!("\n![{}]({}.png)\n", f.caption, f.name));
-        }
-        crate::warn_undrawn(std::slice::from_ref(&f));
-    }
-    write_atomic(
-        &dir.join("designs.json"),
-        serde_json::to_string_pretty(&comparison)?.as_bytes(),
-    )?;
-    write_atomic(&dir.join("designs.md"), md.as_bytes())?;
+    let figures = write_comparison(&comparison, dir, &command)?;
+    crate::warn_undrawn(&figures);
     staged.commit()?;
     say!("{}", comparison_table(&comparison).trim_end());
     eprintln!(
@@ -147,34 +131,5 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         started.elapsed().as_secs_f64(),
         out.display()
     );
-    Ok(())
-}
-
-/// Writes one plan's `plan.json` and `plan.md` (and, with `figure`, `plan_sigma`) into `dir`.
-fn write_plan(
-    p: &Plan,
-    dir: &Path,
-    command: &str,
-    figure: bool,
-) -> Result<(), Box<dyn std::error::Error>> {
-    write_atomic(
-        &dir.join("plan.json"),
-        serde_json::to_string_pretty(p)?.as_bytes(),
-    )?;
-    let mut md = format!(
-        "# Plan of `{}`\n\nCommand: `{command}`\n\nPredicted by the truth-linearised bound \
-         along run 0 of the study's seed ({:.0} s test), without Monte Carlo.\n\n```text\n{}```\n",
-        p.study,
-        p.duration_s,
-        table(p)
-    );
-    if figure {
-        let f = navkf_study::plots::plan::draw(p, dir);
-        if f.result.is_ok() {
-            md.push_str(&format!("\n![{}]({}.png)\n", f.caption, f.name));
-        }
-        crate::warn_undrawn(std::slice::from_ref(&f));
-    }
-    write_atomic(&dir.join("plan.md"), md.as_bytes())?;
     Ok(())
 }

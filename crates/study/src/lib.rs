@@ -12,6 +12,7 @@ pub mod guard;
 pub mod monte_carlo;
 pub mod output;
 pub mod plan;
+pub mod plan_output;
 pub mod plots;
 pub mod report;
 pub mod shard_check;

@@ -11,6 +11,7 @@ pub mod executor;
 pub mod figure;
 pub mod interrupt;
 pub mod json_nan;
+pub mod markdown;
 pub mod names;
 pub mod provenance;
 pub mod results_dir;

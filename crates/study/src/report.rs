@@ -1,15 +1,13 @@
 //! Human-readable tables of a summary (terminal and report.md), and `report.md` itself.
 
 use crate::summary::Summary;
+use navkf_report::markdown::{cell, number, Number, Table};
 use navkf_report::provenance::machine;
 use std::fmt::Write as _;
 
+/// Errors, sigmas and differences in the report's tables.
 fn g(v: f64) -> String {
-    if v.is_finite() {
-        format!("{v:.3e}")
-    } else {
-        "-".into()
-    }
+    number(v, Number::Sci(3))
 }
 
 /// A Markdown table per filter: final RMS error, claimed sigma and bound per coefficient;
@@ -24,82 +22,62 @@ pub fn table(s: &Summary) -> String {
         .map(|f| f.final_rms.keys().cloned().collect())
         .unwrap_or_default();
     let _ = writeln!(out, "\n## {} ({} runs, seed {})\n", s.study, s.runs, s.seed);
-    let _ = write!(out, "| coefficient |");
+    let mut header = vec!["coefficient".to_string()];
     for n in &names {
-        let _ = write!(out, " {n} RMS | {n} sigma |");
+        header.extend([format!("{n} RMS"), format!("{n} sigma")]);
     }
-    let _ = writeln!(out, " bound |");
-    let _ = write!(out, "|---|");
-    for _ in &names {
-        let _ = write!(out, "---|---|");
-    }
-    let _ = writeln!(out, "---|");
+    header.push("bound".into());
+    let mut errors = Table::new(header);
     for c in &coefs {
-        let _ = write!(out, "| {c} |");
+        let mut row = vec![c.clone()];
         let mut bound = f64::NAN;
         for n in &names {
             let f = &s.filters[*n];
-            let _ = write!(
-                out,
-                " {} | {} |",
-                g(*f.final_rms.get(c).unwrap_or(&f64::NAN)),
-                g(*f.final_sigma.get(c).unwrap_or(&f64::NAN))
-            );
+            row.push(g(*f.final_rms.get(c).unwrap_or(&f64::NAN)));
+            row.push(g(*f.final_sigma.get(c).unwrap_or(&f64::NAN)));
             bound = *f.final_bound.get(c).unwrap_or(&f64::NAN);
         }
-        let _ = writeln!(out, " {} |", g(bound));
+        row.push(g(bound));
+        errors.row(row);
     }
-    let _ = writeln!(
-        out,
-        "\n| filter | runs ok | diverged | NEES (95 % bounds) | NIS (95 % bounds) | step median | step p90 |"
-    );
-    let _ = writeln!(out, "|---|---|---|---|---|---|---|");
+    out.push_str(&errors.render());
+    let mut filters = Table::new([
+        "filter",
+        "runs ok",
+        "diverged",
+        "NEES (95 % bounds)",
+        "NIS (95 % bounds)",
+        "step median",
+        "step p90",
+    ]);
     for n in &names {
         let f = &s.filters[*n];
         // With no run completed there is no mean and no cost: a dash, never "NaN".
-        let fixed = |v: f64, digits: usize| {
-            if v.is_finite() {
-                format!("{v:.digits$}")
-            } else {
-                "-".into()
-            }
-        };
         let with_bounds = |mean: f64, bounds: [f64; 2], digits: usize| {
             if mean.is_finite() {
                 format!(
                     "{} ({}-{})",
-                    fixed(mean, digits),
-                    fixed(bounds[0], digits),
-                    fixed(bounds[1], digits)
+                    number(mean, Number::Fixed(digits)),
+                    number(bounds[0], Number::Fixed(digits)),
+                    number(bounds[1], Number::Fixed(digits))
                 )
             } else {
                 "-".into()
             }
         };
-        let cost = |ns: f64| {
-            if ns.is_finite() {
-                format!("{:.1} us", ns / 1e3)
-            } else {
-                "-".into()
-            }
-        };
-        let _ = writeln!(
-            out,
-            "| {n} | {} | {} | {} | {} | {} | {} |",
-            f.runs_ok,
-            f.diverged,
+        filters.row([
+            n.to_string(),
+            f.runs_ok.to_string(),
+            f.diverged.to_string(),
             with_bounds(f.nees_mean, f.nees_bounds, 2),
             with_bounds(f.nis_mean, f.nis_bounds, 3),
-            cost(f.step_ns_median),
-            cost(f.step_ns_p90)
-        );
+            number(f.step_ns_median, Number::Micros),
+            number(f.step_ns_p90, Number::Micros),
+        ]);
     }
+    out.push('\n');
+    out.push_str(&filters.render());
     out
-}
-
-/// Escapes text for a Markdown table cell.
-fn cell(s: &str) -> String {
-    s.replace('|', "\\|").replace('\n', " ")
 }
 
 /// A Markdown table of the paired differences of final squared errors, with their 95 %
@@ -114,39 +92,40 @@ pub fn paired_table(s: &Summary) -> String {
         out,
         "\nPaired differences of the final squared error, `e_a^2 - e_b^2`, over the runs where both filters finished (95 % intervals; `relative` is the mean difference over `b`'s mean squared error).\n"
     );
-    let _ = writeln!(
-        out,
-        "| a | b | coefficient | runs | mean difference | 95 % interval | relative | verdict |"
-    );
-    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|");
+    let mut table = Table::new([
+        "a",
+        "b",
+        "coefficient",
+        "runs",
+        "mean difference",
+        "95 % interval",
+        "relative",
+        "verdict",
+    ]);
     let mut significant = 0;
     for d in &s.paired {
-        let v = d.verdict_words();
         if d.significant() {
             significant += 1;
         }
         let pct = 100.0 * d.relative;
-        let rel = if !pct.is_finite() {
-            "-".into()
-        } else if pct.abs() >= 0.1 || pct == 0.0 {
-            format!("{pct:+.1} %")
+        // Below 0.1 % the fixed form would read +0.0 %: the exponent keeps the size.
+        let rel = if !pct.is_finite() || pct.abs() >= 0.1 || pct == 0.0 {
+            number(d.relative, Number::SignedPercent(1))
         } else {
             format!("{pct:+.1e} %")
         };
-        let _ = writeln!(
-            out,
-            "| {} | {} | {} | {} | {} | {} to {} | {} | {} |",
+        table.row([
             cell(&d.a),
             cell(&d.b),
             cell(&d.coefficient),
-            d.n,
+            d.n.to_string(),
             g(d.mean_sq_err_diff),
-            g(d.ci95[0]),
-            g(d.ci95[1]),
+            format!("{} to {}", g(d.ci95[0]), g(d.ci95[1])),
             rel,
-            v
-        );
+            d.verdict_words(),
+        ]);
     }
+    out.push_str(&table.render());
     let _ = writeln!(
         out,
         "\n{significant} of {} comparisons exclude zero at 95 % (about {:.1} would by chance alone if the filters were equal).",

@@ -10,6 +10,7 @@ use crate::tally::Tally;
 use navkf_dynamics::state::PHI_Z;
 use navkf_filters::DivergenceCause;
 use navkf_report::figure::FigureOutcome;
+use navkf_report::markdown::{number, Number, Table};
 use navkf_report::stats::mean_chi2_bounds;
 use navkf_report::write_atomic;
 use serde::{Deserialize, Serialize};
@@ -204,11 +205,7 @@ pub fn write_sweep(
 }
 
 fn cell(v: f64, digits: usize) -> String {
-    if v.is_finite() {
-        format!("{v:.digits$}")
-    } else {
-        "-".into()
-    }
+    number(v, Number::Fixed(digits))
 }
 
 /// `sweep.md`: the points side by side, one table per quantity, then the paired tests of the
@@ -272,16 +269,16 @@ pub fn markdown(s: &SweepSummary, command: &str, figures: &[FigureOutcome]) -> S
     ];
     for (title, column) in tables {
         let _ = writeln!(out, "## {title}\n");
-        let _ = writeln!(out, "| {} | {} |", s.key, s.filters.join(" | "));
-        let _ = writeln!(out, "|---|{}", "---|".repeat(s.filters.len()));
+        let mut table =
+            Table::new(std::iter::once(s.key.as_str()).chain(s.filters.iter().map(String::as_str)));
         for p in &s.points {
-            let cells: Vec<String> = s
+            let cells = s
                 .filters
                 .iter()
-                .map(|f| p.filters.get(f).map_or("-".into(), column))
-                .collect();
-            let _ = writeln!(out, "| {:e} | {} |", p.value, cells.join(" | "));
+                .map(|f| p.filters.get(f).map_or("-".into(), column));
+            table.row(std::iter::once(format!("{:e}", p.value)).chain(cells));
         }
+        out.push_str(&table.render());
         out.push('\n');
     }
     let _ = writeln!(
@@ -290,40 +287,40 @@ pub fn markdown(s: &SweepSummary, command: &str, figures: &[FigureOutcome]) -> S
          `e_a^2 - e_b^2` (rad^2) with its 95 % confidence interval, and relative to `b`'s mean \
          squared error; significant where the interval excludes zero.\n"
     );
-    let _ = writeln!(
-        out,
-        "| {} | a | b | mean difference | 95 % CI | relative | significant |",
-        s.key
-    );
-    let _ = writeln!(out, "|---|---|---|---|---|---|---|");
+    let mut heading = Table::new([
+        s.key.as_str(),
+        "a",
+        "b",
+        "mean difference",
+        "95 % CI",
+        "relative",
+        "significant",
+    ]);
     for p in &s.points {
         for d in &p.paired_heading {
-            let _ = writeln!(
-                out,
-                "| {:e} | {} | {} | {:.3e} | [{:.3e}, {:.3e}] | {:+.2} % | {} |",
-                p.value,
-                d.a,
-                d.b,
-                d.mean_sq_err_diff,
-                d.ci95[0],
-                d.ci95[1],
-                100.0 * d.relative,
-                if d.significant() { "yes" } else { "no" }
-            );
+            heading.row([
+                format!("{:e}", p.value),
+                d.a.clone(),
+                d.b.clone(),
+                number(d.mean_sq_err_diff, Number::Sci(3)),
+                format!(
+                    "[{}, {}]",
+                    number(d.ci95[0], Number::Sci(3)),
+                    number(d.ci95[1], Number::Sci(3))
+                ),
+                number(d.relative, Number::SignedPercent(2)),
+                if d.significant() { "yes" } else { "no" }.into(),
+            ]);
         }
     }
+    out.push_str(&heading.render());
     let _ = writeln!(
         out,
         "\n## Paired differences of the coefficients\n\nPer point, how many of the paired \
          tests (pairs of filters x coefficients) find a significant difference, and the \
          largest relative one.\n"
     );
-    let _ = writeln!(
-        out,
-        "| {} | significant / tests | largest relative |",
-        s.key
-    );
-    let _ = writeln!(out, "|---|---|---|");
+    let mut coefficients = Table::new([s.key.as_str(), "significant / tests", "largest relative"]);
     for p in &s.points {
         let sig: Vec<&PairedDifference> = p.paired.iter().filter(|d| d.significant()).collect();
         let largest = sig
@@ -331,21 +328,19 @@ pub fn markdown(s: &SweepSummary, command: &str, figures: &[FigureOutcome]) -> S
             .max_by(|a, b| a.relative.abs().total_cmp(&b.relative.abs()))
             .map_or("-".to_string(), |d| {
                 format!(
-                    "{} vs {} on {}: {:+.2} %",
+                    "{} vs {} on {}: {}",
                     d.a,
                     d.b,
                     d.coefficient,
-                    100.0 * d.relative
+                    number(d.relative, Number::SignedPercent(2))
                 )
             });
-        let _ = writeln!(
-            out,
-            "| {:e} | {} / {} | {} |",
-            p.value,
-            sig.len(),
-            p.paired.len(),
-            largest
-        );
+        coefficients.row([
+            format!("{:e}", p.value),
+            format!("{} / {}", sig.len(), p.paired.len()),
+            largest,
+        ]);
     }
+    out.push_str(&coefficients.render());
     out
 }

@@ -96,7 +96,7 @@ sizes = { torquer-scale = [40.0, 100.0] }
 
 #[test]
 fn the_committed_study_hides_at_least_300_things_outside_the_catalogue_of_five_kinds() {
-    use navkf_diagnose::diagnosis_study::content::Fault;
+    use navkf_dynamics::sensor_faults::SensorFault as Fault;
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../studies/diagnosis.toml");
     let config = DiagnosisStudyConfig::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
     let planned = plan(&config).unwrap();

@@ -19,9 +19,12 @@
 use crate::dataset::{Dataset, Truth};
 use crate::earth::{meridian_radius, prime_vertical_radius};
 use crate::state::{LAT, V_X, V_Y};
+use serde::{Deserialize, Serialize};
 
-/// A fault of the recorded measurements.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A fault of the recorded measurements (as a diagnosis study's `summary.json` records it,
+/// tagged `fault`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "fault", rename_all = "kebab-case")]
 pub enum SensorFault {
     /// GPS fixes off by `offset_m` (East, North, metres) from `start_s` for `duration_s`.
     GpsStep {
@@ -54,6 +57,15 @@ impl SensorFault {
     pub const TYPICAL_SLIP_S2_M: f64 = 0.02;
     /// Typical lever arm, m: an antenna on the roof, a car's length from the unit.
     pub const TYPICAL_LEVER_ARM_M: f64 = 1.5;
+
+    /// Its name in tables.
+    pub fn label(&self) -> &'static str {
+        match self {
+            SensorFault::GpsStep { .. } => "GPS multipath step",
+            SensorFault::OdometerSlip { .. } => "odometer slip",
+            SensorFault::GpsLeverArm { .. } => "GPS lever arm",
+        }
+    }
 
     /// Applies the fault to `ds`'s measurements, from its truth at their times. Refused
     /// (nothing changed) when `ds` has no truth at a measurement's time or a size is not

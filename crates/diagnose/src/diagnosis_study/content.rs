@@ -58,7 +58,7 @@ pub enum Hidden {
         /// Size as a multiple of the fault's typical size.
         multiple: f64,
         /// The fault.
-        fault: Fault,
+        fault: SensorFault,
     },
     /// The stated noise is not the truth's: each source's stated sigma is the true one
     /// divided by its factor.
@@ -94,63 +94,6 @@ impl Hidden {
             | Hidden::AccelWarmUp { multiple, .. }
             | Hidden::Fault { multiple, .. } => *multiple,
             Hidden::MisstatedNoise { .. } => 1.0,
-        }
-    }
-}
-
-/// A sensor fault as the study records it ([`SensorFault`] with its sizes by name).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "fault", rename_all = "kebab-case")]
-pub enum Fault {
-    /// [`SensorFault::GpsStep`].
-    GpsStep {
-        /// East and North offset, m.
-        offset_m: [f64; 2],
-        /// Start, s.
-        start_s: f64,
-        /// Duration, s.
-        duration_s: f64,
-    },
-    /// [`SensorFault::OdometerSlip`].
-    OdometerSlip {
-        /// s^2/m.
-        gain_s2_m: f64,
-    },
-    /// [`SensorFault::GpsLeverArm`].
-    GpsLeverArm {
-        /// Ahead, m.
-        forward_m: f64,
-        /// To the right, m.
-        right_m: f64,
-    },
-}
-
-impl Fault {
-    /// The fault to apply.
-    pub fn sensor_fault(&self) -> SensorFault {
-        match *self {
-            Fault::GpsStep {
-                offset_m,
-                start_s,
-                duration_s,
-            } => SensorFault::GpsStep {
-                offset_m,
-                start_s,
-                duration_s,
-            },
-            Fault::OdometerSlip { gain_s2_m } => SensorFault::OdometerSlip { gain_s2_m },
-            Fault::GpsLeverArm { forward_m, right_m } => {
-                SensorFault::GpsLeverArm { forward_m, right_m }
-            }
-        }
-    }
-
-    /// Its name in tables.
-    pub fn label(&self) -> &'static str {
-        match self {
-            Fault::GpsStep { .. } => "GPS multipath step",
-            Fault::OdometerSlip { .. } => "odometer slip",
-            Fault::GpsLeverArm { .. } => "GPS lever arm",
         }
     }
 }
@@ -285,7 +228,7 @@ pub fn plan(config: &DiagnosisStudyConfig) -> Result<Vec<Planned>, DiagnoseError
                             let span = (trajectory_s - duration_s).max(0.0);
                             Hidden::Fault {
                                 multiple,
-                                fault: Fault::GpsStep {
+                                fault: SensorFault::GpsStep {
                                     offset_m: [size * direction.sin(), size * direction.cos()],
                                     start_s: span * rng.gen::<f64>(),
                                     duration_s,
@@ -294,7 +237,7 @@ pub fn plan(config: &DiagnosisStudyConfig) -> Result<Vec<Planned>, DiagnoseError
                         }
                         OutsideEffect::OdometerSlip => Hidden::Fault {
                             multiple,
-                            fault: Fault::OdometerSlip {
+                            fault: SensorFault::OdometerSlip {
                                 gain_s2_m: multiple * SensorFault::TYPICAL_SLIP_S2_M,
                             },
                         },
@@ -303,7 +246,7 @@ pub fn plan(config: &DiagnosisStudyConfig) -> Result<Vec<Planned>, DiagnoseError
                             let arm = multiple * SensorFault::TYPICAL_LEVER_ARM_M;
                             Hidden::Fault {
                                 multiple,
-                                fault: Fault::GpsLeverArm {
+                                fault: SensorFault::GpsLeverArm {
                                     forward_m: sign(&mut rng) * arm,
                                     right_m: arm * (rng.gen::<f64>() - 0.5) * 0.5,
                                 },
@@ -379,7 +322,7 @@ pub fn simulate(
                     time_constant_s: *time_constant_s,
                 });
             }
-            Hidden::Fault { fault, .. } => faults.push(fault.sensor_fault()),
+            Hidden::Fault { fault, .. } => faults.push(*fault),
             Hidden::MisstatedNoise { factors } => stated = misstate(&noise, *factors),
         }
     }

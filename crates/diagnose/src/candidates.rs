@@ -185,7 +185,7 @@ pub struct Candidate {
     /// Why it is or is not named.
     pub outcome: Outcome,
     /// Filter failure with it added, if any.
-    pub failure: Option<String>,
+    pub failure: Option<navkf_filters::RunFailure>,
 }
 
 impl Candidate {

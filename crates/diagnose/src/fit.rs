@@ -27,7 +27,7 @@ use navkf_dynamics::prior::typical_sigma;
 use navkf_dynamics::state::*;
 use navkf_dynamics::trajectory::Phase;
 use navkf_dynamics::{NoiseConfig, PlatformModel, Registry, SystemModel};
-use navkf_filters::{Filter, FilterSpec, Runner};
+use navkf_filters::{Filter, FilterSpec, RunFailure, Runner};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
@@ -136,7 +136,7 @@ pub struct Fit {
     /// The coefficients' path.
     pub track: CoefficientTrack,
     /// Set when the filter failed (the fit then covers the updates before it).
-    pub failure: Option<String>,
+    pub failure: Option<RunFailure>,
 }
 
 impl Fit {
@@ -310,7 +310,7 @@ pub fn fit(
         },
     );
     if let Err(e) = result {
-        fit.failure = Some(e.to_string());
+        fit.failure = Some(RunFailure::of_filter(&e.error, e.to_string()));
     }
     fit.x = filt.state().to_vec();
     fit.p = filt.covariance().to_vec();

@@ -120,8 +120,8 @@ pub struct FitSummary {
     pub excess_nis: f64,
     /// Final coefficient estimates with their sigmas.
     pub coefficients: Vec<Coefficient>,
-    /// Filter failure, if any.
-    pub failure: Option<String>,
+    /// Filter failure, if any: its cause and where.
+    pub failure: Option<navkf_filters::RunFailure>,
     /// The noise the filter assumed.
     pub noise: NoiseConfig,
 }

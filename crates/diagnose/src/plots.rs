@@ -188,7 +188,7 @@ fn measured_vs_predicted(fit: &Fit, geo: &Geo, label: &str) -> Grid {
     ];
     if let Some(f) = &fit.failure {
         legend.push(entry(
-            format!("filter failed: {}", shorten(f)),
+            format!("filter failed: {}", shorten(&f.reason)),
             BEFORE.stroke_width(2),
             Mark::Box,
         ));

@@ -77,3 +77,10 @@ impl RunFailure {
         Self::new(DivergenceCause::of_filter_error(e), reason)
     }
 }
+
+/// The detail, as reports quote it.
+impl std::fmt::Display for RunFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.reason)
+    }
+}

@@ -43,6 +43,7 @@ use crate::config::StudyConfig;
 use crate::error::StudyError;
 use crate::summary::{FilterSummary, Summary};
 use navkf_dynamics::input_file::{printable, read_text, TextFile};
+use navkf_report::markdown::{number, Number, Table};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -119,28 +120,27 @@ impl GuardReport {
             self.checks,
             self.k
         );
-        let _ = writeln!(
-            out,
-            "| filter | quantity | baseline | now | change | allowed | standard errors |"
-        );
-        let _ = writeln!(out, "|---|---|---|---|---|---|---|");
+        let mut table = Table::new([
+            "filter",
+            "quantity",
+            "baseline",
+            "now",
+            "change",
+            "allowed",
+            "standard errors",
+        ]);
         for f in &self.worse {
-            let z = if f.z.is_finite() {
-                format!("{:.1}", f.z)
-            } else {
-                "-".into()
-            };
-            let _ = writeln!(
-                out,
-                "| {} | {} | {} | {} | {} | {} | {z} |",
-                f.filter,
-                f.quantity,
+            table.row([
+                f.filter.clone(),
+                f.quantity.clone(),
                 g(f.baseline),
                 g(f.current),
-                f.change,
-                f.allowed
-            );
+                f.change.clone(),
+                f.allowed.clone(),
+                number(f.z, Number::Fixed(1)),
+            ]);
         }
+        out.push_str(&table.render());
         out
     }
 }

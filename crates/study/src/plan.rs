@@ -18,6 +18,7 @@ use crate::error::StudyError;
 use crate::monte_carlo::Study;
 use navkf_dynamics::state::NAV_DIM;
 use navkf_dynamics::SystemModel;
+use navkf_report::markdown::{number, Number, Table};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write;
 
@@ -235,32 +236,35 @@ pub fn comparison_table(c: &Comparison) -> String {
         return out;
     };
     let names: Vec<&str> = first.coefficients.iter().map(|k| k.name.as_str()).collect();
-    let _ = writeln!(out, "| design | identified | {} |", names.join(" | "));
-    let _ = writeln!(out, "|---|---|{}", "---|".repeat(names.len()));
+    let mut table = Table::new(
+        ["design", "identified"]
+            .into_iter()
+            .chain(names.iter().copied()),
+    );
     for d in &c.designs {
-        let cells: Vec<String> = names
-            .iter()
-            .map(|n| {
-                d.coefficients
-                    .iter()
-                    .find(|k| k.name == *n)
-                    .map_or("-".into(), |k| {
-                        if k.identified {
-                            format!("**{:.3}**", k.ratio)
-                        } else {
-                            format!("{:.3}", k.ratio)
-                        }
-                    })
-            })
-            .collect();
+        let cells = names.iter().map(|n| {
+            d.coefficients
+                .iter()
+                .find(|k| k.name == *n)
+                .map_or("-".into(), |k| {
+                    let ratio = number(k.ratio, Number::Fixed(3));
+                    if k.identified && k.ratio.is_finite() {
+                        format!("**{ratio}**")
+                    } else {
+                        ratio
+                    }
+                })
+        });
         let count = d.coefficients.iter().filter(|k| k.identified).count();
-        let _ = writeln!(
-            out,
-            "| {} | {count} of {} | {} |",
-            d.label,
-            d.coefficients.len(),
-            cells.join(" | ")
+        table.row(
+            [
+                d.label.clone(),
+                format!("{count} of {}", d.coefficients.len()),
+            ]
+            .into_iter()
+            .chain(cells),
         );
     }
+    out.push_str(&table.render());
     out
 }

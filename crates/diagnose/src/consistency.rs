@@ -1,10 +1,11 @@
 //! Where a model fails: NIS against its chi-square bounds overall, in sliding windows and by
 //! motion phase, and the whiteness of each innovation channel.
 //!
-//! A consistent model's normalised innovations are white with unit variance: NIS averages to
-//! the measurement dimension, and each channel's autocorrelation stays inside `+-1.96/sqrt(N)`
-//! at every lag. The Ljung-Box statistic `Q = N (N + 2) sum_l r_l^2 / (N - l)` over `L` lags is
-//! then chi-square with `L` degrees of freedom.
+//! A consistent model's normalised innovations are white with unit variance: NIS
+//! (docs/model.md eq. (18)) averages to the measurement dimension, and each channel's
+//! autocorrelation stays inside `+-1.96/sqrt(N)` at every lag. The Ljung-Box statistic
+//! `Q = N (N + 2) sum_l r_l^2 / (N - l)` over `L` lags is then chi-square with `L` degrees of
+//! freedom.
 
 use navkf_dynamics::trajectory::Phase;
 use navkf_report::stats::{
@@ -35,6 +36,17 @@ pub fn classify(f_mean: [f64; 2], velocity: Option<[f64; 2]>) -> Phase {
         Phase::Decelerating
     } else {
         Phase::Cruising
+    }
+}
+
+/// Name of a phase in reports.
+pub fn phase_name(p: Phase) -> &'static str {
+    match p {
+        Phase::Standstill => "standstill",
+        Phase::Accelerating => "accelerating",
+        Phase::Cruising => "cruising",
+        Phase::Turning => "turning",
+        Phase::Decelerating => "decelerating",
     }
 }
 

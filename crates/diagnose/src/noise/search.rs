@@ -1,51 +1,18 @@
-//! Does the stated noise fit? A scale factor per noise source, fitted by maximum likelihood.
-//!
-//! A model can fail for two unrelated reasons: something physical is missing, or the noise
-//! levels it was given are wrong. The second is the common one on recorded data (a MEMS
-//! recording diagnosed with navigation-grade densities shows NIS hundreds of times the
-//! expected value), and no physical effect explains it. So before ranking effects the
-//! diagnosis asks whether the stated noise fits.
-//!
-//! Each of the four sources gets a variance scale `exp(theta)`: the gyro density `q_g`, the
-//! accelerometer density `q_a`, the odometer's sigma (its relative term and its floor
-//! together) and the GPS sigma. The innovation log-likelihood `LL(theta)` is maximised over
-//! the four log-scales:
-//!
-//! 1. **Score test at the levels in use.** Central differences along each axis give the
-//!    gradient `g` and curvature `H_jj` of `LL`; `g_j / sqrt(-H_jj)` is the score statistic,
-//!    standard normal when the level is right. Sources beyond [`Z_FLAG`] are fitted.
-//! 2. **Newton's method** over them, with the finite-difference Hessian made negative
-//!    definite, a first step from the shape a pure noise scale gives the likelihood, steps
-//!    clamped to [`MAX_STEP`] and halved until the likelihood rises. At the optimum the other
-//!    sources' scores are taken again; a significant one joins.
-//! 3. **Probes.** Process noise stated far too small leaves `LL` flat around the stated level
-//!    (the filter then ignores it), so no score sees it: the gyro and accelerometer densities
-//!    are also tried 10 and 100 times larger in sigma, after the local search (before it, a
-//!    process noise could stand in for the measurement noise that search finds at once).
-//! 4. **Resolution.** At the optimum, `sqrt(diag((-H)^-1))` is the standard error of each
-//!    log-scale: the data's resolution. A source is *under-stated* or *over-stated* when its
-//!    fitted log-scale is more than [`Z_FLAG`] standard errors from zero, *unresolved* when
-//!    the data cannot fix its level within a factor [`RESOLVED_SIGMA_FACTOR`] (a
-//!    navigation-grade gyro's white noise on a 40-minute drive, typically), and fits otherwise.
-//!
-//! Only the sources found mis-stated take their fitted level. The fitted levels are then a
-//! candidate like an effect, which the diagnosis weighs against the structured ones
-//! ([`super::candidates`]).
+//! The search of a noise check ([`super`]): the log-likelihood over the four log-scales, its
+//! score at the start, Newton's method over the sources that are off, the probes of the
+//! process-noise densities, and the resolution at the optimum.
 
-use super::fit::{fit, FitSetup};
-use super::DiagnoseError;
+use super::levels::{
+    scaled, NoiseFit, NoiseVerdict, SourceFit, RESOLVED_SIGMA_FACTOR, SOURCES, Z_FLAG,
+};
+use crate::error::DiagnoseError;
+use crate::fit::pass::{fit, Fit};
+use crate::fit::setup::FitSetup;
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::{NoiseConfig, Registry};
 use navkf_filters::FilterSpec;
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
 
-/// A source is mis-stated when its fitted log-scale is this many standard errors from zero
-/// (two-sided level 5e-4 per source).
-pub const Z_FLAG: f64 = 3.5;
-/// A source whose level the data fix only within this factor (in sigma, 95 %) is unresolved.
-pub const RESOLVED_SIGMA_FACTOR: f64 = 2.0;
 /// Largest Newton step per source, in log-variance (a factor 3.5 in sigma).
 pub const MAX_STEP: f64 = 2.5;
 /// Upward probes of the process-noise densities, in log-variance (x10 and x100 in sigma).
@@ -66,137 +33,6 @@ const PASS_BUDGET: usize = 80;
 const MAX_ITERATIONS: usize = 6;
 /// Curvature floor: a log-scale the data do not inform gets a standard error of at most 5.
 const MIN_CURVATURE: f64 = 1.0 / 25.0;
-
-/// A noise source of the model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum NoiseSource {
-    /// Gyro white noise, `q_g` (`gyro_psd`).
-    Gyro,
-    /// Accelerometer white noise, `q_a` (`accel_psd`).
-    Accelerometer,
-    /// Odometer velocity noise (`odometer_rel` and `odometer_floor` together).
-    Odometer,
-    /// GPS position noise (`gps_m`).
-    Gps,
-}
-
-/// The four sources, in the order of the log-scale vector.
-pub const SOURCES: [NoiseSource; 4] = [
-    NoiseSource::Gyro,
-    NoiseSource::Accelerometer,
-    NoiseSource::Odometer,
-    NoiseSource::Gps,
-];
-
-impl NoiseSource {
-    /// How reports name it.
-    pub fn label(self) -> &'static str {
-        match self {
-            NoiseSource::Gyro => "gyro noise",
-            NoiseSource::Accelerometer => "accelerometer noise",
-            NoiseSource::Odometer => "odometer noise",
-            NoiseSource::Gps => "GPS noise",
-        }
-    }
-
-    /// Its `dataset.toml` keys and values in `n`.
-    pub fn values(self, n: &NoiseConfig) -> BTreeMap<String, f64> {
-        let pairs: Vec<(&str, f64)> = match self {
-            NoiseSource::Gyro => vec![("gyro_psd", n.gyro_psd)],
-            NoiseSource::Accelerometer => vec![("accel_psd", n.accel_psd)],
-            NoiseSource::Odometer => vec![
-                ("odometer_rel", n.odometer_rel),
-                ("odometer_floor", n.odometer_floor),
-            ],
-            NoiseSource::Gps => vec![("gps_m", n.gps_m)],
-        };
-        pairs.into_iter().map(|(k, v)| (k.to_string(), v)).collect()
-    }
-}
-
-/// `stated` with each source's variance scaled by `exp(theta[j])`.
-pub fn scaled(stated: &NoiseConfig, theta: [f64; 4]) -> NoiseConfig {
-    let sigma = |j: usize| (0.5 * theta[j]).exp();
-    NoiseConfig {
-        gyro_psd: stated.gyro_psd * theta[0].exp(),
-        accel_psd: stated.accel_psd * theta[1].exp(),
-        odometer_rel: stated.odometer_rel * sigma(2),
-        odometer_floor: stated.odometer_floor * sigma(2),
-        gps_m: stated.gps_m * sigma(3),
-    }
-}
-
-/// What the data say of one source.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum NoiseVerdict {
-    /// The stated level fits, within the data's resolution.
-    Fits,
-    /// The noise is larger than stated.
-    UnderStated,
-    /// The noise is smaller than stated.
-    OverStated,
-    /// The data cannot fix the level within [`RESOLVED_SIGMA_FACTOR`].
-    Unresolved,
-}
-
-/// One source's fit.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SourceFit {
-    /// The source.
-    pub source: NoiseSource,
-    /// The verdict.
-    pub verdict: NoiseVerdict,
-    /// Fitted over stated, in sigma (the square root of the variance scale).
-    pub sigma_ratio: f64,
-    /// 95 % interval of that ratio.
-    pub sigma_ratio_interval: [f64; 2],
-    /// Stated values by `dataset.toml` key.
-    pub stated: BTreeMap<String, f64>,
-    /// Fitted values by key (the maximum-likelihood ones, used only when mis-stated).
-    pub fitted: BTreeMap<String, f64>,
-}
-
-/// The noise check of one model.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct NoiseFit {
-    /// Effects of the model the check was made on.
-    pub model: Vec<String>,
-    /// The stated noise.
-    pub stated: NoiseConfig,
-    /// The levels the check started from (the stated ones, or ones fitted earlier).
-    pub start: NoiseConfig,
-    /// Whether some source's score at the start levels was significant, so that its level
-    /// was fitted.
-    pub refitted: bool,
-    /// The levels to use: the fitted ones for mis-stated sources, the stated ones otherwise.
-    pub used: NoiseConfig,
-    /// Their log-variance scales over the stated levels.
-    pub used_theta: [f64; 4],
-    /// Log-variance scales of the maximum-likelihood levels over the stated ones.
-    pub theta: [f64; 4],
-    /// Their standard errors.
-    pub theta_se: [f64; 4],
-    /// Per source, against the stated levels.
-    pub sources: Vec<SourceFit>,
-    /// Log-likelihood gain of the maximum-likelihood levels over the start levels.
-    pub loglik_gain: f64,
-    /// Filter passes the check took.
-    pub passes: usize,
-}
-
-impl NoiseFit {
-    /// Whether any source is mis-stated.
-    pub fn mis_stated(&self) -> bool {
-        self.sources.iter().any(|s| {
-            matches!(
-                s.verdict,
-                NoiseVerdict::UnderStated | NoiseVerdict::OverStated
-            )
-        })
-    }
-}
 
 /// Log-likelihood surface access: one filter pass per point, in parallel.
 struct Surface<'a> {
@@ -460,23 +296,21 @@ fn information(hess: &[[f64; 4]; 4], active: &[usize]) -> nalgebra::DMatrix<f64>
     e.recompose()
 }
 
-/// Checks the noise of `setup` (the levels `stated` scaled by `theta_start`, whose fit has
-/// log-likelihood `loglik_start`) on `ds` (module documentation).
+/// Checks the noise of the model `model` fits on `ds` (the stated levels scaled by
+/// `theta_start`): the module documentation of [`super`].
 ///
 /// Newton's method runs only over the sources whose score is at least [`Z_ACTIVE`] at the
 /// start levels, and those fitted earlier (the others' log-likelihood is typically flat, and
 /// letting them wander costs passes and changes nothing); at the optimum the other sources'
 /// scores are taken again, and any that became significant joins.
-#[allow(clippy::too_many_arguments)]
 pub fn check(
     ds: &Dataset,
-    setup: &FitSetup,
-    loglik_start: f64,
-    stated: &NoiseConfig,
+    model: &Fit,
     theta_start: [f64; 4],
     registry: &Registry,
     filter: &FilterSpec,
 ) -> Result<NoiseFit, DiagnoseError> {
+    let (setup, loglik_start, stated) = (&model.setup, model.loglik, &ds.noise);
     let surface = Surface {
         ds,
         setup,

@@ -1,8 +1,8 @@
 //! One filter pass of a model over a dataset, and the likelihoods a diagnosis compares.
 //!
 //! The pass keeps every innovation, its predicted sigma and the NIS (for the consistency
-//! tests and the figures), the path of every coefficient's estimate and variance (for the
-//! constancy test of [`super::candidates`]), and the total innovation log-likelihood.
+//! tests and the figures), the path of every coefficient's estimate and variance, and the
+//! total innovation log-likelihood: the sum over updates of docs/model.md eq. (18).
 //!
 //! That log-likelihood is the *marginal* likelihood of the data: the coefficients are
 //! integrated over their prior. It therefore carries the prior's Occam factor, which punishes
@@ -19,53 +19,17 @@
 //! on how wide a prior was chosen or widened. States driven by process noise (the drifts under
 //! `gyro-bias-walk`) are not constants; they stay marginalised.
 
-use super::consistency::classify;
-use super::priors::Priors;
-use super::DiagnoseError;
+use super::setup::FitSetup;
+use crate::consistency::classify;
+use crate::error::DiagnoseError;
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::prior::typical_sigma;
 use navkf_dynamics::state::*;
 use navkf_dynamics::trajectory::Phase;
-use navkf_dynamics::{NoiseConfig, PlatformModel, Registry, SystemModel};
-use navkf_filters::{Filter, FilterSpec, RunFailure, Runner};
-use std::collections::BTreeMap;
+use navkf_dynamics::{Registry, SystemModel};
+use navkf_filters::FilterSpec;
+use navkf_filters::{Filter, RunFailure, Runner};
 use std::sync::Arc;
-
-/// Everything that sets one filter pass besides the data.
-#[derive(Debug, Clone, PartialEq)]
-pub struct FitSetup {
-    /// Effects in the model, in order.
-    pub effects: Vec<String>,
-    /// Parameters of effects that have one (the density of `gyro-bias-walk`), by effect.
-    pub parameters: BTreeMap<String, f64>,
-    /// Noise the filter assumes.
-    pub noise: NoiseConfig,
-    /// Prior sigmas of the tilt and the coefficients.
-    pub priors: Priors,
-}
-
-impl FitSetup {
-    /// The same setup with `effect` added (with its parameter, if given).
-    pub fn with_effect(&self, effect: &str, parameter: Option<f64>) -> FitSetup {
-        let mut s = self.clone();
-        s.effects.push(effect.to_string());
-        if let Some(p) = parameter {
-            s.parameters.insert(effect.to_string(), p);
-        }
-        s
-    }
-
-    /// Builds the model this setup describes.
-    pub fn model(&self, registry: &Registry) -> Result<PlatformModel, DiagnoseError> {
-        let mut effects = registry.build_all(&self.effects)?;
-        for e in &mut effects {
-            if let Some(&p) = self.parameters.get(e.name()) {
-                e.set_parameter(p).map_err(DiagnoseError::Data)?;
-            }
-        }
-        Ok(PlatformModel::new(effects, &self.noise)?)
-    }
-}
 
 /// Estimates and variances of the coefficients after every update, for the constancy test.
 #[derive(Debug, Clone, Default)]
@@ -131,7 +95,7 @@ pub struct Fit {
     /// Initial sigma of every state.
     pub prior_sigma: Vec<f64>,
     /// Typical sigma of every coefficient (0 for the navigation states), the unit the
-    /// widening of [`super::priors`] counts in.
+    /// widening of [`super::widening`] counts in.
     pub typical_sigma: Vec<f64>,
     /// The coefficients' path.
     pub track: CoefficientTrack,
@@ -335,4 +299,18 @@ pub fn first_full_measurement(
                 ds.name
             ))
         })
+}
+
+/// States driven by process noise in either fit: they stay marginalised in both likelihoods
+/// ([`Fit::profile_loglik`]) when the two are compared.
+pub fn marginal_states(a: &Fit, b: &Fit) -> Vec<String> {
+    let mut out = Vec::new();
+    for f in [a, b] {
+        for (i, name) in f.names.iter().enumerate() {
+            if f.noisy[i] && !out.contains(name) {
+                out.push(name.clone());
+            }
+        }
+    }
+    out
 }

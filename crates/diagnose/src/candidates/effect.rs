@@ -1,0 +1,178 @@
+//! One catalogued effect weighed as a candidate: the model refitted with it (a structured
+//! effect with its coefficients' priors open to widening, a noise-only term at its
+//! maximum-likelihood density), its evidence over the model, and whether the trajectory can
+//! tell its coefficients from the model's own.
+
+use super::evidence::INDISTINGUISHABLE;
+use super::evidence::{Candidate, CandidateKind, Confusion, Evaluated, Model, Named, Outcome};
+use crate::error::DiagnoseError;
+use crate::fit::density::fit_density;
+use crate::fit::pass::{marginal_states, Fit};
+use crate::fit::widening::fit_adaptive;
+use crate::options::Options;
+use crate::summary::{summarize_fit, Coefficient};
+use navkf_dynamics::dataset::Dataset;
+use navkf_dynamics::state::NAV_DIM;
+use navkf_dynamics::Registry;
+
+/// Evaluates one effect; `None` for an effect with neither coefficients nor noise (nothing
+/// to fit).
+pub fn evaluate(
+    ds: &Dataset,
+    model: &Model<'_>,
+    name: &str,
+    registry: &Registry,
+    opts: &Options,
+) -> Result<Option<Evaluated>, DiagnoseError> {
+    let effect = registry.build(name)?;
+    let k_coef = effect.coefficient_names().len();
+    let noise = effect.process_noise();
+    let (fit, widened, density, kind) = if k_coef > 0 {
+        // From the starting priors: a base coefficient the model had to widen to soak up the
+        // misfit this candidate explains must not keep the candidate from explaining it.
+        let mut setup = model.fit.setup.with_effect(name, None);
+        setup.priors = setup.priors.restarted();
+        setup
+            .priors
+            .open
+            .extend(effect.coefficient_names().iter().map(|c| c.to_string()));
+        let (f, w) = fit_adaptive(ds, &setup, registry, &opts.filter)?;
+        (f, w, None, CandidateKind::Structured)
+    } else if let Some(typical) = noise.first().map(|c| c.psd) {
+        let d = fit_density(ds, model.fit, name, typical, registry, &opts.filter)?;
+        (d.fit, Vec::new(), Some(d.density), CandidateKind::NoiseOnly)
+    } else {
+        return Ok(None);
+    };
+    let s = summarize_fit(ds, &fit, opts);
+    let keep = marginal_states(model.fit, &fit);
+    let dll = fit.profile_loglik(&keep) - model.fit.profile_loglik(&keep);
+    let k = k_coef.max(1);
+    let ln_n = (model.fit.measurement_count().max(1) as f64).ln();
+    let bic = 2.0 * dll - k as f64 * ln_n;
+    let excess = model.summary.excess_nis;
+    let removed = if excess > 0.0 {
+        1.0 - s.excess_nis.max(0.0) / excess
+    } else {
+        0.0
+    };
+    let confused = confusion(&fit, model.fit.names.len());
+    let own: Vec<Coefficient> = s
+        .coefficients
+        .iter()
+        .filter(|c| !model.fit.names.contains(&c.name))
+        .cloned()
+        .collect();
+    let beyond = crate::physical::coefficients_beyond(&*effect, &own);
+    let candidate = Candidate {
+        effect: name.to_string(),
+        kind,
+        delta_loglik: dll,
+        parameters: k,
+        bic_gain: bic,
+        excess_removed: removed,
+        nis: s.nis.clone(),
+        consistent: s.consistent,
+        coefficients: own,
+        density,
+        noise: None,
+        widened,
+        separable_bic: separable_evidence(&fit, model.fit.names.len(), &confused, ln_n),
+        confused_with: confused,
+        beyond_bounds: beyond,
+        outcome: Outcome::NotDecisive,
+        failure: fit.failure.clone(),
+    };
+    let names = match kind {
+        CandidateKind::NoiseOnly => Named::NoiseTerm(name.to_string()),
+        _ => Named::Effect(name.to_string()),
+    };
+    Ok(Some(Evaluated {
+        candidate,
+        fit,
+        names,
+    }))
+}
+
+/// Coefficients of the candidate (those after the model's own `n_model` states) that cannot
+/// be told apart from one of the model's: correlated beyond [`INDISTINGUISHABLE`] in the
+/// posterior the data would give from the priors the diagnosis started from.
+///
+/// Not the fit's own posterior: after widening, two coefficients the data see only as a sum
+/// (`Kg13z fz` and `Kg0z` on a level vehicle) can carry priors a hundred times apart, and
+/// their posterior correlation is then near zero although nothing but the priors separates
+/// them. Nor the data alone: a drag and the g-sensitive drifts are nearly collinear on the
+/// paper's test, and only the platform's priors (a drift of 500 times its typical size is not
+/// this platform's) tell them apart. So the data's information `F = P_c^-1 - P0^-1` is put
+/// back on the starting priors and the correlation read from `(F + P_start^-1)^-1`.
+fn confusion(f: &Fit, n_model: usize) -> Vec<Confusion> {
+    let n = f.names.len();
+    // States driven by noise (the drifts under `gyro-bias-walk`) stay in, with their
+    // posterior as it is: a walking drift still cannot be told from a constant g-sensitive one.
+    let idx: Vec<usize> = (NAV_DIM..n).collect();
+    let m = idx.len();
+    let p = nalgebra::DMatrix::from_fn(m, m, |a, b| f.p[idx[a] + idx[b] * n]);
+    let Some(p_inv) = p.clone().cholesky().map(|c| c.inverse()) else {
+        return Vec::new();
+    };
+    let mut precision = p_inv;
+    for (a, &i) in idx.iter().enumerate().filter(|(_, &i)| !f.noisy[i]) {
+        let start = f
+            .setup
+            .priors
+            .starting_sigma(&f.names[i], f.typical_sigma[i]);
+        precision[(a, a)] += 1.0 / (start * start) - 1.0 / (f.prior_sigma[i] * f.prior_sigma[i]);
+    }
+    let Some(c) = precision.cholesky().map(|c| c.inverse()) else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for (u, &i) in idx.iter().enumerate() {
+        if i < n_model {
+            continue;
+        }
+        for (v, &j) in idx.iter().enumerate() {
+            if j >= n_model {
+                continue;
+            }
+            let corr = c[(u, v)] / (c[(u, u)] * c[(v, v)]).sqrt();
+            if corr.abs() > INDISTINGUISHABLE {
+                out.push(Confusion {
+                    coefficient: f.names[i].clone(),
+                    with: f.names[j].clone(),
+                    correlation: corr,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The Wald evidence of the candidate's coefficients (those after `n_model`) that are not in
+/// `confused`, as a BIC gain; `None` when none is confused.
+fn separable_evidence(f: &Fit, n_model: usize, confused: &[Confusion], ln_n: f64) -> Option<f64> {
+    if confused.is_empty() {
+        return None;
+    }
+    let n = f.names.len();
+    let free: Vec<usize> = (n_model..n)
+        .filter(|&i| !confused.iter().any(|c| c.coefficient == f.names[i]))
+        .collect();
+    let m = free.len();
+    if m == 0 {
+        return Some(f64::NEG_INFINITY);
+    }
+    let mut block = vec![0.0; m * m];
+    for (a, &i) in free.iter().enumerate() {
+        for (b, &j) in free.iter().enumerate() {
+            block[a + b * m] = f.p[i + j * n];
+        }
+    }
+    if navkf_filters::linalg::cholesky_in_place(&mut block, m).is_err() {
+        return Some(f64::NEG_INFINITY);
+    }
+    let mut c: Vec<f64> = free.iter().map(|&i| f.x[i]).collect();
+    navkf_filters::linalg::forward_substitute(&block, m, &mut c);
+    let wald: f64 = c.iter().map(|v| v * v).sum();
+    Some(wald - m as f64 * ln_n)
+}

@@ -1,0 +1,78 @@
+//! The refitted noise levels as a candidate. A model can fail because its noise levels are
+//! wrong rather than because something physical is missing; the noise check
+//! ([`crate::noise`]) fits the levels, and here they compete with the effects in the same
+//! currency: the model refitted at them, weighed like an effect with one parameter per noise
+//! source it changed. Noise does not go first because a missing effect inflates the fitted
+//! noise: the right structural model has the larger likelihood.
+
+use super::evidence::{Candidate, CandidateKind, Evaluated, Model, Named, Outcome, NOISE_LEVELS};
+use crate::error::DiagnoseError;
+use crate::fit::widening::fit_adaptive;
+use crate::noise::levels::{NoiseFit, SOURCES};
+use crate::options::Options;
+use crate::summary::summarize_fit;
+use navkf_dynamics::dataset::Dataset;
+use navkf_dynamics::Registry;
+
+/// The candidate "noise levels": `model` refitted with the levels `check` found (from the
+/// starting priors), weighed like an effect with one parameter per source it changed.
+pub fn noise_levels(
+    ds: &Dataset,
+    model: &Model<'_>,
+    check: &NoiseFit,
+    registry: &Registry,
+    opts: &Options,
+) -> Result<Evaluated, DiagnoseError> {
+    let mut setup = model.fit.setup.clone();
+    setup.noise = check.used;
+    setup.priors = setup.priors.restarted();
+    let (fit, widened) = fit_adaptive(ds, &setup, registry, &opts.filter)?;
+    let s = summarize_fit(ds, &fit, opts);
+    let keep: Vec<String> = fit
+        .names
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| fit.noisy[*i])
+        .map(|(_, n)| n.clone())
+        .collect();
+    let dll = fit.profile_loglik(&keep) - model.fit.profile_loglik(&keep);
+    let old = SOURCES.map(|src| src.values(&model.fit.setup.noise));
+    let changed = SOURCES
+        .iter()
+        .enumerate()
+        .filter(|(j, src)| src.values(&check.used) != old[*j])
+        .count()
+        .max(1);
+    let ln_n = (model.fit.measurement_count().max(1) as f64).ln();
+    let excess = model.summary.excess_nis;
+    let candidate = Candidate {
+        effect: NOISE_LEVELS.into(),
+        kind: CandidateKind::NoiseLevels,
+        delta_loglik: dll,
+        parameters: changed,
+        bic_gain: 2.0 * dll - changed as f64 * ln_n,
+        excess_removed: if excess > 0.0 {
+            1.0 - s.excess_nis.max(0.0) / excess
+        } else {
+            0.0
+        },
+        nis: s.nis.clone(),
+        consistent: s.consistent,
+        coefficients: Vec::new(),
+        density: None,
+        noise: Some(check.clone()),
+        widened,
+        confused_with: Vec::new(),
+        separable_bic: None,
+        beyond_bounds: crate::physical::noise_beyond(&check.used),
+        outcome: Outcome::NotDecisive,
+        failure: fit.failure.clone(),
+    };
+    Ok(Evaluated {
+        candidate,
+        fit,
+        names: Named::NoiseLevels {
+            theta: check.used_theta,
+        },
+    })
+}

@@ -1,0 +1,46 @@
+//! What one filter pass is asked to fit, besides the data: the model (effects, their
+//! parameters, the noise it assumes, the priors it starts from) and the filter that runs it.
+//! A diagnosis compares many of these, each a small change of the last
+//! ([`FitSetup::with_effect`]), so they are plain values that compare equal when they would
+//! give the same pass.
+
+use crate::error::DiagnoseError;
+use crate::priors::Priors;
+use navkf_dynamics::{NoiseConfig, PlatformModel, Registry};
+use std::collections::BTreeMap;
+
+/// Everything that sets one filter pass besides the data.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FitSetup {
+    /// Effects in the model, in order.
+    pub effects: Vec<String>,
+    /// Parameters of effects that have one (the density of `gyro-bias-walk`), by effect.
+    pub parameters: BTreeMap<String, f64>,
+    /// Noise the filter assumes.
+    pub noise: NoiseConfig,
+    /// Prior sigmas of the tilt and the coefficients.
+    pub priors: Priors,
+}
+
+impl FitSetup {
+    /// The same setup with `effect` added (with its parameter, if given).
+    pub fn with_effect(&self, effect: &str, parameter: Option<f64>) -> FitSetup {
+        let mut s = self.clone();
+        s.effects.push(effect.to_string());
+        if let Some(p) = parameter {
+            s.parameters.insert(effect.to_string(), p);
+        }
+        s
+    }
+
+    /// Builds the model this setup describes.
+    pub fn model(&self, registry: &Registry) -> Result<PlatformModel, DiagnoseError> {
+        let mut effects = registry.build_all(&self.effects)?;
+        for e in &mut effects {
+            if let Some(&p) = self.parameters.get(e.name()) {
+                e.set_parameter(p).map_err(DiagnoseError::Data)?;
+            }
+        }
+        Ok(PlatformModel::new(effects, &self.noise)?)
+    }
+}

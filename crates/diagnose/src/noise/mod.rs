@@ -1,0 +1,43 @@
+//! Does the stated noise fit? A scale factor per noise source, fitted by maximum likelihood.
+//!
+//! A model can fail for two unrelated reasons: something physical is missing, or the noise
+//! levels it was given are wrong. The second is the common one on recorded data (a MEMS
+//! recording diagnosed with navigation-grade densities shows NIS hundreds of times the
+//! expected value), and no physical effect explains it. So before ranking effects the
+//! diagnosis asks whether the stated noise fits.
+//!
+//! Each of the four sources gets a variance scale `exp(theta)`: the gyro density `q_g` and the
+//! accelerometer density `q_a` (docs/model.md eq. (12)), the odometer's sigma (its relative
+//! term and its floor together) and the GPS sigma (both docs/model.md eq. (14)). The
+//! innovation log-likelihood `LL(theta)` is maximised over the four log-scales:
+//!
+//! 1. **Score test at the levels in use.** Central differences along each axis give the
+//!    gradient `g` and curvature `H_jj` of `LL`; `g_j / sqrt(-H_jj)` is the score statistic,
+//!    standard normal when the level is right. Sources beyond [`Z_FLAG`] are fitted.
+//! 2. **Newton's method** over them, with the finite-difference Hessian made negative
+//!    definite, a first step from the shape a pure noise scale gives the likelihood, steps
+//!    clamped to [`MAX_STEP`] and halved until the likelihood rises. At the optimum the other
+//!    sources' scores are taken again; a significant one joins.
+//! 3. **Probes.** Process noise stated far too small leaves `LL` flat around the stated level
+//!    (the filter then ignores it), so no score sees it: the gyro and accelerometer densities
+//!    are also tried 10 and 100 times larger in sigma, after the local search (before it, a
+//!    process noise could stand in for the measurement noise that search finds at once).
+//! 4. **Resolution.** At the optimum, `sqrt(diag((-H)^-1))` is the standard error of each
+//!    log-scale: the data's resolution. A source is *under-stated* or *over-stated* when its
+//!    fitted log-scale is more than [`Z_FLAG`] standard errors from zero, *unresolved* when
+//!    the data cannot fix its level within a factor [`RESOLVED_SIGMA_FACTOR`] (a
+//!    navigation-grade gyro's white noise on a 40-minute drive, typically), and fits otherwise.
+//!
+//! Only the sources found mis-stated take their fitted level. The fitted levels are then a
+//! candidate like an effect, which the diagnosis weighs against the structured ones
+//! ([`crate::candidates`]).
+//!
+//! [`levels`] holds what a check finds ([`NoiseFit`]); [`search`] how ([`check`]).
+
+pub mod levels;
+pub mod search;
+
+pub use levels::{
+    scaled, NoiseFit, NoiseSource, NoiseVerdict, SourceFit, RESOLVED_SIGMA_FACTOR, SOURCES, Z_FLAG,
+};
+pub use search::{check, MAX_STEP, Z_ACTIVE};

@@ -1,0 +1,82 @@
+//! What the diagnosis figures share: the channels as drawn, the colours of a model before and
+//! after, the local metric frame that shows positions in metres, and the thinning of long
+//! series.
+
+use crate::fit::pass::Fit;
+use navkf_dynamics::earth::{meridian_radius, prime_vertical_radius};
+use navkf_dynamics::state::MEAS_DIM;
+use plotters::prelude::*;
+
+/// Points drawn per curve at most (longer series are thinned evenly).
+pub const MAX_POINTS: usize = 4000;
+
+/// The channels as drawn: title and unit.
+pub const CHANNELS: [(&str, &str); MEAS_DIM] = [
+    ("east velocity v_x", "m/s"),
+    ("north velocity v_y", "m/s"),
+    ("latitude L, as metres north of the first fix", "m"),
+    ("longitude lambda, as metres east of the first fix", "m"),
+];
+
+/// A measured channel.
+pub const MEASURED: RGBColor = RGBColor(120, 120, 120);
+/// The model diagnosed (after the named effects).
+pub const AFTER: RGBColor = RGBColor(31, 119, 180);
+/// The base model, before them (and a filter failure).
+pub const BEFORE: RGBColor = RGBColor(214, 39, 40);
+/// Bounds and bands of a consistent model.
+pub const BOUNDS: RGBColor = RGBColor(150, 150, 150);
+
+/// How a legend names the model with `effects`.
+pub fn model_label(effects: &[String]) -> String {
+    if effects.is_empty() {
+        "base model".into()
+    } else {
+        format!("with {}", effects.join(", "))
+    }
+}
+
+/// Local metric frame at the first GPS fix: channel values to display units.
+pub struct Geo {
+    lat0: f64,
+    lon0: f64,
+    north_per_rad: f64,
+    east_per_rad: f64,
+}
+
+impl Geo {
+    pub fn of(fit: &Fit) -> Self {
+        let first = fit.z.iter().find(|z| z[2].is_finite() && z[3].is_finite());
+        let (lat0, lon0) = first.map_or((0.0, 0.0), |z| (z[2], z[3]));
+        let s = lat0.sin();
+        Geo {
+            lat0,
+            lon0,
+            north_per_rad: meridian_radius(s),
+            east_per_rad: prime_vertical_radius(s) * lat0.cos(),
+        }
+    }
+
+    /// Factor from channel `c`'s units to display units.
+    pub fn scale(&self, c: usize) -> f64 {
+        match c {
+            2 => self.north_per_rad,
+            3 => self.east_per_rad,
+            _ => 1.0,
+        }
+    }
+
+    /// A measured or predicted value of channel `c` in display units.
+    pub fn show(&self, c: usize, v: f64) -> f64 {
+        match c {
+            2 => (v - self.lat0) * self.north_per_rad,
+            3 => (v - self.lon0) * self.east_per_rad,
+            _ => v,
+        }
+    }
+}
+
+/// Every `stride`-th index of a series of `n`, so that at most [`MAX_POINTS`] are drawn.
+pub fn stride(n: usize) -> usize {
+    n.div_ceil(MAX_POINTS).max(1)
+}

@@ -1,0 +1,339 @@
+//! The findings: a diagnosis in plain words, in the order a user should read them. They are
+//! made from the typed result last ([`crate::rounds`]) and kept in `diagnosis.json`.
+
+use super::sentences::{
+    consistency_findings, failing_channels_and_phases, implausible_findings, noise_findings,
+    refusal_findings, unphysical_instead,
+};
+use super::words::times;
+use crate::candidates::evidence::{Candidate, CandidateKind, Outcome, DECISIVE_BIC};
+use crate::diagnosis::{Diagnosis, RoundKind};
+use crate::noise::levels::NoiseVerdict;
+use crate::verdict::Verdict;
+
+/// A tilt prior sigma beyond which the diagnosis warns that the small-angle model is out of
+/// its depth (0.5 deg: `results/misalignment/` finds its EKF consistent at 0.1 deg and not at
+/// 1 deg).
+pub const SMALL_ANGLE_LIMIT_RAD: f64 = 8.7e-3;
+
+/// Plain-language findings, in the order a user should read them: the noise, where the model
+/// under test fails, what each round named and why, what remains, and what cannot be told.
+pub fn findings(d: &Diagnosis) -> Vec<String> {
+    if d.verdict == Verdict::ImplausibleData {
+        return implausible_findings(d);
+    }
+    let mut out = Vec::new();
+    if !d.noise_stated {
+        out.push(
+            "dataset.toml states no noise (it is absent, or has no [noise] table): the noise \
+             called \"stated\" below is navkf's default for a navigation-grade platform \
+             (docs/data-format.md), not a statement of yours. Give your sensors' levels in a \
+             [noise] table, or read the noise check as a fit of the levels from the data."
+                .to_string(),
+        );
+    }
+    // A misalignment of degrees breaks the small-angle model before anything else: first.
+    if d.attitude == navkf_dynamics::Attitude::SmallAngle {
+        let large: Vec<String> = d
+            .priors
+            .iter()
+            .filter(|p| {
+                matches!(p.name.as_str(), "azimuth_rad" | "level_rad")
+                    && p.sigma > SMALL_ANGLE_LIMIT_RAD
+            })
+            .map(|p| format!("{} = {:.2} deg", p.name, p.sigma.to_degrees()))
+            .collect();
+        if !large.is_empty() {
+            out.push(format!(
+                "The tilt prior ({}) allows errors where the small-angle model does not hold \
+                 (in studies/misalignment.toml its EKF turns inconsistent from 1 deg of \
+                 azimuth sigma and inaccurate from 3 deg), and such a misalignment can pass \
+                 for a missing effect. Diagnose again with `--attitude exact`.",
+                large.join(", ")
+            ));
+        }
+    }
+    // Noise first: a wrong noise level is not a missing effect.
+    if let (Some(first), Some(last)) = (d.noise_checks.first(), d.noise_checks.last()) {
+        let noise_named = d.rounds.iter().any(|r| {
+            r.candidates
+                .iter()
+                .any(|c| c.kind == CandidateKind::NoiseLevels && c.outcome == Outcome::Named)
+        });
+        if first.refitted && !noise_named && !last.mis_stated() && !d.effects.is_empty() {
+            let looked: Vec<String> = first
+                .sources
+                .iter()
+                .filter(|s| {
+                    matches!(
+                        s.verdict,
+                        NoiseVerdict::UnderStated | NoiseVerdict::OverStated
+                    )
+                })
+                .map(|s| format!("{} {}", s.source.label(), times(s.sigma_ratio)))
+                .collect();
+            out.push(format!(
+                "Before {} was added, the noise looked off ({}); with it the stated noise \
+                 fits: the misfit was structural, not noise.",
+                d.effects
+                    .iter()
+                    .map(|e| format!("`{e}`"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                looked.join(", ")
+            ));
+        }
+        noise_findings(last, &mut out);
+    }
+    // The model under test.
+    let first_round = d.rounds.first();
+    if let Some(r) = first_round {
+        let label = if r.model.is_empty() {
+            "The base model".to_string()
+        } else {
+            format!("The model with {}", r.model.join(", "))
+        };
+        out.push(format!(
+            "{label}: NIS {:.3} against {:.2} (95 % bounds {:.3}-{:.3}), {}.",
+            r.nis.mean,
+            r.nis.dof,
+            r.nis.bounds[0],
+            r.nis.bounds[1],
+            if r.consistent {
+                "consistent"
+            } else {
+                "inconsistent"
+            }
+        ));
+    }
+    // What each round named.
+    for (k, r) in d.rounds.iter().enumerate() {
+        for c in r
+            .candidates
+            .iter()
+            .filter(|c| matches!(c.outcome, Outcome::Named | Outcome::Manual))
+        {
+            if c.kind == CandidateKind::NoiseLevels {
+                let changed: Vec<String> = c
+                    .noise
+                    .iter()
+                    .flat_map(|n| &n.sources)
+                    .filter(|s| {
+                        matches!(
+                            s.verdict,
+                            NoiseVerdict::UnderStated | NoiseVerdict::OverStated
+                        )
+                    })
+                    .map(|s| format!("{} x{:.2} in sigma", s.source.label(), s.sigma_ratio))
+                    .collect();
+                out.push(format!(
+                    "Round {}: the noise levels explain the misfit better than any effect: {} \
+                     (log-likelihood {:+.1}, BIC gain {:.1}); the next rounds use them.",
+                    k + 1,
+                    changed.join(", "),
+                    c.delta_loglik,
+                    c.bic_gain
+                ));
+                continue;
+            }
+            let how = if r.kind == RoundKind::Manual {
+                "Added by --with"
+            } else {
+                "The evidence supports adding"
+            };
+            out.push(format!(
+                "Round {}: {how} `{}`: log-likelihood {:+.1}, BIC gain {:.1}, it removes {:.0} % \
+                 of the excess NIS ({}).",
+                k + 1,
+                c.effect,
+                c.delta_loglik,
+                c.bic_gain,
+                100.0 * c.excess_removed,
+                coefficient_words(c)
+            ));
+        }
+        for c in r
+            .candidates
+            .iter()
+            .filter(|c| c.outcome == Outcome::Named && !c.confused_with.is_empty())
+        {
+            let pairs: Vec<String> = c
+                .confused_with
+                .iter()
+                .map(|p| format!("{} ~ {} ({:+.2})", p.coefficient, p.with, p.correlation))
+                .collect();
+            out.push(format!(
+                "Part of `{}` cannot be told apart from the model's own coefficients on this \
+                 trajectory: {}. Its other coefficients carry the evidence; these estimates \
+                 mean little on their own.",
+                c.effect,
+                pairs.join(", ")
+            ));
+        }
+        out.extend(r.notes.iter().cloned());
+    }
+    out.extend(refusal_findings(&d.rounds));
+    for w in &d.withdrawn {
+        out.push(format!(
+            "`{}` was named but its coefficients do not behave as constants over the test \
+             (constancy p = {:.1e}): it stood in for something the catalogue lacks, and is \
+             withdrawn.",
+            w.effect, w.constancy.p_value
+        ));
+    }
+    // Where the final model stands.
+    match d.verdict {
+        Verdict::Consistent => consistency_findings(&d.model, &mut out),
+        Verdict::Explained => out.push(format!(
+            "With {} the model is consistent (NIS {:.3}, bounds {:.3}-{:.3}).",
+            named_list(d),
+            d.model.nis.mean,
+            d.model.nis.bounds[0],
+            d.model.nis.bounds[1]
+        )),
+        Verdict::PartlyExplained => out.push(format!(
+            "With {} the model fits decisively better, but a misfit remains that nothing in \
+             the catalogue explains (NIS {:.3}, bounds {:.3}-{:.3}). {}",
+            named_list(d),
+            d.model.nis.mean,
+            d.model.nis.bounds[0],
+            d.model.nis.bounds[1],
+            failing_channels_and_phases(&d.model)
+        )),
+        Verdict::ImplausibleData => {}
+        Verdict::Unexplained => {
+            consistency_findings(&d.model, &mut out);
+            let last = d.rounds.last().map(|r| &r.candidates[..]).unwrap_or(&[]);
+            let confounded: Vec<String> = last
+                .iter()
+                .filter(|c| c.outcome == Outcome::Confounded)
+                .map(|c| format!("`{}`", c.effect))
+                .collect();
+            if let Some(s) = unphysical_instead(last) {
+                out.push(s);
+            } else if confounded.is_empty() {
+                out.push(format!(
+                    "No catalogued effect explains the misfit: none has decisive evidence \
+                     (BIC gain > {DECISIVE_BIC}) that it can carry on its own. The cause is \
+                     outside the catalogue, or too small to attribute on this dataset."
+                ));
+            } else {
+                out.push(format!(
+                    "No catalogued effect can be named: {} has decisive evidence but cannot be \
+                     told apart from coefficients already in the model on this trajectory \
+                     (see below), so the data cannot say whether it or those coefficients carry \
+                     the misfit. A trajectory that separates them (for `gyro-fz`, one with \
+                     varying vertical specific force) would.",
+                    confounded.join(", ")
+                ));
+            }
+        }
+    }
+    // Last round: what was decisive but not named, and what cannot be told apart.
+    if let Some(r) = d
+        .rounds
+        .iter()
+        .rev()
+        .find(|r| r.kind == RoundKind::Automatic)
+    {
+        for c in &r.candidates {
+            match c.outcome {
+                Outcome::NoiseLeavesMisfit => out.push(format!(
+                    "`{}` improves the likelihood (BIC gain {:.0}) but only adds process \
+                     noise, which can soak up any slow misfit, and leaves the model \
+                     inconsistent: it is not named.",
+                    c.effect, c.bic_gain
+                )),
+                Outcome::Confounded => {
+                    let pairs: Vec<String> = c
+                        .confused_with
+                        .iter()
+                        .map(|p| {
+                            format!(
+                                "{} ~ {} (correlation {:+.2})",
+                                p.coefficient, p.with, p.correlation
+                            )
+                        })
+                        .collect();
+                    out.push(format!(
+                        "`{}` cannot be told apart from coefficients already in the model on \
+                         this trajectory: {}. If present, it is absorbed into them (their \
+                         estimates then carry it).",
+                        c.effect,
+                        pairs.join(", ")
+                    ));
+                }
+                _ => {}
+            }
+        }
+    }
+    for w in &d.widened {
+        if w.implied_estimate.is_nan() {
+            out.push(format!(
+                "The prior of the initial {} error was widened from {:.2e} to {:.2e} rad: the \
+                 data fit decisively better with it. A platform gyrocompassed with drifts far \
+                 beyond its priors' starts that far off{}.",
+                if w.name == "azimuth_rad" {
+                    "azimuth"
+                } else {
+                    "level"
+                },
+                w.from,
+                w.to,
+                if w.to > 0.05 {
+                    "; beyond a few degrees the small-angle model itself no longer holds"
+                } else {
+                    ""
+                }
+            ));
+            continue;
+        }
+        out.push(if w.at_cap {
+            format!(
+                "The prior of {} was widened from {:.2e} to {:.2e}, the widest the diagnosis \
+                 allows it ({} times where it started), and the data may pull it further \
+                 (estimate {:.3e}). If it is a base coefficient, the platform may be of a \
+                 coarser class than the priors describe: state its priors \
+                 ([prior.coefficients] in dataset.toml, or --prior) and diagnose again.",
+                w.name,
+                w.from,
+                w.to,
+                (w.to / w.from).round(),
+                w.implied_estimate
+            )
+        } else {
+            format!(
+                "The prior of {} was widened from {:.2e} to {:.2e}: the data put it at \
+                 {:.3e}, {:.0} starting prior sigmas away, where the narrower prior would have \
+                 capped it.",
+                w.name,
+                w.from,
+                w.to,
+                w.implied_estimate,
+                (w.implied_estimate / w.from).abs()
+            )
+        });
+    }
+    out
+}
+
+fn named_list(d: &Diagnosis) -> String {
+    let all: Vec<String> = d.model.effects.iter().map(|e| format!("`{e}`")).collect();
+    all.join(", ")
+}
+
+fn coefficient_words(c: &Candidate) -> String {
+    if let Some(q) = c.density {
+        return format!("fitted density {q:.2e}");
+    }
+    c.coefficients
+        .iter()
+        .map(|k| {
+            format!(
+                "{} = {:.3e} +- {:.1e} (prior {:.1e})",
+                k.name, k.estimate, k.sigma, k.prior_sigma
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}

@@ -1,0 +1,175 @@
+//! Sentences about one part of a diagnosis, which the findings put in order: a noise check,
+//! a model's consistency, data that cannot be what they claim, and candidates refused as no
+//! real sensor's.
+
+use super::words::{capitalise, times};
+use crate::candidates::evidence::{Candidate, Outcome};
+use crate::diagnosis::{Diagnosis, Round};
+use crate::noise::levels::{NoiseFit, NoiseVerdict};
+use crate::summary::FitSummary;
+use navkf_report::stats::Consistency;
+
+/// The noise findings of a check: mis-stated sources in words with their fitted levels, and
+/// sources the data cannot resolve.
+pub fn noise_findings(check: &NoiseFit, out: &mut Vec<String>) {
+    for s in &check.sources {
+        let keys = |m: &std::collections::BTreeMap<String, f64>| {
+            m.iter()
+                .map(|(k, v)| format!("{k} = {v:.3e}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let [lo, hi] = s.sigma_ratio_interval;
+        match s.verdict {
+            NoiseVerdict::UnderStated | NoiseVerdict::OverStated => {
+                let (word, r) = if s.verdict == NoiseVerdict::UnderStated {
+                    ("under-stated", s.sigma_ratio)
+                } else {
+                    ("over-stated", 1.0 / s.sigma_ratio)
+                };
+                out.push(format!(
+                    "{} {word} about {} (in sigma; the data put it at {}-{} of the stated level): \
+                     fitted {} (stated {}). The diagnosis uses the fitted level.",
+                    capitalise(s.source.label()),
+                    times(r),
+                    times(lo),
+                    times(hi),
+                    keys(&s.fitted),
+                    keys(&s.stated)
+                ));
+            }
+            NoiseVerdict::Unresolved => out.push(format!(
+                "The data cannot fix the {} level: anything from {} to {} of the stated one \
+                 fits (95 %). The stated level is kept.",
+                s.source.label(),
+                times(lo),
+                times(hi)
+            )),
+            NoiseVerdict::Fits => {}
+        }
+    }
+}
+
+/// What a model's summary says of its consistency: NIS, failing channels and phases.
+pub fn consistency_findings(m: &FitSummary, out: &mut Vec<String>) {
+    if let Some(f) = &m.failure {
+        out.push(format!("The filter failed on this model: {f}."));
+    }
+    let n = &m.nis;
+    out.push(format!(
+        "NIS averages {:.3} against an expected {:.2} (95 % bounds {:.3}-{:.3}): {}.",
+        n.mean,
+        n.dof,
+        n.bounds[0],
+        n.bounds[1],
+        match n.verdict {
+            Consistency::Consistent => "consistent",
+            Consistency::Optimistic => "the innovations are larger than the model predicts",
+            Consistency::Pessimistic =>
+                "the innovations are smaller than the model predicts (noise set too high?)",
+            Consistency::NoVerdict => "no data",
+        }
+    ));
+    out.push(failing_channels_and_phases(m));
+}
+
+/// One sentence: which channels and phases fail, or that none does.
+pub fn failing_channels_and_phases(m: &FitSummary) -> String {
+    let channels: Vec<String> = m
+        .whiteness
+        .iter()
+        .filter(|w| w.count > 0 && !w.white)
+        .map(|w| format!("{} ({})", w.channel, w.problems.join(", ")))
+        .collect();
+    let phases: Vec<String> = m
+        .nis_by_phase
+        .iter()
+        .filter(|(_, s)| s.verdict != Consistency::Consistent && s.count > 0)
+        .map(|(p, s)| {
+            format!(
+                "{p} (NIS {:.2}, {} updates, {})",
+                s.mean, s.count, s.verdict
+            )
+        })
+        .collect();
+    let mut s = if channels.is_empty() {
+        "Every channel's innovations are white".to_string()
+    } else {
+        format!("Inconsistent channels: {}", channels.join("; "))
+    };
+    if !phases.is_empty() {
+        s.push_str(&format!(
+            "; phases where NIS leaves its bounds: {}",
+            phases.join("; ")
+        ));
+    }
+    s.push('.');
+    s
+}
+
+/// The findings of an implausible-data diagnosis: each implausibility, where it is, then what
+/// follows.
+pub fn implausible_findings(d: &Diagnosis) -> Vec<String> {
+    let mut out: Vec<String> = d.implausible.iter().map(|i| format!("{i}.")).collect();
+    out.push(format!(
+        "The data are not what they claim ({}, found in the data themselves): no effect is \
+         named and no noise level is fitted, because any answer would stand in for the defect. \
+         Correct or cut the data and diagnose again.",
+        match d.implausible.len() {
+            1 => "the finding above".to_string(),
+            n => format!("the {n} findings above"),
+        }
+    ));
+    if let Some(f) = &d.model.failure {
+        out.push(format!(
+            "The model under test could not even be run over them at the stated noise: {f}."
+        ));
+    }
+    out
+}
+
+/// Sentences for the candidates of `rounds` that were decisive but not named because their
+/// fitted values are no real sensor's.
+pub fn refusal_findings(rounds: &[Round]) -> Vec<String> {
+    let mut out = Vec::new();
+    for (k, r) in rounds.iter().enumerate() {
+        for c in r
+            .candidates
+            .iter()
+            .filter(|c| c.outcome == Outcome::Unphysical)
+        {
+            out.push(refusal(k + 1, c));
+        }
+    }
+    out
+}
+
+fn refusal(round: usize, c: &Candidate) -> String {
+    let values: Vec<String> = c.beyond_bounds.iter().map(|b| b.to_string()).collect();
+    format!(
+        "Round {round}: `{}` has decisive evidence (BIC gain {:.1}) but is not named: fitted, \
+         {}. No real sensor has that value; the data, or what is stated about them, are more \
+         likely at fault than the instrument.",
+        c.effect,
+        c.bic_gain,
+        values.join("; ")
+    )
+}
+
+/// When the last round refused decisive candidates as no real sensor's: why no catalogued
+/// effect is named (instead of "none has decisive evidence").
+pub fn unphysical_instead(last: &[Candidate]) -> Option<String> {
+    let refused: Vec<String> = last
+        .iter()
+        .filter(|c| c.outcome == Outcome::Unphysical)
+        .map(|c| format!("`{}`", c.effect))
+        .collect();
+    (!refused.is_empty()).then(|| {
+        format!(
+            "No catalogued effect can be named: {} explain the misfit decisively, but only \
+             with values no real sensor has (above), and nothing else explains it as well. The \
+             cause is outside the catalogue, or the data are not what they claim.",
+            refused.join(", ")
+        )
+    })
+}

@@ -1,0 +1,208 @@
+//! The diagnosis, as its algorithm: compare a model with a dataset, see where it fails, and
+//! learn which catalogued effects are missing, on data whose noise and effect sizes nobody
+//! chose to suit it. [`diagnose`] runs it. Each step is a function of its own module that
+//! takes what it needs and returns a typed result; none calls back into the loop.
+//!
+//! 0. **Can the data be judged?** Too few updates is an error. Data that cannot be what they
+//!    claim get the verdict `implausible data` and nothing is fitted beyond one pass
+//!    ([`crate::implausible_data`]): any effect named on them would stand in for the defect.
+//! 1. **The model under test** ([`crate::under_test`]): the base model plus the `--with`
+//!    effects, fitted with a filter (the EKF by default) from the priors of the flags over
+//!    `dataset.toml`'s `[prior]` over the defaults ([`crate::priors`]). Every fit keeps each
+//!    innovation, its covariance, the NIS and the log-likelihood (docs/model.md eq. (18)). A
+//!    coefficient the data pull beyond its prior gets a wider one, kept if the marginal
+//!    likelihood says so ([`crate::fit::widening`]), so that a prior does not cap what can be
+//!    found; models are then compared on the likelihood at their estimates, which does not
+//!    depend on how wide a prior was ([`crate::fit::Fit::profile_loglik`]).
+//! 2. **Rounds** of forward selection, each against the model as it stands:
+//!    1. *noise check* ([`crate::noise`]): does the stated noise fit? A scale per source,
+//!       fitted by maximum likelihood where the score test says it is off.
+//!    2. *rank candidates* ([`crate::candidates`]): every catalogued effect not yet in the
+//!       model, refitted with it (in parallel; a noise-only term with its density fitted),
+//!       and the noise levels the check found. The evidence is the BIC gain on the maximised
+//!       innovation likelihood.
+//!    3. *name* ([`crate::naming`]): the decisive candidate that explains most, if it can be
+//!       told apart from the model's own coefficients and its values are a real sensor's
+//!       ([`crate::physical`]). Noise competes with structure rather than going first,
+//!       because a missing effect inflates the fitted noise: the right structural model has
+//!       the larger likelihood, and a noise explanation must beat the best structured one
+//!       decisively to be named ([`crate::rivals`] adds a walk of the other sensor for noise
+//!       terms).
+//!
+//!    The named effect joins the model (named noise levels replace the stated ones), which is
+//!    refitted from the starting priors, and the next round ranks the rest against it. The
+//!    search stops when nothing is named, not when the model first looks consistent: a
+//!    likelihood-ratio test sees effects that NIS and whiteness tests cannot.
+//! 3. **Check for stand-ins** ([`crate::stand_ins`]): a named effect whose coefficients
+//!    differ between the two halves of the record is withdrawn, because a catalogued effect's
+//!    coefficients are constants (docs/model.md eq. (11)) and one that is not stood in for
+//!    something the catalogue lacks; a noise term whose density differs likewise.
+//! 4. **Verdict** ([`crate::verdict`]): from what survived and from where the final model
+//!    fails ([`crate::summary`]: NIS overall, in sliding windows and per motion phase;
+//!    whiteness of each channel, over seconds and over minutes): `consistent` (nothing named,
+//!    and the model is consistent with the data, at fitted noise levels if the stated ones
+//!    were off), `explained` (the named effects make it consistent), `partly explained` (they
+//!    help decisively, but a misfit remains that nothing in the catalogue explains) or
+//!    `unexplained`.
+//!
+//! The findings in words ([`crate::report::findings()`]) are made from the typed result last.
+
+use crate::candidates::evidence::{Model, Named};
+use crate::candidates::rank::{rank, Confounded};
+use crate::consistency::BLOCK;
+use crate::diagnosis::{Diagnosis, Fits, Round, RoundKind};
+use crate::error::DiagnoseError;
+use crate::fit::pass::first_full_measurement;
+use crate::fit::setup::FitSetup;
+use crate::fit::widening::{fit_adaptive, refit_from_starting_priors, widened_since};
+use crate::implausible_data::implausible_diagnosis;
+use crate::naming::name;
+use crate::noise;
+use crate::options::Options;
+use crate::report::findings::findings;
+use crate::stand_ins::withdraw_stand_ins;
+use crate::summary::summarize_fit;
+use crate::under_test::fit_under_test;
+use crate::verdict::judge;
+use navkf_dynamics::dataset::{Dataset, MEASUREMENTS_FILE};
+use navkf_dynamics::Registry;
+
+/// Fewest measurement rows a diagnosis judges: two blocks of the drift test.
+pub const MIN_UPDATES: usize = 2 * BLOCK;
+
+/// Runs the whole diagnosis (module documentation). Returns the diagnosis and the fits of
+/// the final model and, when it has effects, of the base model (for the figures).
+pub fn diagnose(
+    ds: &Dataset,
+    registry: &Registry,
+    opts: &Options,
+) -> Result<(Diagnosis, Fits), DiagnoseError> {
+    // 0. Can the data be judged?
+    judgeable(ds, opts)?;
+    let (_, _, start) = first_full_measurement(ds)?;
+    let implausible = ds.implausibilities();
+    if !implausible.is_empty() {
+        return implausible_diagnosis(ds, registry, opts, implausible);
+    }
+    // 1. The model under test.
+    let under_test = fit_under_test(ds, registry, opts, start[0])?;
+    let mut model = under_test.fit;
+    let mut rounds: Vec<Round> = under_test.manual_round.into_iter().collect();
+    // 2. Rounds.
+    let mut named: Vec<Named> = Vec::new();
+    let mut noise_theta = [0.0; 4];
+    let mut noise_checks = Vec::new();
+    let mut confounded = Confounded::default();
+    for _ in 0..opts.max_rounds {
+        let summary = summarize_fit(ds, &model, opts);
+        // 2.1 Noise check.
+        let check = if opts.fit_noise {
+            Some(noise::check(
+                ds,
+                &model,
+                noise_theta,
+                registry,
+                &opts.filter,
+            )?)
+        } else {
+            None
+        };
+        // 2.2 Rank candidates.
+        let as_it_stands = Model {
+            fit: &model,
+            summary: &summary,
+        };
+        let ranked = rank(
+            ds,
+            &as_it_stands,
+            check.as_ref(),
+            &confounded,
+            registry,
+            opts,
+        )?;
+        // 2.3 Name.
+        let naming = name(ds, &model, ranked, registry, &opts.filter)?;
+        confounded.remember(&naming.candidates);
+        rounds.push(Round {
+            kind: RoundKind::Automatic,
+            model: model.effects.clone(),
+            nis: summary.nis,
+            consistent: summary.consistent,
+            candidates: naming.candidates,
+            named: naming.named.iter().map(|(n, _)| n.to_string()).collect(),
+            notes: naming.notes,
+        });
+        noise_checks.extend(check);
+        let Some((what, with_it)) = naming.named else {
+            break;
+        };
+        match what {
+            Named::NoiseLevels { theta } => noise_theta = theta,
+            effect => named.push(effect),
+        }
+        // Back to the starting priors: a prior the data pulled wide only because the effect
+        // was missing (or the noise mis-stated) must not stay wide in the model that now has
+        // it.
+        model = refit_from_starting_priors(ds, with_it, registry, &opts.filter)?;
+    }
+    // 3. Check for stand-ins.
+    let stand_ins = withdraw_stand_ins(ds, model, named, registry, &opts.filter)?;
+    let model = stand_ins.model;
+    // 4. Verdict.
+    let summary = summarize_fit(ds, &model, opts);
+    let verdict = judge(!stand_ins.kept.is_empty(), summary.consistent);
+    // For the report: the priors widened, and the base model at the final noise levels.
+    let mut widened = under_test.tilt_widened;
+    widened.extend(widened_since(&under_test.start, &model));
+    let before = if model.effects.is_empty() {
+        None
+    } else {
+        let setup = FitSetup {
+            noise: model.setup.noise,
+            ..under_test.base
+        };
+        Some(fit_adaptive(ds, &setup, registry, &opts.filter)?.0)
+    };
+    let effects: Vec<String> = stand_ins.kept.iter().map(Named::to_string).collect();
+    let mut d = Diagnosis {
+        dataset: ds.name.clone(),
+        attitude: opts.filter.attitude,
+        verdict,
+        best: effects.first().cloned(),
+        effects,
+        model: summary,
+        before: before.as_ref().map(|f| summarize_fit(ds, f, opts)),
+        rounds,
+        noise: noise_checks.last().cloned(),
+        noise_checks,
+        priors: under_test.prior_entries,
+        widened,
+        withdrawn: stand_ins.withdrawn,
+        constancy: stand_ins.constancy,
+        findings: Vec::new(),
+        data_warnings: ds.warnings(),
+        implausible: Vec::new(),
+        noise_stated: ds.noise_stated,
+    };
+    d.findings = findings(&d);
+    Ok((d, Fits { model, before }))
+}
+
+/// Refuses a dataset too short to judge, and options under which nothing is tested.
+fn judgeable(ds: &Dataset, opts: &Options) -> Result<(), DiagnoseError> {
+    let updates = ds.measurements.len();
+    if updates < MIN_UPDATES {
+        return Err(DiagnoseError::Data(format!(
+            "{MEASUREMENTS_FILE}: {updates} measurement row(s); a diagnosis needs at least \
+             {MIN_UPDATES} updates to judge (its drift test compares blocks of {BLOCK} updates, \
+             and its NIS and whiteness tests have no power on fewer)"
+        )));
+    }
+    if opts.max_rounds == 0 {
+        return Err(DiagnoseError::Data(
+            "max_rounds = 0: expected at least 1 (with no automatic round nothing is tested)"
+                .into(),
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,243 @@
+//! Check for stand-ins: the step after the rounds that withdraws a named effect which only
+//! stood in for something the catalogue lacks.
+//!
+//! **Is the named coefficient a constant?** A catalogued effect asserts that its coefficients
+//! are random constants (docs/model.md eq. (11)), so the two halves of the record should
+//! estimate the same values. [`constancy`] refits the final model on each half separately
+//! (disjoint data, so the two estimates are independent given the truth), takes each half's
+//! data-only estimate (the prior's shrinkage undone, as in [`crate::fit::widening`]) and tests
+//! their difference, `(c_a - c_b)^2 / (v_a + v_b)`, chi-square with one degree of freedom. A
+//! nearby catalogued effect that only stands in for a misfit outside the catalogue is pulled
+//! one way by one part of the test and another way by the other; the diagnosis withdraws a
+//! named effect whose coefficients fail at level [`CONSTANCY_ALPHA`] (Bonferroni over them) in
+//! the final model. (Splitting one filter pass's information by stretches would cost no
+//! refit, but the states the stretches share make its estimates correlated and the test anti-
+//! conservative: a true `gps-latency` failed it.)
+//!
+//! **Is a named noise term's density constant?** A random walk's is ([`density_constancy`]);
+//! a term that only tracks a misfit concentrated in one part of the test needs a larger
+//! density there and none in the other.
+//!
+//! Effects added with `--with` are the user's statement, not a finding: they are not tested.
+
+use crate::candidates::evidence::Named;
+use crate::error::DiagnoseError;
+use crate::fit::density::{fit_density, DensityFit};
+use crate::fit::pass::{fit, Fit};
+use crate::fit::setup::FitSetup;
+use crate::fit::widening::fit_adaptive;
+use navkf_dynamics::dataset::Dataset;
+use navkf_dynamics::Registry;
+use navkf_filters::FilterSpec;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// Level of the constancy test (per effect, Bonferroni over its coefficients).
+pub const CONSTANCY_ALPHA: f64 = 1e-3;
+
+/// The constancy test of one effect's coefficients (module documentation).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Constancy {
+    /// Per coefficient: name, statistic, degrees of freedom and p-value; coefficients a half
+    /// barely informs are left out.
+    pub coefficients: Vec<(String, f64, usize, f64)>,
+    /// Smallest p-value times the number of coefficients tested (Bonferroni), at most 1.
+    pub p_value: f64,
+    /// Whether the coefficients behave as constants at [`CONSTANCY_ALPHA`].
+    pub constant: bool,
+}
+
+/// A named effect withdrawn because its coefficients are not constant.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Withdrawn {
+    /// The effect.
+    pub effect: String,
+    /// Its constancy test in the final model.
+    pub constancy: Constancy,
+}
+
+/// What the check for stand-ins found.
+#[derive(Debug, Clone)]
+pub struct StandIns {
+    /// The final model: the rounds' model without the withdrawn effects.
+    pub model: Fit,
+    /// The named effects kept, in the order named.
+    pub kept: Vec<Named>,
+    /// The named effects withdrawn, with their tests.
+    pub withdrawn: Vec<Withdrawn>,
+    /// Every named effect's test, in the order named; `None` where neither half informs it
+    /// enough to test.
+    pub constancy: Vec<(String, Option<Constancy>)>,
+}
+
+/// Tests every effect `named` in the rounds in the model `model` that holds them, withdraws
+/// those that fail, and refits the model without them (module documentation).
+pub fn withdraw_stand_ins(
+    ds: &Dataset,
+    model: Fit,
+    named: Vec<Named>,
+    registry: &Registry,
+    filter: &FilterSpec,
+) -> Result<StandIns, DiagnoseError> {
+    let mut withdrawn = Vec::new();
+    let mut constancies = Vec::new();
+    for n in &named {
+        let c = match n {
+            Named::Effect(e) => {
+                let coefs: Vec<String> = registry
+                    .build(e)?
+                    .coefficient_names()
+                    .iter()
+                    .map(|s| s.to_string())
+                    .collect();
+                constancy(ds, &model.setup, &coefs, registry, filter)?
+            }
+            Named::NoiseTerm(e) => density_constancy(ds, &model.setup, e, registry, filter)?,
+            // The noise levels are not in the model's effects; nothing to withdraw.
+            Named::NoiseLevels { .. } => continue,
+        };
+        let effect = n.to_string();
+        if let Some(c) = c.as_ref().filter(|c| !c.constant) {
+            withdrawn.push(Withdrawn {
+                effect: effect.clone(),
+                constancy: c.clone(),
+            });
+        }
+        constancies.push((effect, c));
+    }
+    let is_withdrawn = |e: &str| withdrawn.iter().any(|w| w.effect == e);
+    let mut kept = named;
+    let mut model = model;
+    if !withdrawn.is_empty() {
+        kept.retain(|n| !is_withdrawn(&n.to_string()));
+        let mut setup = model.setup.clone();
+        setup.effects.retain(|e| !is_withdrawn(e));
+        model = fit_adaptive(ds, &setup, registry, filter)?.0;
+    }
+    Ok(StandIns {
+        model,
+        kept,
+        withdrawn,
+        constancy: constancies,
+    })
+}
+
+/// The constancy test of the coefficients `names` of the model `setup` on `ds` (module
+/// documentation): the model refitted on each half of the record; `None` when neither half
+/// informs any of them enough to test.
+pub fn constancy(
+    ds: &Dataset,
+    setup: &FitSetup,
+    names: &[String],
+    registry: &Registry,
+    filter: &FilterSpec,
+) -> Result<Option<Constancy>, DiagnoseError> {
+    let halves = split_in_halves(ds);
+    let fits = halves
+        .par_iter()
+        .map(|h| fit_adaptive(h, setup, registry, filter).map(|f| f.0))
+        .collect::<Result<Vec<Fit>, _>>()?;
+    let mut rows = Vec::new();
+    for name in names {
+        // The data-only estimate of each half and its variance (module documentation of
+        // `crate::fit::widening`); a half whose data barely inform the coefficient is not
+        // usable.
+        let halves: Vec<(f64, f64)> = fits
+            .iter()
+            .filter_map(|f| {
+                let i = f.names.iter().position(|n| n == name)?;
+                let s2 = f.prior_sigma[i] * f.prior_sigma[i];
+                let p2 = f.sigma(i).powi(2);
+                let kept = 1.0 - p2 / s2;
+                (f.failure.is_none() && kept > 0.5).then(|| (f.x[i] / kept, p2 / kept))
+            })
+            .collect();
+        if let [(a, va), (b, vb)] = halves[..] {
+            let stat = (a - b).powi(2) / (va + vb);
+            rows.push((
+                name.clone(),
+                stat,
+                1,
+                navkf_report::stats::chi2_sf(stat, 1.0),
+            ));
+        }
+    }
+    if rows.is_empty() {
+        return Ok(None);
+    }
+    let p_min = rows.iter().map(|r| r.3).fold(1.0, f64::min);
+    let p_value = (p_min * rows.len() as f64).min(1.0);
+    Ok(Some(Constancy {
+        coefficients: rows,
+        p_value,
+        constant: p_value >= CONSTANCY_ALPHA,
+    }))
+}
+
+/// The constancy test of a noise-only term `name` in the model `setup` (which holds it): is
+/// its density the same in both halves of the record? A random walk's is; a term that only
+/// tracks a misfit concentrated in one part of the test (a bias settling after switch-on)
+/// needs a larger one there and none in the other. Each half's density is fitted by maximum
+/// likelihood with the rest of the model as it is; their decimal logarithms are compared with
+/// the standard errors the likelihood's curvature gives (a half that wants no walk at all
+/// bounds its density by the smallest tried, and the other half is tested against that bound,
+/// one-sided). `None` when neither half can fix its density.
+pub fn density_constancy(
+    ds: &Dataset,
+    setup: &FitSetup,
+    name: &str,
+    registry: &Registry,
+    filter: &FilterSpec,
+) -> Result<Option<Constancy>, DiagnoseError> {
+    let typical = registry
+        .build(name)?
+        .process_noise()
+        .first()
+        .map_or(f64::NAN, |c| c.psd);
+    let mut without = setup.clone();
+    without.effects.retain(|e| e != name);
+    without.parameters.remove(name);
+    let halves = split_in_halves(ds);
+    let fits = halves
+        .par_iter()
+        .map(|h| {
+            let base = fit(h, &without, registry, filter)?;
+            fit_density(h, &base, name, typical, registry, filter)
+        })
+        .collect::<Result<Vec<DensityFit>, _>>()?;
+    let [a, b] = &fits[..] else {
+        return Ok(None);
+    };
+    let stat = match ((a.log10_se, a.at_lower_edge), (b.log10_se, b.at_lower_edge)) {
+        ((Some(sa), _), (Some(sb), _)) => {
+            (a.density.log10() - b.density.log10()).powi(2) / (sa * sa + sb * sb)
+        }
+        // One half wants no walk at all: its density is at most the grid's smallest. The
+        // other half's is tested against that bound, one-sided.
+        ((Some(s), false), (_, true)) | ((_, true), (Some(s), false)) => {
+            let (walk, none) = if a.at_lower_edge { (b, a) } else { (a, b) };
+            let excess = (walk.density.log10() - none.density.log10()).max(0.0) / s;
+            excess * excess
+        }
+        _ => return Ok(None),
+    };
+    let p_value = navkf_report::stats::chi2_sf(stat, 1.0);
+    Ok(Some(Constancy {
+        coefficients: vec![("log10 density".into(), stat, 1, p_value)],
+        p_value,
+        constant: p_value >= CONSTANCY_ALPHA,
+    }))
+}
+
+/// The dataset cut in two at the middle of its measurements (each half keeps every input, so
+/// the filters find the inputs they need).
+fn split_in_halves(ds: &Dataset) -> [Dataset; 2] {
+    let mid = ds.measurements.len() / 2;
+    let mut a = ds.clone();
+    a.measurements.truncate(mid);
+    let mut b = ds.clone();
+    b.measurements.drain(..mid);
+    a.truth = None;
+    b.truth = None;
+    [a, b]
+}

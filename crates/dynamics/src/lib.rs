@@ -14,6 +14,7 @@ pub mod effect;
 pub mod effect_spec;
 pub mod effects;
 pub mod error;
+pub mod input_cursor;
 pub mod input_file;
 pub mod integrate;
 pub mod kinematics;
@@ -41,6 +42,7 @@ pub use effect::{
 };
 pub use effects::Registry;
 pub use error::DynamicsError;
+pub use input_cursor::InputCursor;
 pub use integrate::{InputWindow, PropagationScratch};
 pub use kinematics::{Input, Kinematics, LatitudeTerms};
 pub use linear_rates::{Feature, LinearRate};

@@ -12,7 +12,8 @@ use crate::error::FilterError;
 use crate::filter::Filter;
 use crate::update::{Observation, UpdateReport};
 use navkf_dynamics::dataset::InputSample;
-use navkf_dynamics::{Input, InputWindow, MeasurementModel};
+use navkf_dynamics::input_cursor::SAME_TIME;
+use navkf_dynamics::{InputCursor, InputWindow, MeasurementModel};
 use std::time::Instant;
 
 /// A filter failure during a run, with where it happened.
@@ -37,6 +38,8 @@ pub struct StepView<'a, F: ?Sized> {
     pub filter: &'a F,
     /// The update's report.
     pub report: &'a UpdateReport,
+    /// The input window the prediction before it integrated over.
+    pub window: &'a InputWindow,
     /// Wall time of this predict + update, nanoseconds.
     pub step_ns: u64,
 }
@@ -54,23 +57,6 @@ pub struct Runner {
 /// Measurement channels a new runner has room for (the platform has 4); a model with more
 /// grows the buffers once, at the start of its first run.
 const OBSERVATION_ROOM: usize = 8;
-
-/// Times closer than this are the same instant (input and measurement clocks printed with
-/// finite digits).
-const SAME_TIME: f64 = 1e-9;
-
-fn lerp(a: &InputSample, b: &InputSample, t: f64) -> Input {
-    let u = if b.t > a.t {
-        (t - a.t) / (b.t - a.t)
-    } else {
-        0.0
-    };
-    [
-        a.f[0] + u * (b.f[0] - a.f[0]),
-        a.f[1] + u * (b.f[1] - a.f[1]),
-        a.f[2] + u * (b.f[2] - a.f[2]),
-    ]
-}
 
 impl Runner {
     /// A runner with room for `knots` input knots per window (grows if needed, once).
@@ -104,39 +90,14 @@ impl Runner {
         self.z.resize(nz, 0.0);
         self.sigma.resize(nz, 0.0);
         self.available.resize(nz, false);
-        let mut t_now = start;
-        // cursor: first input sample with t > t_now.
-        let mut cursor = inputs.partition_point(|s| s.t <= t_now + SAME_TIME);
+        let mut cursor = InputCursor::at(inputs, start);
         for (index, m) in measurements.iter().enumerate() {
             let t_m = sensors.time(m);
-            if t_m <= t_now + SAME_TIME {
+            if t_m <= cursor.time() + SAME_TIME {
                 continue;
             }
             let t0 = Instant::now();
-            self.window.clear();
-            let at = |t: f64, cursor: usize| -> Input {
-                // Interpolate between the samples around t (cursor points past t).
-                match (
-                    cursor.checked_sub(1).and_then(|i| inputs.get(i)),
-                    inputs.get(cursor),
-                ) {
-                    (Some(a), Some(b)) => lerp(a, b, t),
-                    (Some(a), None) => a.f,
-                    (None, Some(b)) => b.f,
-                    (None, None) => [0.0; 3],
-                }
-            };
-            self.window.push_linear(t_now, at(t_now, cursor));
-            while cursor < inputs.len() && inputs[cursor].t < t_m - SAME_TIME {
-                self.window.push_linear(inputs[cursor].t, inputs[cursor].f);
-                cursor += 1;
-            }
-            let f_end = if cursor < inputs.len() && (inputs[cursor].t - t_m).abs() <= SAME_TIME {
-                inputs[cursor].f
-            } else {
-                at(t_m, cursor)
-            };
-            self.window.push_linear(t_m, f_end);
+            cursor.advance(inputs, t_m, &mut self.window);
             let wrap = |error| RunError {
                 index,
                 t: t_m,
@@ -160,16 +121,13 @@ impl Runner {
                 filter.update(&obs).map_err(wrap)?;
                 t0.elapsed().as_nanos() as u64
             };
-            t_now = t_m;
-            while cursor < inputs.len() && inputs[cursor].t <= t_now + SAME_TIME {
-                cursor += 1;
-            }
             let report = filter_report(filter);
             observe(StepView {
                 index,
                 t: t_m,
                 filter: &*filter,
                 report,
+                window: &self.window,
                 step_ns,
             });
         }

@@ -216,8 +216,6 @@ pub fn fit(
         failure: None,
     };
     let inputs = &ds.inputs;
-    let mut cursor = 0usize;
-    let mut t_prev = m0.t;
     let result = Runner::new(64).run(
         &mut *filt,
         m0.t,
@@ -240,24 +238,14 @@ pub fn fit(
                 zh[c] = zc - r.innovation[a];
                 ss[c] = r.innovation_cov[a + a * k].sqrt();
             }
-            // Mean horizontal specific force over the step, for the phase.
-            while cursor < inputs.len() && inputs[cursor].t < t_prev {
-                cursor += 1;
-            }
-            let (mut fe, mut fnn, mut cnt) = (0.0, 0.0, 0.0);
-            let mut c = cursor;
-            while c < inputs.len() && inputs[c].t <= v.t {
-                fe += inputs[c].f[0];
-                fnn += inputs[c].f[1];
-                cnt += 1.0;
-                c += 1;
-            }
-            let f_mean = if cnt > 0.0 {
-                [fe / cnt, fnn / cnt]
-            } else {
-                [0.0, 0.0]
-            };
-            t_prev = v.t;
+            // Mean horizontal specific force over the step's input knots, for the phase.
+            let knots = v.window.f.len().max(1) as f64;
+            let (fe, fnn) = v
+                .window
+                .f
+                .iter()
+                .fold((0.0, 0.0), |(e, n), f| (e + f[0], n + f[1]));
+            let f_mean = [fe / knots, fnn / knots];
             fit.t.push(v.t);
             fit.z.push(z);
             fit.z_hat.push(zh);

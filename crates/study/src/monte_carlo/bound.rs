@@ -61,19 +61,9 @@ impl Study {
             .map_err(|e| RunFailure::of_filter(&e, format!("the initial covariance: {e}")))?;
         let mut window = navkf_dynamics::InputWindow::with_capacity(16);
         let inputs = self.sim.inputs();
-        let mut t_prev = 0.0;
-        let mut cursor = 0;
+        let mut cursor = navkf_dynamics::InputCursor::at(inputs, 0.0);
         for (k, m) in sim_run.measurements.iter().enumerate() {
-            // Window of input samples from t_prev to m.t (both on the input grid).
-            window.clear();
-            while cursor < inputs.len() && inputs[cursor].t < t_prev - 1e-9 {
-                cursor += 1;
-            }
-            let mut c = cursor;
-            while c < inputs.len() && inputs[c].t <= m.t + 1e-9 {
-                window.push_linear(inputs[c].t, inputs[c].f);
-                c += 1;
-            }
+            cursor.advance(inputs, m.t, &mut window);
             let at = |e: navkf_filters::FilterError| {
                 let reason = format!("measurement {k} (t = {} s): {e}", m.t);
                 RunFailure::of_filter(&e, reason)
@@ -89,7 +79,6 @@ impl Study {
                 available: &avail,
             })
             .map_err(at)?;
-            t_prev = m.t;
             visit(m.t, ekf.covariance(), nt);
         }
         Ok(())

@@ -20,6 +20,8 @@ pub enum Number {
     Sci(usize),
     /// Fixed with this many decimals: `20.46`.
     Fixed(usize),
+    /// Fixed with a sign, with this many decimals: `+0.125`, `-2.000`.
+    SignedFixed(usize),
     /// A share as per cent with this many decimals: `0.25` -> `25.0 %`.
     Percent(usize),
     /// A signed share as per cent: `-0.012` -> `-1.2 %`.
@@ -36,6 +38,7 @@ pub fn number(v: f64, format: Number) -> String {
     match format {
         Number::Sci(d) => format!("{v:.d$e}"),
         Number::Fixed(d) => format!("{v:.d$}"),
+        Number::SignedFixed(d) => format!("{v:+.d$}"),
         Number::Percent(d) => format!("{:.d$} %", 100.0 * v),
         Number::SignedPercent(d) => format!("{:+.d$} %", 100.0 * v),
         Number::Micros => format!("{:.1} us", v / 1e3),

@@ -295,8 +295,8 @@ fn check_filter(r: &mut GuardReport, name: &str, b: &FilterSummary, c: &FilterSu
                 quantity: format!("RMS {coef}"),
                 baseline: rb,
                 current: rc,
-                change: percent(rc / rb - 1.0),
-                allowed: percent(k * se / rb),
+                change: number(rc / rb - 1.0, Number::SignedPercent(1)),
+                allowed: number(k * se / rb, Number::SignedPercent(1)),
                 z,
             });
         }
@@ -345,14 +345,6 @@ fn check_filter(r: &mut GuardReport, name: &str, b: &FilterSummary, c: &FilterSu
                 z,
             });
         }
-    }
-}
-
-fn percent(x: f64) -> String {
-    if x.is_finite() {
-        format!("{:+.1} %", 100.0 * x)
-    } else {
-        "-".into()
     }
 }
 

@@ -3,6 +3,7 @@
 use super::rates::{rates, sig, Rates};
 use super::{DiagnosisStudyConfig, Record};
 use crate::error::DiagnoseError;
+use navkf_report::markdown::{cell, number, Number, Table};
 use navkf_report::write_atomic;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -28,14 +29,6 @@ pub struct Timing {
     pub threads: usize,
 }
 
-fn pct(v: f64) -> String {
-    if v.is_finite() {
-        format!("{:.1} %", 100.0 * v)
-    } else {
-        "-".into()
-    }
-}
-
 /// The report's text.
 pub fn markdown(s: &Summary, command: &str, timing: Option<Timing>) -> String {
     let r = &s.rates;
@@ -57,40 +50,39 @@ pub fn markdown(s: &Summary, command: &str, timing: Option<Timing>) -> String {
             t.wall_s * t.threads as f64 / r.datasets.max(1) as f64
         ))
     );
-    let _ = writeln!(
-        out,
-        "## Targets\n\n| what | target | measured | met |\n|---|---|---|---|"
-    );
+    let mut targets = Table::new(["what", "target", "measured", "met"]);
     for t in &r.targets {
-        let _ = writeln!(
-            out,
-            "| {} | {} | {} | {} |",
-            t.what,
-            t.target,
-            t.measured,
-            if t.met { "yes" } else { "**no**" }
-        );
+        targets.row([
+            t.what.to_string(),
+            t.target.to_string(),
+            t.measured.to_string(),
+            if t.met { "yes" } else { "**no**" }.to_string(),
+        ]);
     }
-    let _ = writeln!(out, "\n## False attribution\n");
-    let _ = writeln!(out, "| data | an effect named | other |\n|---|---|---|");
-    let _ = writeln!(
-        out,
-        "| clean | {} | verdict not `consistent`: {}; noise refitted: {} |",
-        r.clean_named, r.clean_not_consistent, r.clean_noise_refitted
-    );
-    let _ = writeln!(
-        out,
-        "| outside the catalogue, pooled | {} | |",
-        r.outside_named
-    );
+    let _ = writeln!(out, "## Targets\n\n{}", targets.render());
+    let _ = writeln!(out, "## False attribution\n");
+    let mut attribution = Table::new(["data", "an effect named", "other"]);
+    attribution.row([
+        "clean".to_string(),
+        r.clean_named.to_string(),
+        format!(
+            "verdict not `consistent`: {}; noise refitted: {}",
+            r.clean_not_consistent, r.clean_noise_refitted
+        ),
+    ]);
+    attribution.row([
+        "outside the catalogue, pooled".to_string(),
+        r.outside_named.to_string(),
+    ]);
     for (e, rate) in &r.outside_by_effect {
-        let _ = writeln!(out, "| {e} | {rate} | |");
+        attribution.row([e.to_string(), rate.to_string()]);
     }
-    let _ = writeln!(
-        out,
-        "| mis-stated noise, nothing hidden | {} | noise refitted: {} |",
-        r.noise_named, r.noise_found
-    );
+    attribution.row([
+        "mis-stated noise, nothing hidden".to_string(),
+        r.noise_named.to_string(),
+        format!("noise refitted: {}", r.noise_found),
+    ]);
+    out.push_str(&attribution.render());
     let _ = writeln!(
         out,
         "\nSingle catalogued effects, all sizes: the hidden effect named {}; something else named too or instead {}.\n",
@@ -105,10 +97,14 @@ pub fn markdown(s: &Summary, command: &str, timing: Option<Timing>) -> String {
         out,
         "## Detection\n\nPer catalogued effect, over the datasets that hid it alone (sizes log-uniform, as multiples of its typical size): the size named 90 % of the time on a logistic fit, and the share named above it. ![detection](detection.png)\n"
     );
-    let _ = writeln!(
-        out,
-        "| effect | datasets | typical size | named 90 % of the time from | named above it | share named per size bin (multiples of typical) |\n|---|---|---|---|---|---|"
-    );
+    let mut detection = Table::new([
+        "effect",
+        "datasets",
+        "typical size",
+        "named 90 % of the time from",
+        "named above it",
+        "share named per size bin (multiples of typical)",
+    ]);
     for d in &r.detection {
         let bins: Vec<String> = d
             .bins
@@ -124,22 +120,25 @@ pub fn markdown(s: &Summary, command: &str, timing: Option<Timing>) -> String {
                 )
             })
             .collect();
-        let _ = writeln!(
-            out,
-            "| {} | {} | {:.2e} {} | {} | {} | {} |",
-            d.effect,
-            d.n,
-            d.typical,
-            d.unit,
+        detection.row([
+            d.effect.to_string(),
+            d.n.to_string(),
+            format!("{} {}", number(d.typical, Number::Sci(2)), d.unit),
             match (d.limit_multiple, &d.no_limit) {
-                (Some(m), _) => format!("{} x ({:.2e} {})", sig(m, 3), m * d.typical, d.unit),
-                (None, Some(why)) => why.clone(),
+                (Some(m), _) => format!(
+                    "{} x ({} {})",
+                    sig(m, 3),
+                    number(m * d.typical, Number::Sci(2)),
+                    d.unit
+                ),
+                (None, Some(why)) => cell(why),
                 _ => "-".into(),
             },
             d.above_limit.map_or("-".to_string(), |r| r.to_string()),
-            bins.join("; ")
-        );
+            bins.join("; "),
+        ]);
     }
+    out.push_str(&detection.render());
     let _ = writeln!(
         out,
         "\nPairs of catalogued effects: both named in one command {} over all sizes, {} when both sizes are above their limits.\n",
@@ -160,41 +159,32 @@ pub fn markdown(s: &Summary, command: &str, timing: Option<Timing>) -> String {
         .collect();
     verdict_cols.sort();
     verdict_cols.dedup();
-    let _ = writeln!(
-        out,
-        "| hidden | n | {} | {} | noise refitted | effects named (count) |",
-        match_cols.join(" | "),
-        verdict_cols
-            .iter()
-            .map(|v| format!("verdict {v}"))
+    let counts = |m: &std::collections::BTreeMap<String, usize>, cols: &[String]| {
+        cols.iter()
+            .map(|k| m.get(k).copied().unwrap_or(0).to_string())
             .collect::<Vec<_>>()
-            .join(" | ")
-    );
-    let _ = writeln!(
-        out,
-        "|---|---|{}{}---|---|",
-        "---|".repeat(match_cols.len()),
-        "---|".repeat(verdict_cols.len())
+    };
+    let mut confusion = Table::new(
+        ["hidden".to_string(), "n".to_string()]
+            .into_iter()
+            .chain(match_cols.iter().cloned())
+            .chain(verdict_cols.iter().map(|v| format!("verdict {v}")))
+            .chain([
+                "noise refitted".to_string(),
+                "effects named (count)".to_string(),
+            ]),
     );
     for c in &r.confusion {
-        let cells = |m: &std::collections::BTreeMap<String, usize>, cols: &[String]| {
-            cols.iter()
-                .map(|k| m.get(k).copied().unwrap_or(0).to_string())
-                .collect::<Vec<_>>()
-                .join(" | ")
-        };
         let named: Vec<String> = c.named.iter().map(|(k, v)| format!("{k} {v}")).collect();
-        let _ = writeln!(
-            out,
-            "| {} | {} | {} | {} | {} | {} |",
-            c.hidden,
-            c.n,
-            cells(&c.matches, &match_cols),
-            cells(&c.verdicts, &verdict_cols),
-            c.noise_refitted,
-            named.join(", ")
+        confusion.row(
+            [c.hidden.to_string(), c.n.to_string()]
+                .into_iter()
+                .chain(counts(&c.matches, &match_cols))
+                .chain(counts(&c.verdicts, &verdict_cols))
+                .chain([c.noise_refitted.to_string(), named.join(", ")]),
         );
     }
+    out.push_str(&confusion.render());
     let _ = writeln!(
         out,
         "\nColumns: `exact` names exactly the hidden catalogued effects, `hidden-and-more` them and others, `part-of-hidden` some of them, `only-others` none of them but others, `nothing-named` nothing.\n\nSingle effects, hidden (rows) against named (columns):\n"
@@ -206,20 +196,16 @@ pub fn markdown(s: &Summary, command: &str, timing: Option<Timing>) -> String {
         .collect();
     cols.sort();
     cols.dedup();
-    let _ = writeln!(out, "| hidden | {} |", cols.join(" | "));
-    let _ = writeln!(out, "|---|{}", "---|".repeat(cols.len()));
+    let mut matrix = Table::new(std::iter::once("hidden".to_string()).chain(cols.iter().cloned()));
     for (e, m) in &r.effect_matrix {
-        let cells: Vec<String> = cols
-            .iter()
-            .map(|c| m.get(c).copied().unwrap_or(0).to_string())
-            .collect();
-        let _ = writeln!(out, "| {e} | {} |", cells.join(" | "));
+        matrix.row(std::iter::once(e.to_string()).chain(counts(m, &cols)));
     }
+    out.push_str(&matrix.render());
     let _ = writeln!(
         out,
         "\nRates as fractions: clean {} named, outside {} named.",
-        pct(r.clean_named.rate),
-        pct(r.outside_named.rate)
+        number(r.clean_named.rate, Number::Percent(1)),
+        number(r.outside_named.rate, Number::Percent(1))
     );
     out
 }

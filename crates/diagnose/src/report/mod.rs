@@ -14,8 +14,9 @@ use crate::candidates::evidence::CandidateKind;
 use crate::diagnosis::{Diagnosis, RoundKind};
 use crate::stand_ins::CONSTANCY_ALPHA;
 use navkf_report::figure::FigureOutcome;
+use navkf_report::markdown::{number, Number, Table};
 use std::fmt::Write as _;
-use tables::{before_after, fit_table, noise_table};
+use tables::{before_after, fit_table, noise_table, yes_no};
 use words::{fmt, outcome_words};
 
 /// `report.md` of a diagnosis, linking the figures drawn next to it (and saying which could
@@ -80,35 +81,35 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
             noise_table(&mut out, c, &title);
         }
     }
-    let _ = writeln!(
-        out,
-        "## Priors\n\nWhere the diagnosis starts (flags over dataset.toml's [prior] over the defaults; see `navkf_dynamics::prior` for their reasons):\n\n| prior | one-sigma | default | source |\n|---|---|---|---|"
-    );
+    let mut priors = Table::new(["prior", "one-sigma", "default", "source"]);
     for p in &d.priors {
-        let _ = writeln!(
-            out,
-            "| {} | {} | {} | {:?} |",
-            p.name,
+        priors.row([
+            p.name.clone(),
             fmt(p.sigma),
             fmt(p.default),
-            p.source
-        );
+            format!("{:?}", p.source),
+        ]);
     }
+    let _ = write!(
+        out,
+        "## Priors\n\nWhere the diagnosis starts (flags over dataset.toml's [prior] over the defaults; see `navkf_dynamics::prior` for their reasons):\n\n{}",
+        priors.render()
+    );
     if !d.widened.is_empty() {
-        let _ = writeln!(
-            out,
-            "\nWidened in the final model, because the data pulled the coefficient beyond its prior:\n\n| coefficient | from | to | estimate |\n|---|---|---|---|"
-        );
+        let mut widened = Table::new(["coefficient", "from", "to", "estimate"]);
         for w in &d.widened {
-            let _ = writeln!(
-                out,
-                "| {} | {} | {} | {} |",
-                w.name,
+            widened.row([
+                w.name.clone(),
                 fmt(w.from),
                 fmt(w.to),
-                fmt(w.implied_estimate)
-            );
+                fmt(w.implied_estimate),
+            ]);
         }
+        let _ = write!(
+            out,
+            "\nWidened in the final model, because the data pulled the coefficient beyond its prior:\n\n{}",
+            widened.render()
+        );
     }
     for (k, r) in d.rounds.iter().enumerate() {
         let _ = writeln!(
@@ -132,90 +133,126 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
                 "inconsistent"
             }
         );
-        let _ = writeln!(
-            out,
-            "| effect | kind | dLL (maximised) | parameters | BIC gain | excess NIS removed | NIS with it | consistent with it | outcome | cannot be told apart from |\n|---|---|---|---|---|---|---|---|---|---|"
-        );
+        let mut ranking = Table::new([
+            "effect",
+            "kind",
+            "dLL (maximised)",
+            "parameters",
+            "BIC gain",
+            "excess NIS removed",
+            "NIS with it",
+            "consistent with it",
+            "outcome",
+            "cannot be told apart from",
+        ]);
         for c in &r.candidates {
-            let _ = writeln!(
-                out,
-                "| {} | {} | {:.1} | {} | {:.1} | {:.0} % | {:.3} | {} | {} | {} |",
-                c.effect,
+            ranking.row([
+                c.effect.clone(),
                 match c.kind {
                     CandidateKind::Structured => "structured",
                     CandidateKind::NoiseOnly => "noise only",
                     CandidateKind::NoiseLevels => crate::candidates::NOISE_LEVELS,
-                },
-                c.delta_loglik,
-                c.parameters,
-                c.bic_gain,
-                100.0 * c.excess_removed,
-                c.nis.mean,
-                if c.consistent { "yes" } else { "no" },
+                }
+                .to_string(),
+                number(c.delta_loglik, Number::Fixed(1)),
+                c.parameters.to_string(),
+                number(c.bic_gain, Number::Fixed(1)),
+                number(c.excess_removed, Number::Percent(0)),
+                number(c.nis.mean, Number::Fixed(3)),
+                yes_no(c.consistent).to_string(),
                 outcome_words(c.outcome),
                 c.confused_with
                     .iter()
-                    .map(|p| format!("{} ~ {} ({:+.2})", p.coefficient, p.with, p.correlation))
+                    .map(|p| {
+                        format!(
+                            "{} ~ {} ({})",
+                            p.coefficient,
+                            p.with,
+                            number(p.correlation, Number::SignedFixed(2))
+                        )
+                    })
                     .collect::<Vec<_>>()
-                    .join(", ")
-            );
+                    .join(", "),
+            ]);
         }
-        let _ = writeln!(
-            out,
-            "\n| effect | coefficient | estimate | sigma | prior tested with | true |\n|---|---|---|---|---|---|"
-        );
+        out.push_str(&ranking.render());
+        let mut coefficients = Table::new([
+            "effect",
+            "coefficient",
+            "estimate",
+            "sigma",
+            "prior tested with",
+            "true",
+        ]);
         for c in &r.candidates {
             for k in &c.coefficients {
-                let _ = writeln!(
-                    out,
-                    "| {} | {} | {} | {} | {} | {} |",
-                    c.effect,
-                    k.name,
+                coefficients.row([
+                    c.effect.clone(),
+                    k.name.clone(),
                     fmt(k.estimate),
                     fmt(k.sigma),
                     fmt(k.prior_sigma),
-                    k.truth.map(fmt).unwrap_or("-".into())
-                );
+                    k.truth.map(fmt).unwrap_or("-".into()),
+                ]);
             }
             if let Some(q) = c.density {
-                let _ = writeln!(
-                    out,
-                    "| {} | density (fitted) | {} | - | - | - |",
-                    c.effect,
-                    fmt(q)
-                );
+                coefficients.row([
+                    c.effect.clone(),
+                    "density (fitted)".to_string(),
+                    fmt(q),
+                    "-".to_string(),
+                    "-".to_string(),
+                    "-".to_string(),
+                ]);
             }
         }
+        let _ = write!(out, "\n{}", coefficients.render());
         for n in &r.notes {
             let _ = writeln!(out, "\n{n}");
         }
     }
     if !d.constancy.is_empty() {
-        let _ = writeln!(
-            out,
-            "\n## Are the named coefficients constants?\n\nThe final model refitted on each half of the record; each coefficient's two estimates compared (chi-square, one degree of freedom; the effect fails below p = {:.0e}, Bonferroni over its coefficients):\n\n| effect | coefficient | statistic | dof | p | effect p | constant |\n|---|---|---|---|---|---|---|",
-            CONSTANCY_ALPHA
-        );
+        let mut constancy = Table::new([
+            "effect",
+            "coefficient",
+            "statistic",
+            "dof",
+            "p",
+            "effect p",
+            "constant",
+        ]);
         for (e, c) in &d.constancy {
             match c {
-                None => {
-                    let _ = writeln!(
-                        out,
-                        "| {e} | - | - | - | - | - | not testable (too little information) |"
-                    );
-                }
+                None => constancy.row([
+                    e.as_str(),
+                    "-",
+                    "-",
+                    "-",
+                    "-",
+                    "-",
+                    "not testable (too little information)",
+                ]),
                 Some(c) => {
                     for (name, stat, dof, p) in &c.coefficients {
-                        let _ = writeln!(
-                            out,
-                            "| {e} | {name} | {stat:.1} | {dof} | {p:.2e} | {:.2e} | {} |",
-                            c.p_value,
-                            if c.constant { "yes" } else { "**no**" }
-                        );
+                        constancy.row([
+                            e.clone(),
+                            name.clone(),
+                            number(*stat, Number::Fixed(1)),
+                            dof.to_string(),
+                            number(*p, Number::Sci(2)),
+                            number(c.p_value, Number::Sci(2)),
+                            if c.constant { "yes" } else { "**no**" }.to_string(),
+                        ]);
                     }
                 }
             }
         }
+        let _ = write!(
+            out,
+            "\n## Are the named coefficients constants?\n\nThe final model refitted on each half of the record; each coefficient's two estimates compared (chi-square, one degree of freedom; the effect fails below p = {:.0e}, Bonferroni over its coefficients):\n\n{}",
+            CONSTANCY_ALPHA,
+            constancy.render()
+        );
     }
     if let Some(b) = &d.before {
         before_after(&mut out, b, &d.model);

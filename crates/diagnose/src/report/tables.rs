@@ -1,11 +1,26 @@
 //! The tables of `report.md` that show one fit, a fit before and after the named effects,
-//! and one noise check.
+//! and one noise check, written with the one Markdown writer ([`navkf_report::markdown`]).
 
 use super::words::fmt;
 use crate::consistency::Whiteness;
 use crate::noise::levels::{NoiseFit, NoiseVerdict};
 use crate::summary::{Coefficient, FitSummary};
+use navkf_report::markdown::{number, Number, Table};
 use std::fmt::Write as _;
+
+/// `a-b`, each written as `format` says (a band or an interval).
+pub fn range(a: f64, b: f64, format: Number) -> String {
+    format!("{}-{}", number(a, format), number(b, format))
+}
+
+/// `yes` or `no`.
+pub fn yes_no(b: bool) -> &'static str {
+    if b {
+        "yes"
+    } else {
+        "no"
+    }
+}
 
 pub fn fit_table(out: &mut String, title: &str, f: &FitSummary) {
     let _ = writeln!(out, "### {title}\n");
@@ -20,71 +35,69 @@ pub fn fit_table(out: &mut String, title: &str, f: &FitSummary) {
         f.nis.bounds[1],
         f.nis.verdict
     );
-    let _ = writeln!(
-        out,
-        "| channel | white | Ljung-Box (critical) | mean | variance | slow drift: block-sum variance (critical) |\n|---|---|---|---|---|---|"
-    );
+    let mut channels = Table::new([
+        "channel",
+        "white",
+        "Ljung-Box (critical)",
+        "mean",
+        "variance",
+        "slow drift: block-sum variance (critical)",
+    ]);
     for w in &f.whiteness {
-        let _ = writeln!(
-            out,
-            "| {} | {} | {:.1} ({:.1}) | {:+.3} | {:.3} | {:.2} ({:.2}) |",
-            w.channel,
-            if w.white { "yes" } else { "no" },
-            w.ljung_box,
-            w.critical,
-            w.mean,
-            w.variance,
-            w.block_variance,
-            w.block_critical
-        );
+        channels.row([
+            w.channel.to_string(),
+            yes_no(w.white).to_string(),
+            format!(
+                "{} ({})",
+                number(w.ljung_box, Number::Fixed(1)),
+                number(w.critical, Number::Fixed(1))
+            ),
+            number(w.mean, Number::SignedFixed(3)),
+            number(w.variance, Number::Fixed(3)),
+            format!(
+                "{} ({})",
+                number(w.block_variance, Number::Fixed(2)),
+                number(w.block_critical, Number::Fixed(2))
+            ),
+        ]);
     }
-    let _ = writeln!(
-        out,
-        "\n| phase | updates | NIS | bounds | verdict |\n|---|---|---|---|---|"
-    );
+    out.push_str(&channels.render());
+    let mut phases = Table::new(["phase", "updates", "NIS", "bounds", "verdict"]);
     for (p, s) in &f.nis_by_phase {
-        let _ = writeln!(
-            out,
-            "| {p} | {} | {:.3} | {:.3}-{:.3} | {} |",
-            s.count, s.mean, s.bounds[0], s.bounds[1], s.verdict
-        );
+        phases.row([
+            p.to_string(),
+            s.count.to_string(),
+            number(s.mean, Number::Fixed(3)),
+            range(s.bounds[0], s.bounds[1], Number::Fixed(3)),
+            s.verdict.to_string(),
+        ]);
     }
+    let _ = write!(out, "\n{}", phases.render());
     let has_truth = f.coefficients.iter().any(|c| c.truth.is_some());
-    let _ = write!(
-        out,
-        "\n| coefficient | estimate | sigma | prior tested with |"
-    );
+    let mut header = vec!["coefficient", "estimate", "sigma", "prior tested with"];
     if has_truth {
-        let _ = write!(out, " true | error / sigma |");
+        header.extend(["true", "error / sigma"]);
     }
-    let _ = writeln!(out);
-    let _ = writeln!(
-        out,
-        "|---|---|---|---|{}",
-        if has_truth { "---|---|" } else { "" }
-    );
+    let mut coefficients = Table::new(header);
     for c in &f.coefficients {
-        let _ = write!(
-            out,
-            "| {} | {} | {} | {} |",
-            c.name,
+        let mut row = vec![
+            c.name.clone(),
             fmt(c.estimate),
             fmt(c.sigma),
-            fmt(c.prior_sigma)
-        );
+            fmt(c.prior_sigma),
+        ];
         if has_truth {
             match c.truth {
-                Some(t) => {
-                    let _ = write!(out, " {} | {:+.2} |", fmt(t), (c.estimate - t) / c.sigma);
-                }
-                None => {
-                    let _ = write!(out, " - | - |");
-                }
+                Some(t) => row.extend([
+                    fmt(t),
+                    number((c.estimate - t) / c.sigma, Number::SignedFixed(2)),
+                ]),
+                None => row.extend(["-".to_string(), "-".to_string()]),
             }
         }
-        let _ = writeln!(out);
+        coefficients.row(row);
     }
-    let _ = writeln!(out);
+    let _ = writeln!(out, "\n{}", coefficients.render());
 }
 
 /// A coefficient's name and its normalised errors before and after.
@@ -98,32 +111,33 @@ pub fn before_after(out: &mut String, b: &FitSummary, a: &FitSummary) {
         "\n## Before and after\n\nBefore: the base model. After: with {}.\n",
         a.effects.join(", ")
     );
-    let _ = writeln!(out, "| | before | after |\n|---|---|---|");
-    let _ = writeln!(
-        out,
-        "| log-likelihood | {:.1} | {:.1} |",
-        b.loglik, a.loglik
-    );
+    let mut table = Table::new(["", "before", "after"]);
+    table.row([
+        "log-likelihood".to_string(),
+        number(b.loglik, Number::Fixed(1)),
+        number(a.loglik, Number::Fixed(1)),
+    ]);
     let nis = |f: &FitSummary| {
         format!(
-            "{:.3} ({}, bounds {:.3}-{:.3})",
-            f.nis.mean, f.nis.verdict, f.nis.bounds[0], f.nis.bounds[1]
+            "{} ({}, bounds {})",
+            number(f.nis.mean, Number::Fixed(3)),
+            f.nis.verdict,
+            range(f.nis.bounds[0], f.nis.bounds[1], Number::Fixed(3))
         )
     };
-    let _ = writeln!(out, "| NIS | {} | {} |", nis(b), nis(a));
-    let _ = writeln!(
-        out,
-        "| consistent | {} | {} |",
-        if b.consistent { "yes" } else { "no" },
-        if a.consistent { "yes" } else { "no" }
-    );
+    table.row(["NIS".to_string(), nis(b), nis(a)]);
+    table.row([
+        "consistent".to_string(),
+        yes_no(b.consistent).to_string(),
+        yes_no(a.consistent).to_string(),
+    ]);
     for wa in &a.whiteness {
         let white = |w: &Whiteness| {
             format!(
-                "{} (Ljung-Box {:.0}, variance {:.2})",
+                "{} (Ljung-Box {}, variance {})",
                 if w.white { "white" } else { "not white" },
-                w.ljung_box,
-                w.variance
+                number(w.ljung_box, Number::Fixed(0)),
+                number(w.variance, Number::Fixed(2))
             )
         };
         let wb = b
@@ -131,8 +145,9 @@ pub fn before_after(out: &mut String, b: &FitSummary, a: &FitSummary) {
             .iter()
             .find(|w| w.channel == wa.channel)
             .map_or("-".to_string(), white);
-        let _ = writeln!(out, "| {} | {} | {} |", wa.channel, wb, white(wa));
+        table.row([wa.channel.to_string(), wb, white(wa)]);
     }
+    out.push_str(&table.render());
     let err = |c: &Coefficient| c.truth.map(|t| (c.estimate - t) / c.prior_sigma);
     let rows: Vec<ErrorRow> = a
         .coefficients
@@ -148,24 +163,28 @@ pub fn before_after(out: &mut String, b: &FitSummary, a: &FitSummary) {
         .filter(|r| r.1.is_some() || r.2.is_some())
         .collect();
     if !rows.is_empty() {
-        let cell =
-            |v: Option<f64>| v.map_or("not in the model".to_string(), |e| format!("{e:+.3}"));
-        let _ = writeln!(
-            out,
-            "\nCoefficient errors against truth.csv, (estimate - truth) / prior sigma:\n\n| coefficient | before | after |\n|---|---|---|"
-        );
+        let cell = |v: Option<f64>| {
+            v.map_or("not in the model".to_string(), |e| {
+                number(e, Number::SignedFixed(3))
+            })
+        };
+        let mut errors = Table::new(["coefficient", "before", "after"]);
         for (name, eb, ea) in &rows {
-            let _ = writeln!(out, "| {name} | {} | {} |", cell(*eb), cell(*ea));
+            errors.row([name.clone(), cell(*eb), cell(*ea)]);
         }
         let rms = |f: fn(&ErrorRow) -> Option<f64>| {
             let v: Vec<f64> = rows.iter().filter_map(f).collect();
             (v.iter().map(|e| e * e).sum::<f64>() / v.len().max(1) as f64).sqrt()
         };
-        let _ = writeln!(
+        errors.row([
+            "RMS over the coefficients each has".to_string(),
+            number(rms(|r| r.1), Number::Fixed(3)),
+            number(rms(|r| r.2), Number::Fixed(3)),
+        ]);
+        let _ = write!(
             out,
-            "| RMS over the coefficients each has | {:.3} | {:.3} |",
-            rms(|r| r.1),
-            rms(|r| r.2)
+            "\nCoefficient errors against truth.csv, (estimate - truth) / prior sigma:\n\n{}",
+            errors.render()
         );
     }
 }
@@ -182,33 +201,39 @@ pub fn noise_table(out: &mut String, check: &NoiseFit, title: &str) {
         check.passes,
         check.loglik_gain
     );
-    let _ = writeln!(
-        out,
-        "| source | stated | fitted (maximum likelihood) | fitted / stated (sigma) | 95 % | verdict |\n|---|---|---|---|---|---|"
-    );
     let kv = |m: &std::collections::BTreeMap<String, f64>| {
         m.iter()
-            .map(|(k, v)| format!("{k} = {v:.3e}"))
+            .map(|(k, v)| format!("{k} = {}", number(*v, Number::Sci(3))))
             .collect::<Vec<_>>()
             .join(", ")
     };
+    let mut table = Table::new([
+        "source",
+        "stated",
+        "fitted (maximum likelihood)",
+        "fitted / stated (sigma)",
+        "95 %",
+        "verdict",
+    ]);
     for s in &check.sources {
-        let _ = writeln!(
-            out,
-            "| {} | {} | {} | {:.3} | {:.3}-{:.3} | {} |",
-            s.source.label(),
+        table.row([
+            s.source.label().to_string(),
             kv(&s.stated),
             kv(&s.fitted),
-            s.sigma_ratio,
-            s.sigma_ratio_interval[0],
-            s.sigma_ratio_interval[1],
+            number(s.sigma_ratio, Number::Fixed(3)),
+            range(
+                s.sigma_ratio_interval[0],
+                s.sigma_ratio_interval[1],
+                Number::Fixed(3),
+            ),
             match s.verdict {
                 NoiseVerdict::Fits => "fits",
                 NoiseVerdict::UnderStated => "under-stated",
                 NoiseVerdict::OverStated => "over-stated",
                 NoiseVerdict::Unresolved => "unresolved",
             }
-        );
+            .to_string(),
+        ]);
     }
-    let _ = writeln!(out);
+    let _ = writeln!(out, "{}", table.render());
 }

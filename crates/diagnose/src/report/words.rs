@@ -3,13 +3,9 @@
 
 use crate::candidates::evidence::Outcome;
 
-/// A number in the report's tables: four significant digits, `-` when not finite.
+/// A number in the report's tables: five significant digits, `-` when not finite.
 pub fn fmt(v: f64) -> String {
-    if v.is_finite() {
-        format!("{v:.4e}")
-    } else {
-        "-".into()
-    }
+    navkf_report::markdown::number(v, navkf_report::markdown::Number::Sci(4))
 }
 
 /// A sigma ratio in words: "12x", "1.3x", "0.2x".

@@ -9,13 +9,14 @@
 pub mod config;
 pub mod error;
 pub mod guard;
+pub mod merge;
 pub mod monte_carlo;
 pub mod output;
+pub mod partial;
 pub mod plan;
 pub mod plan_output;
 pub mod plots;
 pub mod report;
-pub mod shard_check;
 pub mod summary;
 pub mod sweep;
 pub mod tally;

@@ -6,7 +6,9 @@ mod common;
 
 use common::{short_config, temp_dir, without_timings};
 use navkf_dynamics::state::NAV_DIM;
-use navkf_study::output::{fold, read_partials, shard_blocks, Partial};
+use navkf_study::merge::read_partials;
+use navkf_study::output::fold;
+use navkf_study::partial::{shard_blocks, Partial};
 use navkf_study::tally::Tally;
 use navkf_study::{Study, StudyError};
 use serde_json::{json, Value};
@@ -453,14 +455,14 @@ fn sums_that_are_not_finite_are_refused() {
     for (bad, shown) in [(f64::INFINITY, "inf"), (f64::NAN, "NaN")] {
         let mut p = f.parts[1].clone();
         p.blocks[0].filters[2].sum_var[4][1] = bad;
-        let err = navkf_study::shard_check::check(&p, &f.study).unwrap_err();
+        let err = navkf_study::merge::shard_check::check(&p, &f.study).unwrap_err();
         assert_eq!(
             err,
             format!("blocks[0].filters[2].sum_var[4][1] = {shown}: expected a finite sum >= 0 (it adds variances)")
         );
         let mut p = f.parts[1].clone();
         p.blocks[0].pairs[2].sum_d[NAV_DIM] = bad;
-        let err = navkf_study::shard_check::check(&p, &f.study).unwrap_err();
+        let err = navkf_study::merge::shard_check::check(&p, &f.study).unwrap_err();
         assert_eq!(
             err,
             format!("blocks[0].pairs[2].sum_d[{NAV_DIM}] = {shown}: expected a finite sum")

@@ -3,7 +3,8 @@
 
 use super::*;
 use navkf_report::{FolderKind, ResultsDir, StudyKind};
-use navkf_study::output::{fold, read_partials, write_results};
+use navkf_study::merge::read_partials;
+use navkf_study::output::{fold, write_results};
 use navkf_study::Study;
 use std::path::PathBuf;
 

@@ -3,7 +3,7 @@
 
 use super::*;
 use navkf_report::{ResultsDir, ShardFolder};
-use navkf_study::output::Partial;
+use navkf_study::partial::Partial;
 use navkf_study::{Study, StudyConfig};
 use std::path::PathBuf;
 use std::sync::Mutex;

@@ -7,7 +7,8 @@
 use super::points;
 use crate::config::StudyConfig;
 use crate::error::StudyError;
-use crate::output::{check_partials, read_shard_file, shard_blocks, Partial};
+use crate::merge::{check_partials, read_shard_file};
+use crate::partial::{shard_blocks, Partial};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 

@@ -14,7 +14,7 @@
 //! none of its runs finished, and one row per stored time of one value per state after.
 
 use crate::monte_carlo::{ExampleRun, Study};
-use crate::output::{shard_blocks, Partial};
+use crate::partial::{shard_blocks, Partial};
 use crate::tally::{cost_bin, FilterTally, Tally, BLOCK};
 use navkf_dynamics::state::MEAS_DIM;
 use navkf_report::names::shown;

@@ -7,6 +7,8 @@
 //! own attitude equations or sigma-point scaling, compared under its label. Unknown keys are
 //! errors.
 
+pub mod points;
+
 use crate::error::StudyError;
 use navkf_dynamics::input_file::{printable, read_text, toml_error, toml_message, TextFile};
 use navkf_dynamics::simulate::InitialTilt;
@@ -317,7 +319,7 @@ impl StudyConfig {
     pub fn validate(&self) -> Result<(), String> {
         if self.sweep.is_some() {
             // Every point is checked as the study it is.
-            return crate::sweep::points(self).map(|_| ());
+            return points::points(self).map(|_| ());
         }
         let s = &self.study;
         if !s.kind.is_monte_carlo() {

@@ -1,7 +1,7 @@
 //! Shared set-up for the benchmarks: a realistic filter state mid-trajectory.
 
+use navkf_dynamics::prior::base_coefficient_sigma;
 use navkf_dynamics::sensors::observation_of;
-use navkf_dynamics::simulate::base_coefficient_sigma;
 use navkf_dynamics::state::*;
 use navkf_dynamics::*;
 use navkf_filters::*;

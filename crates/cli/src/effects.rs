@@ -1,12 +1,12 @@
 //! `navkf effects`: what a model can carry, from the code itself. The 13 base coefficients
 //! (names, units and typical sizes of `navkf_dynamics::state` and
-//! `navkf_dynamics::simulate::base_coefficient_sigma`), then every catalogued effect with its
+//! `navkf_dynamics::prior::base_coefficient_sigma`), then every catalogued effect with its
 //! one line of meaning and its coefficients, each read from the effect's own methods
 //! (`description`, `coefficient_names`, `coefficient_units`, `coefficient_sigma`,
 //! `process_noise`): a new effect is listed the moment it is in `Registry::catalogue`, and no
 //! second table can go stale. `docs/glossary.md` says the same in prose.
 
-use navkf_dynamics::simulate::base_coefficient_sigma;
+use navkf_dynamics::prior::base_coefficient_sigma;
 use navkf_dynamics::state::{BASE_DIM, BASE_MEANINGS, BASE_NAMES, BASE_UNITS, NAV_DIM};
 use navkf_dynamics::Registry;
 use std::fmt::Write as _;

@@ -9,7 +9,6 @@
 
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::effect_spec::EffectSpec;
-use navkf_dynamics::sensor_classes::coefficient_bound;
 use navkf_dynamics::{
     NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TrajectoryConfig, TruthConfig,
 };
@@ -71,7 +70,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     for (name, prior) in &spec.fixed {
         let bound = model
             .index_of(name)
-            .and_then(|i| coefficient_bound(&model, i).map(|b| (b, &model.units()[i])));
+            .and_then(|i| model.coefficient_bound(i).map(|b| (b, &model.units()[i])));
         if let Some((b, unit)) = bound.filter(|(b, _)| !b.contains(prior.mean)) {
             let owner = Registry::catalogue()
                 .owner_of(name)

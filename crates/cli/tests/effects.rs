@@ -4,7 +4,7 @@
 mod common;
 
 use common::{navkf, text};
-use navkf_dynamics::simulate::base_coefficient_sigma;
+use navkf_dynamics::prior::base_coefficient_sigma;
 use navkf_dynamics::state::{BASE_DIM, BASE_NAMES, BASE_UNITS, NAV_DIM};
 use navkf_dynamics::Registry;
 

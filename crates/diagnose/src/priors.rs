@@ -11,8 +11,8 @@
 //! ([`Priors::open`]), which is what the widening's caps are counted from.
 
 use navkf_dynamics::dataset::Dataset;
+use navkf_dynamics::prior::base_coefficient_sigma;
 use navkf_dynamics::prior::{default_azimuth_rad, default_level_rad, PlatformPrior, PriorSource};
-use navkf_dynamics::simulate::base_coefficient_sigma;
 use navkf_dynamics::state::{BASE_DIM, BASE_NAMES, NAV_DIM};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;

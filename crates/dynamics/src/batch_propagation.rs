@@ -11,7 +11,7 @@
 //! below 1e-20). The two paths agree to rounding; a test checks it.
 //!
 //! The RK4 stages (docs/model.md eq. (15)) are the table [`RK4`], stepped through as
-//! [`crate::integrate::propagate_generic`] does, operation for operation, including noise held
+//! [`crate::system::propagate_generic`] does, operation for operation, including noise held
 //! over the window and coefficients that a noise channel drives moving linearly.
 //!
 //! Blocks go through each stage in groups of four (`GROUP`): one RK4 stage depends on the

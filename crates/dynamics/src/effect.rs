@@ -15,6 +15,7 @@
 
 use crate::kinematics::{Input, Kinematics, LatitudeTerms};
 use crate::linear_rates::LinearRate;
+pub use crate::partials::Partials;
 use crate::real::{Lanes, Real};
 pub use crate::sensor_classes::PhysicalBound;
 use crate::state::{MEAS_DIM, NAV_DIM};
@@ -30,32 +31,6 @@ pub struct NoiseChannel {
     pub state: usize,
     /// Spectral density, (state unit)^2 / s.
     pub psd: f64,
-}
-
-/// Rows of partial derivatives with respect to the full state, row-major, `cols` wide.
-///
-/// For rate partials the rows are the 7 navigation-state derivatives; for measurement partials
-/// they are the 4 measurement channels.
-pub struct Partials<'a> {
-    data: &'a mut [f64],
-    cols: usize,
-}
-
-impl<'a> Partials<'a> {
-    /// Wraps a row-major buffer of `data.len() / cols` rows.
-    pub fn new(data: &'a mut [f64], cols: usize) -> Self {
-        debug_assert_eq!(data.len() % cols, 0);
-        Partials { data, cols }
-    }
-    /// Adds `value` to the partial of row `row` with respect to state `col`.
-    #[inline]
-    pub fn add(&mut self, row: usize, col: usize, value: f64) {
-        self.data[row * self.cols + col] += value;
-    }
-    /// Number of columns: the row stride, at least the state dimension.
-    pub fn cols(&self) -> usize {
-        self.cols
-    }
 }
 
 /// How an effect's measurement term depends on the state.

@@ -15,7 +15,6 @@
 
 use crate::kinematics::Input;
 use crate::real::{Lanes, Real};
-use crate::system::SystemModel;
 
 /// Input knots over one propagation interval. Reused across steps: `clear` keeps capacity.
 #[derive(Debug, Clone, Default)]
@@ -189,20 +188,23 @@ pub fn rk4_step<T: Real>(h: f64, k: [T; 4]) -> T {
     (k[0] + (k[1] + k[2]) * 2.0 + k[3]) * (h / 6.0)
 }
 
-/// Propagates one state `x` across `window` with RK4 ([`RK4`]). `scratch` must hold at least
-/// `4 * dynamic_dim + dim` values. `noise`, when given, holds one value per noise channel.
-pub fn propagate_generic<M: SystemModel + ?Sized>(
-    model: &M,
+/// Propagates one state `x` (of `x.len()` states, the first `d` dynamic) across `window`
+/// with RK4 ([`RK4`]), the derivative of the dynamic states given by `rates(x, u, dx)`.
+/// `scratch` must hold at least `4 * d + x.len()` values. `noise`, when given, holds one value
+/// per channel of `channels`. A model's one-state path is
+/// [`crate::system::propagate_generic`], which calls this with its own rates.
+pub fn propagate_one<R: Fn(&[f64], &Input, &mut [f64])>(
+    rates: R,
+    d: usize,
+    channels: &[crate::effect::NoiseChannel],
     x: &mut [f64],
     noise: Option<&[f64]>,
     window: &InputWindow,
     scratch: &mut [f64],
 ) {
-    let n = model.dim();
-    let d = model.dynamic_dim();
+    let n = x.len();
     let (k, rest) = scratch.split_at_mut(4 * d);
     let tmp = &mut rest[..n];
-    let channels = model.noise_channels();
 
     let add_noise = |dx: &mut [f64]| {
         if let Some(w) = noise {
@@ -231,7 +233,7 @@ pub fn propagate_generic<M: SystemModel + ?Sized>(
             let ks = &mut todo[..d];
             let u = stage.input(window, j);
             if s == 0 {
-                model.rates(x, u, ks);
+                rates(x, u, ks);
             } else {
                 if s == 1 {
                     tmp[d..].copy_from_slice(&x[d..]);
@@ -242,7 +244,7 @@ pub fn propagate_generic<M: SystemModel + ?Sized>(
                     tmp[i] = x[i] + c * prev[i];
                 }
                 drift_constants(tmp, x, c);
-                model.rates(tmp, u, ks);
+                rates(tmp, u, ks);
             }
             add_noise(ks);
         }

@@ -23,6 +23,7 @@ pub mod memory;
 pub mod model;
 pub mod noise;
 pub mod outside;
+pub mod partials;
 pub mod prior;
 pub mod real;
 pub mod rng;

@@ -17,8 +17,8 @@
 //! `c v |v|`, say) still writes [`crate::Effect::add_rates`].
 
 use crate::earth::WIE;
-use crate::effect::Partials;
 use crate::kinematics::Kinematics;
+use crate::partials::Partials;
 use crate::real::Real;
 use crate::state::{LAT, NAV_DIM, V_X, V_Y};
 

@@ -5,7 +5,7 @@
 //! coefficient. The user states what they know; what they leave out takes a default that
 //! describes the platform class of the project's study files, a navigation-grade platform
 //! (gyro drift 0.02 deg/h, accelerometer bias 50 micro-g; see
-//! [`crate::simulate::base_coefficient_sigma`]) aligned at rest before the test:
+//! [`base_coefficient_sigma`]) aligned at rest before the test:
 //!
 //! - **Level**: levelling nulls the horizontal specific force, so it leaves the platform
 //!   tilted by the accelerometer bias over gravity (`v_x' = Ka0x - g phi_y = 0`,
@@ -24,11 +24,26 @@
 //! beyond (`navkf_diagnose`), so a wrong default costs time, not a wrong answer.
 
 use crate::earth::WIE;
-use crate::simulate::base_coefficient_sigma;
-use crate::state::{BASE_DIM, BASE_NAMES, KA0X, KG0X, NAV_DIM};
+use crate::state::*;
 use crate::PlatformModel;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+
+/// Typical one-sigma sizes of the 13 base coefficients for a navigation-grade platform:
+/// gyro drift 0.02 deg/h, acceleration-sensitive drift 0.02 deg/h per g, accelerometer bias
+/// 50 micro-g, accelerometer scale factor 50 ppm. The paper gives none; these are stated in
+/// the study files and README.
+pub fn base_coefficient_sigma(index: usize) -> f64 {
+    const DEG_PER_H: f64 = std::f64::consts::PI / 180.0 / 3600.0;
+    const G: f64 = 9.80665;
+    match index {
+        KG0X | KG0Y | KG0Z => 0.02 * DEG_PER_H,
+        KA0X | KA0Y => 50e-6 * G,
+        KA1X | KA1Y => 50e-6,
+        i if (KG0X..KA0X).contains(&i) => 0.02 * DEG_PER_H / G,
+        _ => 0.0,
+    }
+}
 
 /// Largest default azimuth sigma, rad (0.1 rad, 5.7 deg): beyond it the small-angle model
 /// itself no longer holds, and near the poles a platform is not gyrocompassed.

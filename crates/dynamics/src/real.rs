@@ -57,6 +57,17 @@ pub trait Real:
     fn mul_add(self, a: Self, b: Self) -> Self;
 }
 
+impl<T: Real> crate::trig::PolynomialArithmetic for T {
+    #[inline(always)]
+    fn constant(v: f64) -> Self {
+        T::splat(v)
+    }
+    #[inline(always)]
+    fn fused_mul_add(self, a: Self, b: Self) -> Self {
+        Real::mul_add(self, a, b)
+    }
+}
+
 impl Real for f64 {
     #[inline(always)]
     fn splat(v: f64) -> Self {

@@ -220,17 +220,3 @@ pub fn base_coefficient_bound(index: usize) -> Option<PhysicalBound> {
         _ => None,
     }
 }
-
-/// The bound of state `index` of `model`: a base coefficient's, or the one its effect
-/// declares; `None` for a navigation state or an effect that declares none.
-pub fn coefficient_bound(model: &crate::PlatformModel, index: usize) -> Option<PhysicalBound> {
-    if index < BASE_DIM {
-        return base_coefficient_bound(index);
-    }
-    model.effects().iter().enumerate().find_map(|(i, e)| {
-        let j = index.checked_sub(model.effect_offset(i))?;
-        (j < e.coefficient_names().len())
-            .then(|| e.coefficient_bounds().get(j).copied())
-            .flatten()
-    })
-}

@@ -10,12 +10,14 @@
 
 use crate::dataset::{Dataset, InputSample, Measurement, Provenance, Truth};
 use crate::error::DynamicsError;
-use crate::integrate::{propagate_generic, InputWindow};
+use crate::integrate::InputWindow;
 use crate::kinematics::Input;
 use crate::model::PlatformModel;
 use crate::noise::NoiseConfig;
+use crate::prior::base_coefficient_sigma;
 use crate::rng::{stream, Purpose};
 use crate::state::*;
+use crate::system::propagate_generic;
 use crate::system::SystemModel;
 use crate::trajectory::Trajectory;
 use rand::Rng;
@@ -79,22 +81,6 @@ impl Prior {
     /// Zero-mean with the given sigma.
     pub fn zero_mean(sigma: f64) -> Self {
         Prior { mean: 0.0, sigma }
-    }
-}
-
-/// Typical one-sigma sizes of the 13 base coefficients for a navigation-grade platform:
-/// gyro drift 0.02 deg/h, acceleration-sensitive drift 0.02 deg/h per g, accelerometer bias
-/// 50 micro-g, accelerometer scale factor 50 ppm. The paper gives none; these are stated in
-/// the study files and README.
-pub fn base_coefficient_sigma(index: usize) -> f64 {
-    const DEG_PER_H: f64 = std::f64::consts::PI / 180.0 / 3600.0;
-    const G: f64 = 9.80665;
-    match index {
-        KG0X | KG0Y | KG0Z => 0.02 * DEG_PER_H,
-        KA0X | KA0Y => 50e-6 * G,
-        KA1X | KA1Y => 50e-6,
-        i if (KG0X..KA0X).contains(&i) => 0.02 * DEG_PER_H / G,
-        _ => 0.0,
     }
 }
 

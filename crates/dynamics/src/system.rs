@@ -5,7 +5,7 @@
 //! equal to the Kalman filter). Filters are generic over it and never name the platform.
 
 use crate::effect::NoiseChannel;
-use crate::integrate::{propagate_generic, InputWindow, PropagationScratch};
+use crate::integrate::{propagate_one, InputWindow, PropagationScratch};
 use crate::kinematics::Input;
 
 /// A continuous-time model `x' = a(x, u) + G w`, `z = h(x) + v` (the platform's:
@@ -75,7 +75,7 @@ pub trait SystemModel: Send + Sync {
     /// the input window with RK4 (one sub-step per pair of knots). `noise`, when given, holds
     /// `noise_channels().len()` white-noise values per point, held constant over the window.
     ///
-    /// The default runs [`crate::integrate::propagate_generic`] point by point; a model may
+    /// The default runs [`propagate_generic`] point by point; a model may
     /// override it with a faster batched evaluation that must agree to rounding.
     fn propagate_points(
         &self,
@@ -92,6 +92,28 @@ pub trait SystemModel: Send + Sync {
             propagate_generic(self, x, w, window, scratch.as_mut_slice());
         }
     }
+}
+
+/// Propagates one state `x` of `model` across `window` with RK4
+/// ([`crate::integrate::propagate_one`] with the model's rates). `scratch` must hold at least
+/// `4 * dynamic_dim + dim` values. `noise`, when given, holds one value per noise channel.
+pub fn propagate_generic<M: SystemModel + ?Sized>(
+    model: &M,
+    x: &mut [f64],
+    noise: Option<&[f64]>,
+    window: &InputWindow,
+    scratch: &mut [f64],
+) {
+    debug_assert_eq!(x.len(), model.dim());
+    propagate_one(
+        |x, u, dx| model.rates(x, u, dx),
+        model.dynamic_dim(),
+        model.noise_channels(),
+        x,
+        noise,
+        window,
+        scratch,
+    );
 }
 
 #[cfg(test)]

@@ -113,6 +113,16 @@ pub(crate) fn sin_cos_quadrant(x: f64) -> (f64, f64) {
     }
 }
 
+/// What the polynomial kernel [`sin_cos_quarter`] needs of its numbers: products and fused
+/// multiply-adds, with constants broadcast. Every [`crate::Real`] has them (implemented
+/// there), so one number and a batch run the same kernel.
+pub trait PolynomialArithmetic: Copy + std::ops::Mul<Output = Self> {
+    /// The constant `v` (in every lane).
+    fn constant(v: f64) -> Self;
+    /// `self * a + b` with one rounding.
+    fn fused_mul_add(self, a: Self, b: Self) -> Self;
+}
+
 /// `(sin r, cos r)` for `|r| <= pi/4`: the polynomials of [`sin_cos_quadrant`] after its
 /// reduction. For `|x| <= QUARTER_TURN_FREE` the reduction is the identity (`k = 0`, so
 /// `r = x` exactly and the quadrant selects keep both), and this alone gives the same bits,
@@ -121,26 +131,26 @@ pub(crate) fn sin_cos_quadrant(x: f64) -> (f64, f64) {
 /// Generic so that a batch runs it as whole-vector operations (lane by lane, LLVM packed it
 /// two lanes to a register).
 #[inline(always)]
-pub(crate) fn sin_cos_quarter<T: crate::real::Real>(r: T) -> (T, T) {
+pub(crate) fn sin_cos_quarter<T: PolynomialArithmetic>(r: T) -> (T, T) {
     const F: [f64; 19] = RECIPROCAL_FACTORIALS;
-    let c = T::splat;
+    let c = T::constant;
     let r2 = r * r;
     // sin r = r + r^3 (-1/3! + r^2 (1/5! - ... - r^12/15!))
     let mut sp = c(-F[15]);
     for n in [13, 11, 9, 7, 5] {
         let sign = if n % 4 == 1 { 1.0 } else { -1.0 };
-        sp = sp.mul_add(r2, c(sign * F[n]));
+        sp = sp.fused_mul_add(r2, c(sign * F[n]));
     }
-    let sp = sp.mul_add(r2, c(-F[3]));
-    let sin = (r * r2).mul_add(sp, r);
+    let sp = sp.fused_mul_add(r2, c(-F[3]));
+    let sin = (r * r2).fused_mul_add(sp, r);
     // cos r = 1 - r^2/2 + r^4 (1/4! - r^2 (1/6! - ... + r^12/16!))
     let mut cq = c(F[16]);
     for n in [14, 12, 10, 8, 6] {
         let sign = if n % 4 == 0 { 1.0 } else { -1.0 };
-        cq = cq.mul_add(r2, c(sign * F[n]));
+        cq = cq.fused_mul_add(r2, c(sign * F[n]));
     }
-    let cq = cq.mul_add(r2, c(F[4]));
-    let cos = (r2 * r2).mul_add(cq, c(-0.5).mul_add(r2, c(1.0)));
+    let cq = cq.fused_mul_add(r2, c(F[4]));
+    let cos = (r2 * r2).fused_mul_add(cq, c(-0.5).fused_mul_add(r2, c(1.0)));
     (sin, cos)
 }
 

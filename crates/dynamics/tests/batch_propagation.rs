@@ -5,7 +5,7 @@
 mod common;
 
 use common::{one_by_one, window};
-use navkf_dynamics::simulate::base_coefficient_sigma;
+use navkf_dynamics::prior::base_coefficient_sigma;
 use navkf_dynamics::state::*;
 use navkf_dynamics::{NoiseConfig, PlatformModel, PropagationScratch, SystemModel};
 use rand::{Rng, SeedableRng};

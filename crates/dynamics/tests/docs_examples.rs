@@ -11,7 +11,7 @@ use navkf_dynamics::dataset::{
     Dataset, Provenance, CONFIG_FILE, INPUTS_FILE, INPUT_COLUMNS, MEASUREMENTS_FILE,
     MEASUREMENT_COLUMNS, TRUTH_FILE,
 };
-use navkf_dynamics::simulate::base_coefficient_sigma;
+use navkf_dynamics::prior::base_coefficient_sigma;
 use navkf_dynamics::state::{BASE_DIM, BASE_NAMES, BASE_UNITS, NAV_DIM};
 use navkf_dynamics::{NoiseConfig, PlatformPrior, Registry};
 

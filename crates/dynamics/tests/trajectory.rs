@@ -2,8 +2,9 @@
 //! by the derived specific force reproduces it.
 
 use navkf_dynamics::earth::{meridian_radius, prime_vertical_radius};
-use navkf_dynamics::integrate::{propagate_generic, InputWindow};
+use navkf_dynamics::integrate::InputWindow;
 use navkf_dynamics::state::*;
+use navkf_dynamics::system::propagate_generic;
 use navkf_dynamics::trajectory::Phase;
 use navkf_dynamics::{NoiseConfig, PlatformModel, SystemModel, Trajectory, TrajectoryConfig};
 

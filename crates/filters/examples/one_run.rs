@@ -1,5 +1,5 @@
 //! One simulated run through the three filters: `cargo run --release --example one_run`.
-use navkf_dynamics::simulate::base_coefficient_sigma;
+use navkf_dynamics::prior::base_coefficient_sigma;
 use navkf_dynamics::state::*;
 use navkf_dynamics::*;
 use navkf_filters::*;

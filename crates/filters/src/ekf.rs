@@ -14,7 +14,8 @@
 //! (docs/model.md eqs. (21), (22)), evaluated as two rank-k corrections.
 
 use crate::error::FilterError;
-use crate::filter::{add_process_noise, Estimate, Filter};
+use crate::estimate::Estimate;
+use crate::filter::{add_process_noise, Filter};
 use crate::kernels::sparse_row_product;
 use crate::tangent::{rows_times_matrix, ChunkBuf, Stage, LANES};
 use crate::update::{GainWorkspace, MeasurementMoments, Observation, UpdateReport};

@@ -11,6 +11,7 @@
 
 pub mod ekf;
 pub mod error;
+mod estimate;
 pub mod failure;
 pub mod filter;
 pub mod kernels;

@@ -20,7 +20,8 @@
 //! `covariance()` returns `S S^T`, formed after every step.
 
 use crate::error::FilterError;
-use crate::filter::{Estimate, Filter};
+use crate::estimate::Estimate;
+use crate::filter::Filter;
 use crate::kernels::{
     draw_sigma_points, h_dot, innovation_statistics, solve_lower_transposed_right, weighted_mean,
 };

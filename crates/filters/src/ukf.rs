@@ -17,7 +17,8 @@
 //! block-diagonal structure of `diag(P, Qc / T, R)`, whose factor is `diag(chol P, ...)`.
 
 use crate::error::FilterError;
-use crate::filter::{add_process_noise, Estimate, Filter};
+use crate::estimate::Estimate;
+use crate::filter::{add_process_noise, Filter};
 use crate::kernels::{draw_sigma_points, weighted_mean};
 use crate::linalg::{cholesky_in_place, row_dots, DOT_BLOCK};
 use crate::sigma_points::{SigmaPoints, SigmaScaling};

@@ -8,7 +8,7 @@
 //! `log p(z) = -(NIS + log det S + k log 2 pi) / 2`, `K = Pxz S^-1`, `x += K nu`.
 
 use crate::error::FilterError;
-use crate::filter::Estimate;
+use crate::estimate::Estimate;
 use crate::kernels::{
     h_dot, innovation_statistics, solve_lower_right, solve_lower_transposed_right,
     sparse_row_product,

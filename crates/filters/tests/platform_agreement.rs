@@ -15,8 +15,8 @@
 
 mod common;
 
-use navkf_dynamics::integrate::propagate_generic;
 use navkf_dynamics::state::*;
+use navkf_dynamics::system::propagate_generic;
 use navkf_dynamics::*;
 use navkf_filters::*;
 

@@ -33,7 +33,7 @@ fn ukfs(m: &Arc<PlatformModel>) -> Vec<Box<dyn Filter>> {
 
 /// A level platform at rest at 45.78 N, a good diagonal covariance.
 fn start() -> (Vec<f64>, Vec<f64>) {
-    common::at_rest(BASE_DIM, navkf_dynamics::simulate::base_coefficient_sigma)
+    common::at_rest(BASE_DIM, navkf_dynamics::prior::base_coefficient_sigma)
 }
 
 /// One second at rest, ten sub-steps.

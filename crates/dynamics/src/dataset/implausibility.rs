@@ -2,7 +2,7 @@
 //! check of [`super::implausible`] (where its bounds and their reasons are), each with where it
 //! is (file, columns, times, values) and the words that say it.
 
-use super::implausible::{
+use super::limits::{
     FALL_FRACTION, GNSS_FLOOR_M, OVERLOAD_G, POLE_DISTANCE_M, SCATTER_SIGMAS, SPEED_MARGIN,
     SUSTAINED_S,
 };

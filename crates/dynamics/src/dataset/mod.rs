@@ -8,15 +8,17 @@
 
 mod implausibility;
 mod implausible;
+mod limits;
 mod plausibility;
 mod read;
 mod summary;
 mod write;
 
 pub use implausibility::{Implausibility, JumpShape};
-pub use implausible::{
-    latitude_limit_deg, noise_beyond_sensors, FALL_FRACTION, GNSS_FLOOR_M, OVERLOAD_G,
-    POLE_DISTANCE_M, SCATTER_SIGMAS, SPEED_MARGIN, SUSTAINED_S,
+pub use implausible::noise_beyond_sensors;
+pub use limits::{
+    latitude_limit_deg, FALL_FRACTION, GNSS_FLOOR_M, OVERLOAD_G, POLE_DISTANCE_M, SCATTER_SIGMAS,
+    SPEED_MARGIN, SUSTAINED_S,
 };
 pub use plausibility::{DataWarning, Doubt};
 pub use summary::{

@@ -84,7 +84,7 @@ impl Dataset {
         let mut out = Vec::new();
         let odometer_fast = !self.odometer_beyond_road().is_empty();
         // Nor is a GPS track at a pole, where longitude measures no distance.
-        let limit = super::latitude_limit_deg();
+        let limit = super::limits::latitude_limit_deg();
         let at_pole = self
             .measurements
             .iter()

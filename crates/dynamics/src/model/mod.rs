@@ -17,6 +17,7 @@ use crate::error::DynamicsError;
 use crate::kinematics::Kinematics;
 use crate::linear_rates::StateLinearRate;
 use crate::noise::NoiseConfig;
+use crate::sensor_classes::PhysicalBound;
 use crate::state::*;
 use std::collections::HashSet;
 
@@ -41,6 +42,20 @@ pub struct PlatformModel {
 }
 
 impl PlatformModel {
+    /// The bound of state `index` of this model: a base coefficient's, or the one its effect
+    /// declares; `None` for a navigation state or an effect that declares none.
+    pub fn coefficient_bound(&self, index: usize) -> Option<PhysicalBound> {
+        if index < BASE_DIM {
+            return crate::sensor_classes::base_coefficient_bound(index);
+        }
+        self.effects().iter().enumerate().find_map(|(i, e)| {
+            let j = index.checked_sub(self.effect_offset(i))?;
+            (j < e.coefficient_names().len())
+                .then(|| e.coefficient_bounds().get(j).copied())
+                .flatten()
+        })
+    }
+
     /// The 20-state base model with the given process noise.
     pub fn base(noise: &NoiseConfig) -> Self {
         Self::new(Vec::new(), noise).expect("the base model has no effects to conflict")

@@ -5,9 +5,10 @@ use super::PlatformModel;
 use crate::attitude::{exact_rates_with, Attitude, Rotation};
 use crate::batch_propagation;
 use crate::effect::{NoiseChannel, Partials};
-use crate::integrate::{propagate_generic, InputWindow, PropagationScratch};
+use crate::integrate::{InputWindow, PropagationScratch};
 use crate::kinematics::{Input, Kinematics};
 use crate::state::*;
+use crate::system::propagate_generic;
 use crate::system::SystemModel;
 
 impl SystemModel for PlatformModel {

@@ -6,8 +6,8 @@
 
 pub mod datasets;
 
-use navkf_dynamics::integrate::propagate_generic;
 use navkf_dynamics::state::*;
+use navkf_dynamics::system::propagate_generic;
 use navkf_dynamics::{Input, InputWindow, PlatformModel, SystemModel};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -350,7 +350,7 @@ pub fn propagate(
     window: &InputWindow,
 ) {
     let mut scratch = navkf_dynamics::PropagationScratch::new(model.scratch_len(1));
-    navkf_dynamics::integrate::propagate_generic(model, x, noise, window, scratch.as_mut_slice());
+    navkf_dynamics::system::propagate_generic(model, x, noise, window, scratch.as_mut_slice());
 }
 
 /// A base-model state with every entry zero except latitude and longitude.

@@ -2,7 +2,7 @@
 //! base model, and the filters' initial estimate matching the truth's draws.
 #![allow(dead_code)]
 
-use navkf_dynamics::simulate::base_coefficient_sigma;
+use navkf_dynamics::prior::base_coefficient_sigma;
 use navkf_dynamics::state::*;
 use navkf_dynamics::*;
 use std::sync::Arc;

@@ -8,7 +8,7 @@
 //!
 //! **Noise competes with structure rather than going first**, because a missing effect
 //! inflates the fitted noise: the right structural model has the larger likelihood. A
-//! noise-only term (`gyro-bias-walk`, docs/model.md eq. (43)) or the refitted noise levels can
+//! noise-only term (`gyro-bias-walk`, docs/model.md eq. (44)) or the refitted noise levels can
 //! soak up any slow misfit, so a noise explanation is named only when it beats the best
 //! structured one by [`DECISIVE_BIC`], and a noise-only term only when it also makes the model
 //! consistent; when the two compete the round says so. A noise-only term must also beat a

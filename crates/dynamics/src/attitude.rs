@@ -6,7 +6,7 @@
 //! the specific force reaches the velocity as `f + nab + f x phi`. That is right for angles of
 //! arcminutes; an unaligned platform starts with azimuth errors of degrees, where it is not.
 //! The exact variant keeps the same 20 states and measurement, takes `phi` as Euler angles
-//! (docs/model.md eqs. (44)-(47)),
+//! (docs/model.md eqs. (45)-(48)),
 //!
 //! ```text
 //! C_n^p = Ry(phi_y) Rx(phi_x) Rz(phi_z)
@@ -23,7 +23,7 @@
 //! for the small-angle form). So every effect works with either, unchanged in meaning.
 //!
 //! Process noise drives the derivatives of its states directly in both variants: the gyro
-//! noise enters `phi'` rather than `Om` (docs/model.md eq. (46)). The two differ by
+//! noise enters `phi'` rather than `Om` (docs/model.md eq. (47)). The two differ by
 //! `E(phi) - I` (below), which depends only on the level angles `phi_x`, `phi_y`, and so is
 //! of their size (1e-4 rad in the paper's test); the noise itself is a random walk of 1e-7
 //! rad/sqrt(s).
@@ -47,7 +47,7 @@ pub enum Attitude {
     /// The paper's first-order equations (docs/model.md eqs. (8), (9)).
     #[default]
     SmallAngle,
-    /// Euler angles and the exact rotation (docs/model.md eqs. (44)-(47)).
+    /// Euler angles and the exact rotation (docs/model.md eqs. (45)-(48)).
     Exact,
 }
 
@@ -130,7 +130,7 @@ pub struct Rotation<T> {
 }
 
 impl<T: Real> Rotation<T> {
-    /// `C_n^p = Ry(phi_y) Rx(phi_x) Rz(phi_z)`: docs/model.md eq. (44).
+    /// `C_n^p = Ry(phi_y) Rx(phi_x) Rz(phi_z)`: docs/model.md eq. (45).
     #[inline(always)]
     pub fn new(phi: [T; 3]) -> Self {
         let (sx, cx) = phi[0].sin_cos();
@@ -180,7 +180,7 @@ impl<T: Real> Rotation<T> {
     }
 
     /// The Euler-angle rates `(phi_x', phi_y', phi_z')` for the rate `Om`, without the noise:
-    /// docs/model.md eq. (46).
+    /// docs/model.md eq. (47).
     #[inline(always)]
     pub fn euler_rates(&self, om: [T; 3]) -> [T; 3] {
         let dx = om[0].mul_add(self.cy, -(om[2] * self.sy));
@@ -190,7 +190,7 @@ impl<T: Real> Rotation<T> {
     }
 }
 
-/// The exact variant's navigation-state derivatives, docs/model.md eqs. (45)-(47), (10).
+/// The exact variant's navigation-state derivatives, docs/model.md eqs. (46)-(48), (10).
 /// `terms` holds, in the rate rows' places, the platform terms:
 /// `[eps_x, eps_y, eps_z, nab_x, nab_y, L', lambda']` (the base coefficients' plus every
 /// effect's; see the module documentation).
@@ -235,7 +235,7 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     ]
 }
 
-/// The exact variant's rate Jacobian (of docs/model.md eqs. (46), (47)): `NAV_DIM` rows `n`
+/// The exact variant's rate Jacobian (of docs/model.md eqs. (47), (48)): `NAV_DIM` rows `n`
 /// apart in `jac`, the first `n` columns of each written. On entry the rows hold the effects'
 /// partials of the platform terms (zeros without rate effects; `mapped_effects` says whether
 /// to map them), and `terms` their values (as for [`exact_rates`]), `rot` the rotation at

@@ -8,7 +8,7 @@
 //! ([`Lanes`]). It supplies the partial derivatives of what it adds, which the EKF needs; the
 //! test suite checks every effect's partials against finite differences.
 //!
-//! The catalogue (docs/model.md eqs. (37)-(43)) lives in [`crate::effects`]; a user writes a
+//! The catalogue (docs/model.md eqs. (37)-(44)) lives in [`crate::effects`]; a user writes a
 //! new effect by implementing [`Effect`] in their own crate and passing it to
 //! [`crate::PlatformModel::new`] or registering it in an [`crate::effects::Registry`]. The
 //! model holds effects as [`DynEffect`] objects, which every [`Effect`] is.

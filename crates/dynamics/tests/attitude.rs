@@ -1,4 +1,4 @@
-//! The exact-attitude variant (docs/model.md eqs. (44)-(47)): the three checks of
+//! The exact-attitude variant (docs/model.md eqs. (45)-(48)): the three checks of
 //! docs/model.md, "Variant: exact attitude", its Jacobian against finite differences at large
 //! angles with every rate effect, and its batched propagation against the one-state path.
 

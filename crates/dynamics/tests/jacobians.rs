@@ -114,6 +114,7 @@ effect_jacobian_tests! {
     accel_cross_axis => &["accel-cross-axis"], 12;
     torquer_scale => &["torquer-scale"], 13;
     odometer_scale => &["odometer-scale"], 14;
+    odometer_misalignment => &["odometer-misalignment"], 17;
     gps_latency => &["gps-latency"], 15;
     gyro_bias_walk => &["gyro-bias-walk"], 16;
 }
@@ -121,7 +122,7 @@ effect_jacobian_tests! {
 #[test]
 fn all_catalogue_effects_rate_jacobian_matches_finite_differences() {
     let model = all_effects_model();
-    assert_eq!(model.effects().len(), 7, "the catalogue has seven effects");
+    assert_eq!(model.effects().len(), 8, "the catalogue has eight effects");
     check_rates(&model, 20);
 }
 

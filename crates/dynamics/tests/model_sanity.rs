@@ -66,7 +66,7 @@ fn base_state_names_follow_model_md_table() {
 fn effects_append_their_coefficients_in_order() {
     let reg = Registry::catalogue();
     let all = with(&reg.names().iter().map(|s| s.as_str()).collect::<Vec<_>>());
-    assert_eq!(all.dim(), 20 + 3 + 2 + 2 + 3 + 1 + 1);
+    assert_eq!(all.dim(), 20 + 3 + 2 + 2 + 3 + 1 + 1 + 1);
     let mut expected: Vec<String> = MODEL_MD_STATES.iter().map(|s| s.to_string()).collect();
     for (i, e) in all.effects().iter().enumerate() {
         assert_eq!(
@@ -174,7 +174,7 @@ fn odometer_scale_and_gps_latency_make_the_measurement_non_linear() {
     }
 }
 
-/// docs/model.md eqs. (12), (43): `W = [w_gx, w_gy, w_gz, w_ax, w_ay]` on the first five
+/// docs/model.md eqs. (12), (44): `W = [w_gx, w_gy, w_gz, w_ax, w_ay]` on the first five
 /// states with densities
 /// `q_g`, `q_a`; gyro-bias-walk adds three channels on `Kg0x, Kg0y, Kg0z` with `q_b`.
 /// Catches: channels on the wrong states, swapped densities, a missing walk channel.

@@ -115,8 +115,8 @@ fn spec_rates(model: &PlatformModel, x: &[f64], f: &Input) -> [Sum; NAV_DIM] {
     r
 }
 
-/// The measurement, docs/model.md eq. (13), plus odometer-scale and gps-latency
-/// (docs/model.md eqs. (41), (42)) when present.
+/// The measurement, docs/model.md eq. (13), plus odometer-scale, gps-latency and
+/// odometer-misalignment (docs/model.md eqs. (41)-(43)) when present.
 fn spec_measurement(model: &PlatformModel, x: &[f64]) -> [Sum; MEAS_DIM] {
     let k = |name: &str| model.index_of(name).map(|i| x[i]);
     let (vx, vy, lat, lon) = (x[V_X], x[V_Y], x[LAT], x[LON]);
@@ -128,6 +128,11 @@ fn spec_measurement(model: &PlatformModel, x: &[f64]) -> [Sum; MEAS_DIM] {
     if let Some(kod) = k("kod") {
         z[0].add(kod * vx);
         z[1].add(kod * vy);
+    }
+    if let Some(a) = k("a_y") {
+        // R(a) v - v, R(a) = [[cos a, -sin a], [sin a, cos a]].
+        z[0].add(a.cos() * vx - a.sin() * vy - vx);
+        z[1].add(a.sin() * vx + a.cos() * vy - vy);
     }
     if let Some(tau) = k("tau") {
         let (rm, rn) = radii(lat);
@@ -216,12 +221,13 @@ fn all_catalogue_effects_together_follow_model_md() {
 /// pin them).
 #[test]
 fn catalogue_coefficient_names_are_model_md_names() {
-    let want: [(&str, &[&str]); 7] = [
+    let want: [(&str, &[&str]); 8] = [
         ("gyro-fz", &["Kg13x", "Kg13y", "Kg13z"]),
         ("accel-quadratic", &["Ka2x", "Ka2y"]),
         ("accel-cross-axis", &["Ka12x", "Ka12y"]),
         ("torquer-scale", &["ktx", "kty", "ktz"]),
         ("odometer-scale", &["kod"]),
+        ("odometer-misalignment", &["a_y"]),
         ("gps-latency", &["tau"]),
         ("gyro-bias-walk", &[]),
     ];
@@ -232,7 +238,7 @@ fn catalogue_coefficient_names_are_model_md_names() {
     expected.sort();
     assert_eq!(
         names, expected,
-        "the catalogue is docs/model.md's seven effects"
+        "the catalogue is docs/model.md's eight effects"
     );
     for (name, coeffs) in want {
         let e = reg.build(name).unwrap();

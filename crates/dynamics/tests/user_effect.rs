@@ -114,7 +114,7 @@ fn user_effect_extends_dim_and_names() {
 #[test]
 fn user_effect_registered_and_built_by_name() {
     let reg = registry();
-    assert_eq!(reg.names().len(), 8);
+    assert_eq!(reg.names().len(), 9);
     assert_eq!(reg.names().last().unwrap(), "gyro-misalignment");
     assert_eq!(reg.owner_of("Mxz").as_deref(), Some("gyro-misalignment"));
     let effects = reg

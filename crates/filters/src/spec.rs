@@ -35,7 +35,7 @@ pub struct FilterSpec {
     /// Sigma-point scaling (the UKFs'; the EKF ignores it).
     pub scaling: SigmaScaling,
     /// The attitude equations of the model the filter runs on: the small-angle form
-    /// (docs/model.md eqs. (8), (9)) or the exact variant (docs/model.md eqs. (44)-(47)).
+    /// (docs/model.md eqs. (8), (9)) or the exact variant (docs/model.md eqs. (45)-(48)).
     pub attitude: Attitude,
 }
 

@@ -1,7 +1,7 @@
 //! A noise-only term's density by maximum likelihood.
 //!
 //! A term that adds no coefficient, only process noise (`gyro-bias-walk`,
-//! docs/model.md eq. (43)), has one parameter, its density, which the filter cannot estimate
+//! docs/model.md eq. (44)), has one parameter, its density, which the filter cannot estimate
 //! as a state. So it is fitted around the filter: one pass per density on a grid of decades
 //! around the typical one, the best refined by a parabola through it and its neighbours, whose
 //! curvature also gives the resolution ([`DensityFit::log10_se`]). Each pass's likelihood is

@@ -1,5 +1,5 @@
 //! `gyro-bias-walk`: the constant drifts `Kg0x, Kg0y, Kg0z` wander as random walks of
-//! spectral density `q_b` (rad^2/s^3), docs/model.md eq. (43). No coefficients: it changes
+//! spectral density `q_b` (rad^2/s^3), docs/model.md eq. (44). No coefficients: it changes
 //! the noise model only.
 
 use crate::effect::{Effect, NoiseChannel, Terms};

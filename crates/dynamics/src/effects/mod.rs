@@ -1,5 +1,5 @@
 //! The catalogue of effects the base model leaves out (docs/model.md, "Catalogue of effects";
-//! docs/model.md eqs. (37)-(43)), one file each, and the registry that builds them by name.
+//! docs/model.md eqs. (37)-(44)), one file each, and the registry that builds them by name.
 //!
 //! Adding an effect to the catalogue is one new file here plus one line in
 //! [`Registry::catalogue`]; a user adds their own with [`Registry::register`]. The registry
@@ -10,6 +10,7 @@ mod accel_quadratic;
 mod gps_latency;
 mod gyro_bias_walk;
 mod gyro_fz;
+mod odometer_misalignment;
 mod odometer_scale;
 mod torquer_scale;
 
@@ -18,6 +19,7 @@ pub use accel_quadratic::AccelQuadratic;
 pub use gps_latency::GpsLatency;
 pub use gyro_bias_walk::GyroBiasWalk;
 pub use gyro_fz::GyroFz;
+pub use odometer_misalignment::OdometerMisalignment;
 pub use odometer_scale::OdometerScale;
 pub use torquer_scale::TorquerScale;
 
@@ -49,7 +51,7 @@ impl Default for Registry {
 }
 
 impl Registry {
-    /// The catalogue of `docs/model.md` (docs/model.md eqs. (37)-(43)).
+    /// The catalogue of `docs/model.md` (docs/model.md eqs. (37)-(44)).
     pub fn catalogue() -> Self {
         let mut r = Registry {
             entries: Vec::new(),
@@ -59,6 +61,7 @@ impl Registry {
         r.register(|| Box::new(AccelCrossAxis));
         r.register(|| Box::new(TorquerScale));
         r.register(|| Box::new(OdometerScale));
+        r.register(|| Box::new(OdometerMisalignment));
         r.register(|| Box::new(GpsLatency));
         r.register(|| Box::new(GyroBiasWalk::default()));
         r

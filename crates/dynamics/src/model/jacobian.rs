@@ -1,5 +1,5 @@
 //! The Jacobian `F` of the rates (for docs/model.md eq. (19)), analytic, in both attitude
-//! variants (docs/model.md eqs. (8), (9) and (44)-(47)), with the effects' partials.
+//! variants (docs/model.md eqs. (8), (9) and (45)-(48)), with the effects' partials.
 
 use super::PlatformModel;
 use crate::attitude::{exact_jacobian, Attitude, Rotation};

@@ -4,8 +4,8 @@
 //! - sensor errors `eps`, `nab`: docs/model.md eqs. (5), (6) ([`PlatformModel::base_terms`]);
 //! - state equations: docs/model.md eqs. (7)-(11) ([`PlatformModel::base_rates`]), their
 //!   Jacobian `F` (for docs/model.md eq. (19)), the process noise of docs/model.md eq. (12);
-//! - the exact-attitude variant instead: docs/model.md eqs. (44)-(47) ([`crate::attitude`]);
-//! - measurement: docs/model.md eq. (13); the effects' terms: docs/model.md eqs. (37)-(43).
+//! - the exact-attitude variant instead: docs/model.md eqs. (45)-(48) ([`crate::attitude`]);
+//! - measurement: docs/model.md eq. (13); the effects' terms: docs/model.md eqs. (37)-(44).
 
 mod jacobian;
 mod rates;

@@ -1,6 +1,6 @@
 //! The model's rates, written once generic over [`crate::real::Real`]: the sensor errors of
 //! docs/model.md eqs. (5), (6), the state equations of docs/model.md eqs. (7)-(11) and the
-//! effects' rate terms (docs/model.md eqs. (37)-(43)), for one state or eight lanes.
+//! effects' rate terms (docs/model.md eqs. (37)-(44)), for one state or eight lanes.
 
 use super::PlatformModel;
 use crate::attitude::{exact_rates, Attitude};

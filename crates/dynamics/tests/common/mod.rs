@@ -268,10 +268,14 @@ pub fn check_rate_jacobian(model: &PlatformModel, x: &[f64], u: &Input) -> Resul
     let fd = central_difference(x, &steps(model, RATE_STEPS), d, |xx, out| {
         model.rates(xx, u, out)
     });
-    // Term magnitudes of each row: the rate itself, every linear term J(r, c) x_c, and the
-    // specific force, which enters v_x' and v_y' directly (a term the Jacobian does not see).
+    // Term magnitudes of each row: the rate itself, every linear term J(r, c) x_c, the
+    // specific force, which enters v_x' and v_y' directly (a term the Jacobian does not see),
+    // and in the attitude rows the Earth's and the transport rates, which enter through the
+    // attitude's rotation and may cancel to a rate far smaller than either (the exact
+    // variant at large angles).
     let mut r0 = vec![0.0; d];
     model.rates(x, u, &mut r0);
+    let transport = (x[V_X].abs() + x[V_Y].abs()) / 6.3e6 * (1.0 + x[LAT].tan().abs());
     let m: Vec<f64> = (0..d)
         .map(|r| {
             let lin: f64 = (0..n).map(|c| (jac[r * n + c] * x[c]).abs()).sum();
@@ -280,7 +284,12 @@ pub fn check_rate_jacobian(model: &PlatformModel, x: &[f64], u: &Input) -> Resul
             } else {
                 0.0
             };
-            r0[r].abs() + lin + force
+            let turning = if r < 3 {
+                navkf_dynamics::earth::WIE + transport
+            } else {
+                0.0
+            };
+            r0[r].abs() + lin + force + turning
         })
         .collect();
     compare(&jac, &fd, &m, RATE_RTOL, &model.state_names())

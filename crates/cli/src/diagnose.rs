@@ -146,18 +146,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     }
     // A large recording takes seconds to read and minutes to diagnose: a spinner with the
     // elapsed time says it is working (drawn only on a terminal).
-    let spinner = ClearedOnDrop(
-        indicatif::ProgressBar::new_spinner().with_style(
-            indicatif::ProgressStyle::with_template("{spinner} {msg} ({elapsed})")
-                .expect("a valid template"),
-        ),
-    );
-    spinner
-        .0
-        .enable_steady_tick(std::time::Duration::from_millis(200));
-    spinner
-        .0
-        .set_message(format!("reading {}", a.dataset.display()));
+    let spinner = navkf_report::progress::spinner(format!("reading {}", a.dataset.display()));
     let ds = Dataset::read_with(&a.dataset, &registry)?;
     // The dataset's own tilt priors, where no flag overrides them.
     for (key, stated, flag) in [
@@ -187,14 +176,14 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             PathBuf::from("results/diagnose").join(&ds.name)
         }
     };
-    spinner.0.suspend(|| {
+    spinner.suspend(|| {
         for w in ds.warnings() {
             eprintln!("warning: {w}");
         }
     });
     let staged = navkf_report::ResultsDir::begin(&out)?;
     let started = std::time::Instant::now();
-    spinner.0.set_message(format!(
+    spinner.set_message(format!(
         "diagnosing {} ({} input rows, {} measurement rows)",
         ds.name,
         ds.inputs.len(),
@@ -264,15 +253,6 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     Ok(())
-}
-
-/// A progress bar removed from the terminal however the command ends (an error included).
-struct ClearedOnDrop(indicatif::ProgressBar);
-
-impl Drop for ClearedOnDrop {
-    fn drop(&mut self) {
-        self.0.finish_and_clear();
-    }
 }
 
 /// The filters' names with their one-line documentation, for `--filter` (from the one list,

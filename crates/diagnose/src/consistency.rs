@@ -9,7 +9,7 @@
 
 use navkf_dynamics::trajectory::Phase;
 use navkf_report::stats::{
-    chi2_quantile, mean_chi2_band, mean_chi2_bounds, normal_quantile, Band, Consistency,
+    chi2_quantile, mean_chi2_band, normal_quantile, Band, Consistency, MeanChi2,
 };
 use serde::{Deserialize, Serialize};
 
@@ -50,7 +50,9 @@ pub fn phase_name(p: Phase) -> &'static str {
     }
 }
 
-/// NIS statistics over a set of updates.
+/// NIS statistics over a set of updates: the mean of chi-square variables with its bounds
+/// ([`MeanChi2`], the one type of that idea, which [`NisStat::chi2`] returns), with the count
+/// and the mean dimension kept for the report.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct NisStat {
     /// Number of updates.
@@ -79,15 +81,21 @@ impl NisStat {
                 verdict: Consistency::NoVerdict,
             };
         }
-        let mean = nis.iter().sum::<f64>() / count as f64;
-        let bounds = mean_chi2_bounds(total_dof as f64, count as f64);
-        let verdict = Consistency::of(mean, bounds);
+        let chi2 = MeanChi2::of_sum(nis.iter().sum(), total_dof as f64, count as f64);
         NisStat {
             count,
-            mean,
+            mean: chi2.mean,
             dof: total_dof as f64 / count as f64,
-            bounds,
-            verdict,
+            bounds: chi2.bounds,
+            verdict: chi2.verdict(),
+        }
+    }
+
+    /// The mean with its 95 % bounds.
+    pub fn chi2(&self) -> MeanChi2 {
+        MeanChi2 {
+            mean: self.mean,
+            bounds: self.bounds,
         }
     }
 }

@@ -13,6 +13,7 @@ pub mod interrupt;
 pub mod json_nan;
 pub mod markdown;
 pub mod names;
+pub mod progress;
 pub mod provenance;
 pub mod results_dir;
 pub mod stats;

@@ -10,7 +10,7 @@ pub use merge::{merge, MergeArgs};
 use sweep::run_sweep;
 
 use crate::study_file::StudyFile;
-use indicatif::{ProgressBar, ProgressStyle};
+use navkf_report::progress::bar as progress_bar;
 use navkf_report::{ResultsDir, ShardFolder};
 use navkf_study::output::write_results;
 use navkf_study::partial::{shard_blocks, Partial};
@@ -66,23 +66,6 @@ fn parse_shard(s: &str, units: usize, what: &str) -> Result<(usize, usize), Stri
         ));
     }
     Ok((i, n))
-}
-
-/// A progress bar over `total` `what` (runs, datasets), or a hidden one with `quiet`.
-fn progress_bar(quiet: bool, total: usize, what: &str) -> ProgressBar {
-    let bar = if quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(total as u64)
-    };
-    bar.set_style(
-        ProgressStyle::with_template(&format!(
-            "{{prefix}} [{{bar:40}}] {{pos}}/{{len}} {what}, {{elapsed}} elapsed, ETA {{eta}}"
-        ))
-        .expect("a valid template")
-        .progress_chars("=> "),
-    );
-    bar
 }
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {

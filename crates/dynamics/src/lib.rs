@@ -2,6 +2,10 @@
 //! (`docs/model.md`), its switchable effects, the paper's vehicle test, a truth simulator and
 //! the dataset format. Each module cites the equations of `docs/model.md` it implements.
 //!
+//! The second model family, a strapdown unit's ([`strapdown`]), has its physics here so far:
+//! attitude, state equations and their Jacobian on dual numbers ([`dual`]); see
+//! docs/model.md, "The strapdown family".
+//!
 //! The [`PlatformModel`] implements [`SystemModel`], the trait every filter is generic over.
 //! Effects ([`Effect`]) add coefficients and terms at run time: the state dimension is 20
 //! plus what they add.
@@ -9,6 +13,7 @@
 pub mod attitude;
 pub mod batch_propagation;
 pub mod dataset;
+pub mod dual;
 pub mod earth;
 pub mod effect;
 pub mod effect_spec;
@@ -33,6 +38,7 @@ pub mod sensor_faults;
 pub mod sensors;
 pub mod simulate;
 pub mod state;
+pub mod strapdown;
 pub mod system;
 pub mod trajectory;
 pub mod trig;

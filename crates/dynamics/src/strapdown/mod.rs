@@ -1,0 +1,14 @@
+//! The strapdown model family: an inertial unit bolted to the vehicle, whose gyro and
+//! accelerometer errors live in the body frame and turn with it. It describes the platform
+//! family's vehicle test (odometer, GPS, horizontal motion on the ellipsoid) with the sensors
+//! most recordings come from: docs/model.md, "The strapdown family"; docs/model.md eqs. (49)-(58).
+//!
+//! - [`state`]: the 13 states and their names;
+//! - [`attitude`]: the body-to-navigation rotation from roll, pitch and heading, and the
+//!   angle rates from a body rate (docs/model.md eqs. (49), (53)-(55));
+//! - [`rates`]: the state equations, written once over [`crate::real::Real`], and their
+//!   Jacobian from the same source on dual numbers ([`crate::dual`]).
+
+pub mod attitude;
+pub mod rates;
+pub mod state;

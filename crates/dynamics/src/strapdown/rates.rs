@@ -1,0 +1,68 @@
+//! The strapdown state equations, docs/model.md eqs. (51)-(58), written once over
+//! [`Real`]: one state on `f64`, eight sigma points on [`crate::real::Lanes`], and the EKF's
+//! Jacobian on [`Dual`] numbers ([`nav_rate_jacobian`]), so the three cannot disagree.
+
+use super::attitude::{body_to_nav, euler_rates, rotate, rotate_back};
+use super::state::*;
+use crate::dual::Dual;
+use crate::earth::{meridian_radius, prime_vertical_radius, WIE};
+use crate::real::Real;
+
+/// One reading of the unit, body (forward-left-up) axes: rate `w` (rad/s, relative to
+/// inertial space) and specific force `f` (m/s^2), as `imu.csv` holds them.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ImuReading {
+    /// Body rate, rad/s.
+    pub w: [f64; 3],
+    /// Specific force, m/s^2.
+    pub f: [f64; 3],
+}
+
+/// Writes the derivatives of the [`NAV_DIM`] navigation states of `x` (the base states at
+/// least) under `imu`: docs/model.md eqs. (51)-(58) with no error matrices (the base model).
+#[inline(always)]
+pub fn nav_rates<T: Real>(x: &[T], imu: &ImuReading, dx: &mut [T]) {
+    let c = |v: f64| T::splat(v);
+    // docs/model.md eq. (51): the readings corrected by the biases.
+    let w: [T; 3] = std::array::from_fn(|i| c(imu.w[i]) - x[BG_X + i]);
+    let f: [T; 3] = std::array::from_fn(|i| c(imu.f[i]) - x[BA_X + i]);
+    let euler = [x[ROLL], x[PITCH], x[HEADING]];
+    let (v_e, v_n) = (x[V_E], x[V_N]);
+    let (sin_l, cos_l) = x[LAT].sin_cos();
+    let [inv_rm, inv_rn, inv_cos] =
+        T::reciprocals(meridian_radius(sin_l), prime_vertical_radius(sin_l), cos_l);
+    let tan_l = sin_l * inv_cos;
+    let cbn = body_to_nav(euler);
+    // docs/model.md eqs. (52), (53): the rate of n relative to inertial space, taken out in body axes.
+    let w_in = [
+        -(v_n * inv_rm),
+        cos_l * WIE + v_e * inv_rn,
+        sin_l * WIE + v_e * tan_l * inv_rn,
+    ];
+    let w_in_b = rotate_back(&cbn, w_in);
+    let w_nb = [w[0] - w_in_b[0], w[1] - w_in_b[1], w[2] - w_in_b[2]];
+    // docs/model.md eqs. (54), (55).
+    let angle_rates = euler_rates(euler, w_nb);
+    // docs/model.md eqs. (56), (57).
+    let f_n = rotate(&cbn, f);
+    let turn = sin_l * (2.0 * WIE) + v_e * tan_l * inv_rn;
+    dx[ROLL] = angle_rates[0];
+    dx[PITCH] = angle_rates[1];
+    dx[HEADING] = angle_rates[2];
+    dx[V_E] = f_n[0] + turn * v_n;
+    dx[V_N] = f_n[1] - turn * v_e;
+    // docs/model.md eq. (58).
+    dx[LAT] = v_n * inv_rm;
+    dx[LON] = v_e * inv_rn * inv_cos;
+}
+
+/// Writes `d(nav_rates)/dx`, row-major `NAV_DIM x BASE_DIM`, at `x` (the [`BASE_DIM`] base
+/// states): [`nav_rates`] evaluated on dual numbers, exact to rounding.
+pub fn nav_rate_jacobian(x: &[f64], imu: &ImuReading, jac: &mut [f64]) {
+    let xd: [Dual<BASE_DIM>; BASE_DIM] = std::array::from_fn(|i| Dual::variable(x[i], i));
+    let mut dx = [Dual::<BASE_DIM>::constant(0.0); NAV_DIM];
+    nav_rates(&xd, imu, &mut dx);
+    for (r, row) in dx.iter().enumerate() {
+        jac[r * BASE_DIM..(r + 1) * BASE_DIM].copy_from_slice(&row.d);
+    }
+}

@@ -32,7 +32,10 @@ fn main() {
     let n = model.dim();
     let mut w = InputWindow::with_capacity(11);
     for k in 0..=10 {
-        w.push_linear(0.1 * k as f64, [0.3, -0.2, 9.8]);
+        w.push_linear(
+            0.1 * k as f64,
+            navkf_dynamics::kinematics::platform_input([0.3, -0.2, 9.8]),
+        );
     }
     let mut x = vec![0.0; n];
     x[LAT] = 0.8;

@@ -73,7 +73,7 @@ fn interpolate(inputs: &[InputSample], next: usize, t: f64) -> Input {
         (Some(a), Some(b)) => lerp(a, b, t),
         (Some(a), None) => a.f,
         (None, Some(b)) => b.f,
-        (None, None) => [0.0; 3],
+        (None, None) => [0.0; crate::kinematics::INPUT_WIDTH],
     }
 }
 
@@ -83,11 +83,7 @@ fn lerp(a: &InputSample, b: &InputSample, t: f64) -> Input {
     } else {
         0.0
     };
-    [
-        a.f[0] + u * (b.f[0] - a.f[0]),
-        a.f[1] + u * (b.f[1] - a.f[1]),
-        a.f[2] + u * (b.f[2] - a.f[2]),
-    ]
+    std::array::from_fn(|i| a.f[i] + u * (b.f[i] - a.f[i]))
 }
 
 #[cfg(test)]
@@ -98,7 +94,7 @@ mod tests {
         ts.iter()
             .map(|&t| InputSample {
                 t,
-                f: [t, 2.0 * t, -t],
+                f: crate::kinematics::platform_input([t, 2.0 * t, -t]),
             })
             .collect()
     }
@@ -123,8 +119,8 @@ mod tests {
         let mut w = InputWindow::with_capacity(8);
         cursor.advance(&inputs, 1.5, &mut w);
         assert_eq!(w.t, vec![0.25, 1.0, 1.5]);
-        assert_eq!(w.f[0], [0.25, 0.5, -0.25]);
-        assert_eq!(w.f[2], [1.5, 3.0, -1.5]);
+        assert_eq!(w.f[0][..3], [0.25, 0.5, -0.25]);
+        assert_eq!(w.f[2][..3], [1.5, 3.0, -1.5]);
         cursor.advance(&inputs, 3.0, &mut w);
         assert_eq!(w.t, vec![1.5, 2.0, 3.0]);
         assert_eq!(w.f[2], inputs[2].f, "held at the last sample");

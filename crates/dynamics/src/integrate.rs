@@ -13,7 +13,7 @@
 //! variance `q T`; docs/model.md eq. (16)). A noise channel on a constant state (a coefficient
 //! random walk) moves that state linearly in time, which RK4 reproduces exactly.
 
-use crate::kinematics::Input;
+use crate::kinematics::{Input, IntoInput};
 use crate::real::{Lanes, Real};
 
 /// Input knots over one propagation interval. Reused across steps: `clear` keeps capacity.
@@ -43,19 +43,18 @@ impl InputWindow {
         self.f_mid.clear();
     }
     /// Appends a knot; the midpoint input of the new sub-step is the average of its ends.
-    pub fn push_linear(&mut self, t: f64, f: Input) {
+    pub fn push_linear(&mut self, t: f64, f: impl IntoInput) {
+        let f = f.into_input();
         if let Some(prev) = self.f.last() {
-            self.f_mid.push([
-                0.5 * (prev[0] + f[0]),
-                0.5 * (prev[1] + f[1]),
-                0.5 * (prev[2] + f[2]),
-            ]);
+            self.f_mid
+                .push(std::array::from_fn(|i| 0.5 * (prev[i] + f[i])));
         }
         self.t.push(t);
         self.f.push(f);
     }
     /// Appends a knot with an explicit midpoint input for the sub-step it closes.
-    pub fn push_with_mid(&mut self, t: f64, f: Input, f_mid: Input) {
+    pub fn push_with_mid(&mut self, t: f64, f: impl IntoInput, f_mid: impl IntoInput) {
+        let (f, f_mid) = (f.into_input(), f_mid.into_input());
         if !self.t.is_empty() {
             self.f_mid.push(f_mid);
         }

@@ -6,8 +6,46 @@ use crate::earth::{meridian_radius, prime_vertical_radius, FLATTENING, RE, WIE};
 use crate::real::Real;
 use crate::state::{LAT, PHI_X, PHI_Y, PHI_Z, V_X, V_Y};
 
-/// Specific force input `f = [fx, fy, fz]` along the platform axes, m/s^2.
-pub type Input = [f64; 3];
+/// What a model's state equations are driven by, one sample: up to [`INPUT_WIDTH`] numbers,
+/// each model family reading its own. The platform reads the specific force
+/// `f = [fx, fy, fz]` along its axes (m/s^2) from the first three and leaves the rest zero
+/// ([`platform_input`]); a strapdown unit reads its body rates, then its specific forces
+/// (`crate::strapdown::rates::ImuReading`). One fixed width keeps the input window, the
+/// filters and `dyn Filter` the same for every family.
+pub type Input = [f64; INPUT_WIDTH];
+
+/// A specific force `[fx, fy, fz]`, m/s^2: what the platform's input holds.
+pub type SpecificForce = [f64; 3];
+
+/// Numbers in one [`Input`] sample.
+pub const INPUT_WIDTH: usize = 6;
+
+/// What an input window takes as a knot's input: a whole [`Input`], or a platform's specific
+/// force ([`platform_input`]).
+pub trait IntoInput {
+    /// The input sample.
+    fn into_input(self) -> Input;
+}
+
+impl IntoInput for Input {
+    #[inline(always)]
+    fn into_input(self) -> Input {
+        self
+    }
+}
+
+impl IntoInput for SpecificForce {
+    #[inline(always)]
+    fn into_input(self) -> Input {
+        platform_input(self)
+    }
+}
+
+/// The platform's input: the specific force `f` in the first three numbers.
+#[inline(always)]
+pub fn platform_input(f: SpecificForce) -> Input {
+    [f[0], f[1], f[2], 0.0, 0.0, 0.0]
+}
 
 /// Trigonometry, radii and rates at one state, with their derivatives in latitude (for
 /// Jacobians). Field names follow `docs/model.md`: `w_cmd` is the rate the platform is
@@ -109,7 +147,7 @@ impl<T: Real> Kinematics<T> {
         let v_x = x[V_X];
         let v_y = x[V_Y];
         Kinematics {
-            f: f.map(T::splat),
+            f: [T::splat(f[0]), T::splat(f[1]), T::splat(f[2])],
             phi: [x[PHI_X], x[PHI_Y], x[PHI_Z]],
             v_x,
             v_y,

@@ -11,7 +11,7 @@
 //!   ([`crate::Simulator::with_specific_force_error`]); the recorded input lacks it.
 
 use crate::effect::{Effect, Partials, Terms};
-use crate::kinematics::{Input, Kinematics};
+use crate::kinematics::{Kinematics, SpecificForce};
 use crate::real::Real;
 use crate::state::{NAV_DIM, V_X, V_Y};
 
@@ -78,7 +78,7 @@ impl AccelWarmUp {
     pub const TYPICAL: f64 = 4.9e-4;
 
     /// The bias change at time `t` (s since the record started), as a specific-force error.
-    pub fn at(&self, t: f64) -> Input {
+    pub fn at(&self, t: f64) -> SpecificForce {
         let s = 1.0 - (-t.max(0.0) / self.time_constant_s).exp();
         [self.amplitude[0] * s, self.amplitude[1] * s, 0.0]
     }

@@ -11,7 +11,7 @@
 use crate::dataset::{Dataset, InputSample, Measurement, Provenance, Truth};
 use crate::error::DynamicsError;
 use crate::integrate::InputWindow;
-use crate::kinematics::Input;
+use crate::kinematics::{platform_input, Input, SpecificForce, INPUT_WIDTH};
 use crate::model::PlatformModel;
 use crate::noise::NoiseConfig;
 use crate::prior::base_coefficient_sigma;
@@ -342,7 +342,7 @@ impl Simulator {
         }
         let h = 1.0 / config.rate_hz;
         let half_step_inputs = (0..=2 * steps)
-            .map(|k| trajectory.specific_force(k as f64 * 0.5 * h))
+            .map(|k| platform_input(trajectory.specific_force(k as f64 * 0.5 * h)))
             .collect();
         let input_step = 1.0 / config.input_rate_hz;
         let n_inputs = steps / steps_per_input;
@@ -351,7 +351,7 @@ impl Simulator {
                 let t = k as f64 * input_step;
                 InputSample {
                     t,
-                    f: trajectory.specific_force(t),
+                    f: platform_input(trajectory.specific_force(t)),
                 }
             })
             .collect();
@@ -372,7 +372,7 @@ impl Simulator {
     /// input: an accelerometer error that varies with time and that no coefficient carries
     /// (warm-up, temperature; [`crate::outside::AccelWarmUp`]). Every run of this simulator
     /// then carries it.
-    pub fn with_specific_force_error(mut self, error: impl Fn(f64) -> Input) -> Self {
+    pub fn with_specific_force_error(mut self, error: impl Fn(f64) -> SpecificForce) -> Self {
         let h = 1.0 / self.config.rate_hz;
         for (k, f) in self.half_step_inputs.iter_mut().enumerate() {
             let e = error(k as f64 * 0.5 * h);
@@ -448,7 +448,7 @@ impl Simulator {
     fn aligned_tilt(&self, x: &[f64]) -> [f64; 3] {
         let model = &*self.model;
         let n = model.dim();
-        let f = self.trajectory.specific_force(0.0);
+        let f = platform_input(self.trajectory.specific_force(0.0));
         let mut level = x.to_vec();
         level[PHI_X..=PHI_Z].fill(0.0);
         let mut r = vec![0.0; NAV_DIM];
@@ -493,7 +493,7 @@ impl Simulator {
         for k in 0..self.steps {
             let t0 = k as f64 * h;
             window.clear();
-            window.push_with_mid(t0, self.half_step_inputs[2 * k], [0.0; 3]);
+            window.push_with_mid(t0, self.half_step_inputs[2 * k], [0.0; INPUT_WIDTH]);
             window.push_with_mid(
                 (k + 1) as f64 * h,
                 self.half_step_inputs[2 * k + 2],

@@ -161,7 +161,7 @@ mod tests {
         let model = PlatformModel::base(&NoiseConfig::default());
         let (d, n) = (model.dynamic_dim(), model.dim());
         let x: Vec<f64> = (0..n).map(|i| 1e-4 * (i as f64 + 1.0)).collect();
-        let u = [0.3, -0.2, 9.8];
+        let u = crate::kinematics::platform_input([0.3, -0.2, 9.8]);
         let mut jac = vec![0.0; d * n];
         let mut dx = vec![0.0; d];
         model.rate_jacobian(&x, &u, &mut jac);

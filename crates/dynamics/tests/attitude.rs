@@ -29,9 +29,13 @@ fn large_angles(rng: &mut ChaCha8Rng) -> [f64; 3] {
     ]
 }
 
-fn rates(model: &PlatformModel, x: &[f64], u: &[f64; 3]) -> Vec<f64> {
+fn rates<U: navkf_dynamics::kinematics::IntoInput + Copy>(
+    model: &PlatformModel,
+    x: &[f64],
+    u: &U,
+) -> Vec<f64> {
     let mut dx = vec![0.0; model.dim()];
-    model.rates(x, u, &mut dx);
+    model.rates(x, &u.into_input(), &mut dx);
     dx
 }
 
@@ -180,7 +184,7 @@ fn effects_reach_the_state_through_the_rotation() {
     let (s, c) = psi.sin_cos();
     assert!((r[V_X] - (c * a[0] + s * a[1])).abs() < 1e-14);
     assert!((r[V_Y] - (-s * a[0] + c * a[1])).abs() < 1e-14);
-    let k = Kinematics::new(&x, &u);
+    let k = Kinematics::new(&x, &navkf_dynamics::kinematics::platform_input(u));
     assert_eq!(k.phi[2], psi);
 }
 

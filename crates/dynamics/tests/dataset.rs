@@ -90,11 +90,11 @@ fn sample(name: &str) -> Dataset {
             let x = i as f64;
             InputSample {
                 t: x / 10.0,
-                f: [
+                f: navkf_dynamics::kinematics::platform_input([
                     awkward[i % awkward.len()],
                     (0.37 * x).sin() * 0.05,
                     9.806_65 + 1e-7 * x,
-                ],
+                ]),
             }
         })
         .collect();
@@ -1127,7 +1127,11 @@ fn drive() -> Dataset {
             let turning = (30.0..40.0).contains(&t);
             InputSample {
                 t,
-                f: [if turning { 0.3 } else { 0.0 }, 0.0, 9.8],
+                f: navkf_dynamics::kinematics::platform_input([
+                    if turning { 0.3 } else { 0.0 },
+                    0.0,
+                    9.8,
+                ]),
             }
         })
         .collect();

@@ -267,7 +267,7 @@ fn free_fall_and_overload_are_named_with_their_span() {
         .iter_mut()
         .filter(|i| 100.0 <= i.t && i.t <= 102.0)
     {
-        i.f = [0.0; 3];
+        i.f = [0.0; navkf_dynamics::kinematics::INPUT_WIDTH];
     }
     assert_eq!(ds.implausibilities(), []);
 }

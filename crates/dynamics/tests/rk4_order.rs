@@ -11,7 +11,7 @@ mod common;
 
 use common::*;
 use navkf_dynamics::state::*;
-use navkf_dynamics::{Input, InputWindow, NoiseConfig, PlatformModel, Registry};
+use navkf_dynamics::{InputWindow, NoiseConfig, PlatformModel, Registry};
 
 const T: f64 = 100.0;
 const H: f64 = 1.0;
@@ -19,7 +19,7 @@ const H: f64 = 1.0;
 /// A vehicle turning at 0.3 rad/s with 1.5 m/s^2 of centripetal force, plus a slower
 /// along-track oscillation and a small vertical vibration: analytic, so the exact midpoint
 /// input is known.
-fn force(t: f64) -> Input {
+fn force(t: f64) -> navkf_dynamics::kinematics::SpecificForce {
     let psi = 0.3 * t;
     let along = 0.8 * (0.11 * t).sin();
     [

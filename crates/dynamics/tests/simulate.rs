@@ -155,7 +155,8 @@ fn a_gyrocompassed_platform_starts_with_the_tilt_that_nulls_its_own_biases() {
     for run in 0..5 {
         let x = s.initial_state(7, run);
         let mut r = vec![0.0; NAV_DIM];
-        s.model().rates(&x, &f, &mut r);
+        s.model()
+            .rates(&x, &navkf_dynamics::kinematics::platform_input(f), &mut r);
         // Levelled and gyrocompassed: no horizontal acceleration, no drift about East.
         assert!(r[V_X].abs() < 1e-12 && r[V_Y].abs() < 1e-12, "{r:?}");
         assert!(r[PHI_X].abs() < 1e-18, "{r:?}");

@@ -47,7 +47,7 @@ impl Sum {
 fn spec_rates(model: &PlatformModel, x: &[f64], f: &Input) -> [Sum; NAV_DIM] {
     let k = |name: &str| model.index_of(name).map(|i| x[i]);
     let base = |name: &str| k(name).unwrap_or_else(|| panic!("base state {name}"));
-    let [fx, fy, fz] = *f;
+    let [fx, fy, fz] = [f[0], f[1], f[2]];
     let (px, py, pz) = (base("phi_x"), base("phi_y"), base("phi_z"));
     let (vx, vy, lat) = (base("v_x"), base("v_y"), base("L"));
     let (s, c) = lat.sin_cos();

@@ -175,7 +175,7 @@ impl Reference {
 
     /// `A x + B u + G w`.
     fn rate(&self, x: &DVector<f64>, u: &Input, w: &DVector<f64>) -> DVector<f64> {
-        &self.a * x + &self.b * DVector::from_column_slice(u) + &self.g * w
+        &self.a * x + &self.b * DVector::from_column_slice(&u[..3]) + &self.g * w
     }
 
     /// RK4 across the window, stage inputs `f_j, f_mid_j, f_mid_j, f_j+1`, `w` constant.
@@ -187,7 +187,7 @@ impl Reference {
         w: &DVector<f64>,
     ) -> DVector<f64> {
         let mut x = x0.clone();
-        let z = [0.0; 3];
+        let z = [0.0; navkf_dynamics::kinematics::INPUT_WIDTH];
         for j in 0..win.substeps() {
             let h = win.t[j + 1] - win.t[j];
             let (u0, um, u1) = if with_input {
@@ -356,7 +356,7 @@ fn compare_report(f: &dyn Filter, rr: &RefReport, step: usize) {
 }
 
 fn input_at(t: f64) -> Input {
-    [(0.7 * t).sin(), (0.3 * t).cos(), 1.0 + 0.1 * t]
+    navkf_dynamics::kinematics::platform_input([(0.7 * t).sin(), (0.3 * t).cos(), 1.0 + 0.1 * t])
 }
 
 #[test]

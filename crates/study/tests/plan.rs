@@ -92,7 +92,9 @@ fn at_rest_the_plan_is_the_closed_form_information() {
     let inputs = study.sim.inputs();
     let g = inputs[0].f[2];
     assert!(
-        inputs.iter().all(|i| i.f == [0.0, 0.0, g]),
+        inputs
+            .iter()
+            .all(|i| i.f == navkf_dynamics::kinematics::platform_input([0.0, 0.0, g])),
         "not a constant input"
     );
 

@@ -250,7 +250,7 @@ fn check_declared_terms(e: &dyn DynEffect, offset: usize, dim: usize) -> Result<
     x[V_Y] = -7.0;
     x[LAT] = 0.8;
     x[LON] = 2.2;
-    let k = Kinematics::new(&x, &[0.4, -0.3, 9.8]);
+    let k = Kinematics::new(&x, &crate::kinematics::platform_input([0.4, -0.3, 9.8]));
     let c = &x[offset..offset + count];
     let undeclared = |what: &str| {
         DynamicsError::Effect(format!(

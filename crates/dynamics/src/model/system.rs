@@ -60,7 +60,7 @@ impl SystemModel for PlatformModel {
     fn measure(&self, x: &[f64], z: &mut [f64]) {
         let mut out = [x[V_X], x[V_Y], x[LAT], x[LON]];
         if !self.meas_effects.is_empty() {
-            let k = Kinematics::new(x, &[0.0; 3]);
+            let k = Kinematics::new(x, &[0.0; crate::kinematics::INPUT_WIDTH]);
             for &i in &self.meas_effects {
                 let c = self.effect_coeffs(i, x);
                 self.effects[i].add_measurement(&k, c, &mut out);
@@ -78,7 +78,7 @@ impl SystemModel for PlatformModel {
         p.add(2, LAT, 1.0);
         p.add(3, LON, 1.0);
         if !self.meas_effects.is_empty() {
-            let k = Kinematics::new(x, &[0.0; 3]);
+            let k = Kinematics::new(x, &[0.0; crate::kinematics::INPUT_WIDTH]);
             for &i in &self.meas_effects {
                 let c = self.effect_coeffs(i, x);
                 self.effects[i].add_measurement_partials(&k, c, self.offsets[i], &mut p);

@@ -26,7 +26,7 @@ pub use segment::{phase_thresholds, Motion, Phase, Segment};
 
 use crate::earth::{meridian_radius, normal_gravity, prime_vertical_radius, WIE};
 use crate::error::DynamicsError;
-use crate::kinematics::Input;
+use crate::kinematics::SpecificForce;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -322,14 +322,14 @@ impl Trajectory {
 
     /// The specific force `[fx, fy, fz]` at time `t` that makes the error-free model follow
     /// the path (module documentation).
-    pub fn specific_force(&self, t: f64) -> Input {
+    pub fn specific_force(&self, t: f64) -> SpecificForce {
         let st = self.state(t);
         specific_force_for(&st)
     }
 }
 
 /// The specific force of a path state (module documentation).
-pub fn specific_force_for(st: &PathState) -> Input {
+pub fn specific_force_for(st: &PathState) -> SpecificForce {
     let (s, c) = st.pos[0].sin_cos();
     let tan_over_rn = s / c / prime_vertical_radius(s);
     let cor = 2.0 * WIE * s + st.v[0] * tan_over_rn;

@@ -6,6 +6,7 @@
 
 pub mod datasets;
 
+use navkf_dynamics::kinematics::{platform_input, IntoInput};
 use navkf_dynamics::state::*;
 use navkf_dynamics::system::propagate_generic;
 use navkf_dynamics::{Input, InputWindow, PlatformModel, SystemModel};
@@ -74,11 +75,11 @@ pub fn random_state(model: &PlatformModel, rng: &mut ChaCha8Rng) -> Vec<f64> {
 
 /// A realistic specific force: up to 2 m/s^2 horizontally, ~9.8 vertically.
 pub fn random_input(rng: &mut ChaCha8Rng) -> Input {
-    [
+    platform_input([
         rng.gen_range(-2.0..2.0),
         rng.gen_range(-2.0..2.0),
         9.8 + rng.gen_range(-0.1..0.1),
-    ]
+    ])
 }
 
 /// Finite-difference steps, one per state, relative to each state's scale.
@@ -342,7 +343,7 @@ pub fn check_measurement_jacobian(model: &PlatformModel, x: &[f64]) -> Result<f6
 }
 
 /// A window of knots `0, h, 2h, ..., T` with a constant input (midpoints by `push_linear`).
-pub fn constant_window(f: Input, h: f64, duration: f64) -> InputWindow {
+pub fn constant_window(f: impl IntoInput + Copy, h: f64, duration: f64) -> InputWindow {
     let steps = (duration / h).round() as usize;
     let mut w = InputWindow::with_capacity(steps + 1);
     for j in 0..=steps {

@@ -19,7 +19,10 @@ pub(super) fn read_inputs(path: &Path) -> Result<Vec<InputSample>, DynamicsError
         let t = cells.required(0)?;
         let f = [cells.required(1)?, cells.required(2)?, cells.required(3)?];
         check_increasing(path, row.line, t, &mut previous)?;
-        inputs.push(InputSample { t, f });
+        inputs.push(InputSample {
+            t,
+            f: crate::kinematics::platform_input(f),
+        });
     }
     if inputs.len() < 2 {
         return Err(data_error(

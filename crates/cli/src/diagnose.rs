@@ -214,10 +214,12 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "verdict: {}{}",
         d.verdict,
-        if d.effects.is_empty() {
-            String::new()
-        } else {
+        if !d.effects.is_empty() {
             format!(" (missing: {})", d.effects.join(", "))
+        } else if !d.suggested.is_empty() {
+            format!(" (suggested, not named: {})", d.suggested.join(", "))
+        } else {
+            String::new()
         }
     );
     for f in &d.findings {

@@ -69,6 +69,10 @@ pub struct Diagnosis {
     pub best: Option<String>,
     /// The named effects, in the order named (the `--with` ones are not repeated here).
     pub effects: Vec<String>,
+    /// Effects that fit decisively better but leave the model inconsistent (verdict
+    /// `partly explained`): suggested, not named, in the order found.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub suggested: Vec<String>,
     /// The final model: the model under test plus the named effects.
     pub model: FitSummary,
     /// The base model, when the final model has effects (before/after).

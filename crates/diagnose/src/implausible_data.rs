@@ -56,6 +56,7 @@ pub fn implausible_diagnosis(
         verdict: Verdict::ImplausibleData,
         best: None,
         effects: Vec::new(),
+        suggested: Vec::new(),
         model: summarize_fit(ds, &model, opts),
         before: None,
         rounds: Vec::new(),

@@ -63,7 +63,7 @@ use crate::report::findings::findings;
 use crate::stand_ins::withdraw_stand_ins;
 use crate::summary::summarize_fit;
 use crate::under_test::fit_under_test;
-use crate::verdict::judge;
+use crate::verdict::{judge, Verdict};
 use navkf_dynamics::dataset::{Dataset, MEASUREMENTS_FILE};
 use navkf_dynamics::Registry;
 
@@ -163,13 +163,20 @@ pub fn diagnose(
         };
         Some(fit_adaptive(ds, &setup, registry, &opts.filter)?.0)
     };
-    let effects: Vec<String> = stand_ins.kept.iter().map(Named::to_string).collect();
+    let kept: Vec<String> = stand_ins.kept.iter().map(Named::to_string).collect();
+    // An effect that leaves the model inconsistent is suggested, not named (crate::verdict).
+    let (effects, suggested) = if verdict == Verdict::PartlyExplained {
+        (Vec::new(), kept)
+    } else {
+        (kept, Vec::new())
+    };
     let mut d = Diagnosis {
         dataset: ds.name.clone(),
         attitude: opts.filter.attitude,
         verdict,
         best: effects.first().cloned(),
         effects,
+        suggested,
         model: summary,
         before: before.as_ref().map(|f| summarize_fit(ds, f, opts)),
         rounds,

@@ -506,3 +506,27 @@ fn no_automatic_round_is_refused() {
     let e = diagnose(&ds, &Registry::catalogue(), &opts).unwrap_err();
     assert!(e.to_string().contains("at least 1"), "{e}");
 }
+
+/// Odometer slip while accelerating (outside the catalogue) raises the odometer's reading as a
+/// scale error would, but only while the speed changes: `odometer-scale` then fits decisively
+/// better yet leaves the model inconsistent. It is suggested, not named (issue "No confident
+/// wrong answer"; before this rule the error-rate study named it for slip in 31 of 60
+/// datasets).
+#[test]
+fn an_effect_that_leaves_a_misfit_is_suggested_not_named() {
+    let mut ds = dataset(Vec::new(), &[], 11);
+    navkf_dynamics::sensor_faults::SensorFault::OdometerSlip { gain_s2_m: 0.1 }
+        .apply(&mut ds)
+        .unwrap();
+    let d = run(&ds);
+    assert_eq!(d.verdict, Verdict::PartlyExplained, "{:#?}", d.findings);
+    assert!(d.effects.is_empty() && d.best.is_none(), "{:?}", d.effects);
+    assert!(!d.suggested.is_empty());
+    assert!(
+        d.findings
+            .iter()
+            .any(|f| f.contains("suggested, not named")),
+        "{:#?}",
+        d.findings
+    );
+}

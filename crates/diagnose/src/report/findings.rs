@@ -193,7 +193,9 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
         )),
         Verdict::PartlyExplained => out.push(format!(
             "With {} the model fits decisively better, but a misfit remains that nothing in \
-             the catalogue explains (NIS {:.3}, bounds {:.3}-{:.3}). {}",
+             the catalogue explains (NIS {:.3}, bounds {:.3}-{:.3}), so they are suggested, \
+             not named: an effect that does not make the model fit may only stand in for what \
+             is missing. {}",
             named_list(d),
             d.model.nis.mean,
             d.model.nis.bounds[0],

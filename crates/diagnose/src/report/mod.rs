@@ -52,8 +52,17 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
         out,
         "**Verdict: {}**{}\n",
         d.verdict,
-        if d.effects.is_empty() {
+        if d.effects.is_empty() && d.suggested.is_empty() {
             String::new()
+        } else if d.effects.is_empty() {
+            format!(
+                " - nothing named; suggested, but leaving a misfit: {}",
+                d.suggested
+                    .iter()
+                    .map(|e| format!("`{e}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
         } else {
             format!(
                 " - missing effects, in the order named: {}",

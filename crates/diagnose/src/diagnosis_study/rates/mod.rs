@@ -525,9 +525,10 @@ pub fn rates(records: &[Record]) -> Rates {
         },
         Target {
             what: "outside the catalogue: a catalogued effect named".into(),
-            target: "at most 5 %".into(),
+            // Issue "No confident wrong answer": as on clean data.
+            target: "at most 2 %".into(),
             measured: outside_named.to_string(),
-            met: outside_named.rate <= 0.05,
+            met: outside_named.rate <= 0.02,
         },
     ];
     for d in &detection {

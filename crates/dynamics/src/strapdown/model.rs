@@ -1,0 +1,126 @@
+//! The strapdown family's base model as a [`SystemModel`], so the filters run it as they run
+//! the platform: the 13 states, the rates of docs/model.md eqs. (51)-(58) driven by the unit's
+//! readings, and the measurement of docs/model.md eqs. (59), (60) (odometer speed, GPS
+//! position, and the non-holonomic constraint).
+//!
+//! **Input.** Each [`Input`] sample holds the body rate `w` (rad/s) in its first three numbers
+//! and the specific force `f` (m/s^2) in the next three, body FLU axes, as `imu.csv` does.
+//!
+//! **Process noise.** The gyro and accelerometer white noises enter through the corrected
+//! rate and force (docs/model.md eq. (50)). Resolved in n, an accelerometer noise of density
+//! `q_a` per body axis is `q_a` per horizontal axis whatever the attitude (a rotation keeps an
+//! isotropic covariance), so `v_e`, `v_n` each get a channel of density `q_a`. The gyro noise
+//! reaches the angle rates through the Euler-rate map of docs/model.md eqs. (54), (55), which is
+//! `D` (a sign per axis) at level and turns the noise by the tilt's size otherwise; the model
+//! gives roll, pitch and heading a channel of density `q_g` each, exact at level and off by
+//! terms of the order of the squared tilt for a road vehicle's few degrees.
+//!
+//! **Jacobians.** The rates and the measurement are written once over [`Real`]; their
+//! Jacobians are the same source on dual numbers ([`crate::dual`]).
+
+use super::attitude::{body_to_nav, rotate_back};
+use super::rates::{nav_rate_jacobian, nav_rates, ImuReading};
+use super::state::*;
+use crate::dual::Dual;
+use crate::effect::NoiseChannel;
+use crate::kinematics::Input;
+use crate::noise::NoiseConfig;
+use crate::real::Real;
+use crate::system::SystemModel;
+
+/// Rows of the measurement: odometer speed, GPS latitude and longitude, and the two
+/// non-holonomic pseudo-measurements (lateral and vertical body velocity, zero).
+pub const MEASUREMENT_NAMES: [&str; 5] = ["speed", "L", "lambda", "nhc_lateral", "nhc_vertical"];
+/// Measurement dimension.
+pub const MEAS_DIM: usize = 5;
+
+/// The strapdown base model (module documentation).
+#[derive(Debug, Clone)]
+pub struct StrapdownModel {
+    noise: Vec<NoiseChannel>,
+}
+
+impl StrapdownModel {
+    /// The base model with the process noise of `noise` (`gyro_psd`, `accel_psd`).
+    pub fn base(noise: &NoiseConfig) -> Self {
+        let channel = |name: &str, state, psd| NoiseChannel {
+            name: name.into(),
+            state,
+            psd,
+        };
+        StrapdownModel {
+            noise: vec![
+                channel("w_roll", ROLL, noise.gyro_psd),
+                channel("w_pitch", PITCH, noise.gyro_psd),
+                channel("w_heading", HEADING, noise.gyro_psd),
+                channel("w_ve", V_E, noise.accel_psd),
+                channel("w_vn", V_N, noise.accel_psd),
+            ],
+        }
+    }
+}
+
+/// The unit's reading held in an input sample (module documentation).
+pub fn imu_of(u: &Input) -> ImuReading {
+    ImuReading {
+        w: [u[0], u[1], u[2]],
+        f: [u[3], u[4], u[5]],
+    }
+}
+
+/// An input sample holding the unit's reading.
+pub fn input_of(imu: &ImuReading) -> Input {
+    [imu.w[0], imu.w[1], imu.w[2], imu.f[0], imu.f[1], imu.f[2]]
+}
+
+/// The measurement, docs/model.md eqs. (59), (60): the body-frame velocity's forward
+/// component (the odometer), the position (the GPS), and the lateral and vertical components
+/// (zero for a wheeled vehicle).
+#[inline(always)]
+pub fn measurement<T: Real>(x: &[T], z: &mut [T]) {
+    let cbn = body_to_nav([x[ROLL], x[PITCH], x[HEADING]]);
+    let v_b = rotate_back(&cbn, [x[V_E], x[V_N], T::splat(0.0)]);
+    z[0] = v_b[0];
+    z[1] = x[LAT];
+    z[2] = x[LON];
+    z[3] = v_b[1];
+    z[4] = v_b[2];
+}
+
+impl SystemModel for StrapdownModel {
+    fn dim(&self) -> usize {
+        BASE_DIM
+    }
+    fn dynamic_dim(&self) -> usize {
+        NAV_DIM
+    }
+    fn noise_channels(&self) -> &[NoiseChannel] {
+        &self.noise
+    }
+    fn rates(&self, x: &[f64], u: &Input, dx: &mut [f64]) {
+        nav_rates(x, &imu_of(u), dx);
+    }
+    fn rate_jacobian(&self, x: &[f64], u: &Input, jac: &mut [f64]) {
+        nav_rate_jacobian(x, &imu_of(u), jac);
+    }
+    fn meas_dim(&self) -> usize {
+        MEAS_DIM
+    }
+    fn measure(&self, x: &[f64], z: &mut [f64]) {
+        measurement(x, z);
+    }
+    fn measurement_jacobian(&self, x: &[f64], h: &mut [f64]) {
+        let xd: [Dual<BASE_DIM>; BASE_DIM] = std::array::from_fn(|i| Dual::variable(x[i], i));
+        let mut z = [Dual::<BASE_DIM>::constant(0.0); MEAS_DIM];
+        measurement(&xd, &mut z);
+        for (r, row) in z.iter().enumerate() {
+            h[r * BASE_DIM..(r + 1) * BASE_DIM].copy_from_slice(&row.d);
+        }
+    }
+    fn measurement_is_linear(&self) -> bool {
+        false
+    }
+    fn state_names(&self) -> Vec<String> {
+        STATE_NAMES.iter().map(|s| s.to_string()).collect()
+    }
+}

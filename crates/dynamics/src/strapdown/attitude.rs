@@ -13,12 +13,23 @@
 
 use crate::real::Real;
 
+/// The sines and cosines of `[roll, pitch, heading]`, evaluated once for both
+/// [`body_to_nav_of`] and [`euler_rates_of`].
+#[inline(always)]
+pub fn angle_trig<T: Real>(euler: [T; 3]) -> [(T, T); 3] {
+    euler.map(|a| a.sin_cos())
+}
+
 /// `C_b^n` from `[roll, pitch, heading]`: rows East, North, Up; columns forward, left, up.
 #[inline(always)]
 pub fn body_to_nav<T: Real>(euler: [T; 3]) -> [[T; 3]; 3] {
-    let (sf, cf) = euler[0].sin_cos();
-    let (st, ct) = euler[1].sin_cos();
-    let (sp, cp) = euler[2].sin_cos();
+    body_to_nav_of(&angle_trig(euler))
+}
+
+/// [`body_to_nav`] from the angles' sines and cosines ([`angle_trig`]).
+#[inline(always)]
+pub fn body_to_nav_of<T: Real>(trig: &[(T, T); 3]) -> [[T; 3]; 3] {
+    let [(sf, cf), (st, ct), (sp, cp)] = *trig;
     // Rz(psi) Ry(theta) Rx(phi), NED rows and FRD columns.
     let c = [
         [ct * cp, sf * st * cp - cf * sp, cf * st * cp + sf * sp],
@@ -50,10 +61,15 @@ pub fn rotate_back<T: Real>(c: &[[T; 3]; 3], a: [T; 3]) -> [T; 3] {
 /// (docs/model.md eqs. (53)-(55)). Singular at pitch +-90 deg.
 #[inline(always)]
 pub fn euler_rates<T: Real>(euler: [T; 3], w_nb: [T; 3]) -> [T; 3] {
+    euler_rates_of(&angle_trig(euler), w_nb)
+}
+
+/// [`euler_rates`] from the angles' sines and cosines ([`angle_trig`]).
+#[inline(always)]
+pub fn euler_rates_of<T: Real>(trig: &[(T, T); 3], w_nb: [T; 3]) -> [T; 3] {
     // Forward-right-down components: D w_nb.
     let (p, q, r) = (w_nb[0], -w_nb[1], -w_nb[2]);
-    let (sf, cf) = euler[0].sin_cos();
-    let (st, ct) = euler[1].sin_cos();
+    let [(sf, cf), (st, ct), _] = *trig;
     let inv_ct = T::splat(1.0) / ct;
     let turn = q * sf + r * cf;
     [p + turn * st * inv_ct, q * cf - r * sf, turn * inv_ct]

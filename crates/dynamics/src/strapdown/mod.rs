@@ -6,11 +6,13 @@
 //! - [`state`]: the 13 states and their names;
 //! - [`attitude`]: the body-to-navigation rotation from roll, pitch and heading, and the
 //!   angle rates from a body rate (docs/model.md eqs. (49), (53)-(55));
+//! - [`batch`]: sigma points propagated eight at a time, from the same rates;
 //! - [`model`]: the base model as a [`crate::SystemModel`], with its measurement;
 //! - [`rates`]: the state equations, written once over [`crate::real::Real`], and their
 //!   Jacobian from the same source on dual numbers ([`crate::dual`]).
 
 pub mod attitude;
+pub mod batch;
 pub mod model;
 pub mod rates;
 pub mod state;

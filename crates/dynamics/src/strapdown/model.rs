@@ -23,6 +23,7 @@ use super::rates::{nav_rate_jacobian, nav_rates, ImuReading};
 use super::state::*;
 use crate::dual::Dual;
 use crate::effect::NoiseChannel;
+use crate::integrate::{InputWindow, PropagationScratch};
 use crate::kinematics::Input;
 use crate::noise::NoiseConfig;
 use crate::real::Real;
@@ -122,5 +123,14 @@ impl SystemModel for StrapdownModel {
     }
     fn state_names(&self) -> Vec<String> {
         STATE_NAMES.iter().map(|s| s.to_string()).collect()
+    }
+    fn propagate_points(
+        &self,
+        points: &mut [f64],
+        noise: Option<&[f64]>,
+        window: &InputWindow,
+        _scratch: &mut PropagationScratch,
+    ) {
+        super::batch::propagate_blocks(points, noise, &self.noise, window);
     }
 }

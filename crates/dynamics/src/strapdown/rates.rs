@@ -2,7 +2,7 @@
 //! [`Real`]: one state on `f64`, eight sigma points on [`crate::real::Lanes`], and the EKF's
 //! Jacobian on [`Dual`] numbers ([`nav_rate_jacobian`]), so the three cannot disagree.
 
-use super::attitude::{body_to_nav, euler_rates, rotate, rotate_back};
+use super::attitude::{angle_trig, body_to_nav_of, euler_rates_of, rotate, rotate_back};
 use super::state::*;
 use crate::dual::Dual;
 use crate::earth::{meridian_radius, prime_vertical_radius, WIE};
@@ -32,7 +32,8 @@ pub fn nav_rates<T: Real>(x: &[T], imu: &ImuReading, dx: &mut [T]) {
     let [inv_rm, inv_rn, inv_cos] =
         T::reciprocals(meridian_radius(sin_l), prime_vertical_radius(sin_l), cos_l);
     let tan_l = sin_l * inv_cos;
-    let cbn = body_to_nav(euler);
+    let trig = angle_trig(euler);
+    let cbn = body_to_nav_of(&trig);
     // docs/model.md eqs. (52), (53): the rate of n relative to inertial space, taken out in body axes.
     let w_in = [
         -(v_n * inv_rm),
@@ -42,7 +43,7 @@ pub fn nav_rates<T: Real>(x: &[T], imu: &ImuReading, dx: &mut [T]) {
     let w_in_b = rotate_back(&cbn, w_in);
     let w_nb = [w[0] - w_in_b[0], w[1] - w_in_b[1], w[2] - w_in_b[2]];
     // docs/model.md eqs. (54), (55).
-    let angle_rates = euler_rates(euler, w_nb);
+    let angle_rates = euler_rates_of(&trig, w_nb);
     // docs/model.md eqs. (56), (57).
     let f_n = rotate(&cbn, f);
     let turn = sin_l * (2.0 * WIE) + v_e * tan_l * inv_rn;

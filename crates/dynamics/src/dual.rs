@@ -1,7 +1,8 @@
 //! Dual numbers: a value with its derivatives along `N` directions, carried through every
 //! operation (forward-mode automatic differentiation). They implement [`Real`], so physics
-//! written once over [`Real`] gives its exact Jacobian on them: the strapdown family's EKF
-//! Jacobian is its rates evaluated on `Dual`; see docs/model.md, "The strapdown family".
+//! written once over [`Real`] gives its exact Jacobian on them: the strapdown family's
+//! measurement Jacobian, and the check of its written-out rate Jacobian; see docs/model.md,
+//! "The strapdown family".
 //!
 //! ```
 //! use navkf_dynamics::dual::Dual;

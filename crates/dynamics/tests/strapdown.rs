@@ -371,3 +371,33 @@ fn batched_propagation_matches_one_point_at_a_time() {
         );
     }
 }
+
+/// The written-out Jacobian (the EKF's) against the dual-number one (the rates themselves,
+/// differentiated exactly): every entry within rounding of its row's terms.
+#[test]
+fn the_written_out_jacobian_is_the_dual_numbers_one() {
+    use navkf_dynamics::strapdown::jacobian::nav_rate_jacobian_analytic;
+    let mut rng = ChaCha8Rng::seed_from_u64(6);
+    for _ in 0..200 {
+        let x = random_state(&mut rng);
+        let imu = random_imu(&mut rng);
+        let mut dual = [f64::NAN; NAV_DIM * BASE_DIM];
+        let mut written = [f64::NAN; NAV_DIM * BASE_DIM];
+        nav_rate_jacobian(&x, &imu, &mut dual);
+        nav_rate_jacobian_analytic(&x, &imu, &mut written);
+        for r in 0..NAV_DIM {
+            let row_scale = (0..BASE_DIM)
+                .map(|c| dual[r * BASE_DIM + c].abs())
+                .fold(0.0, f64::max);
+            for c in 0..BASE_DIM {
+                let (a, b) = (written[r * BASE_DIM + c], dual[r * BASE_DIM + c]);
+                assert!(
+                    (a - b).abs() <= 1e-12 * row_scale,
+                    "d({})/d({}): written {a:e}, dual {b:e}",
+                    STATE_NAMES[r],
+                    STATE_NAMES[c]
+                );
+            }
+        }
+    }
+}

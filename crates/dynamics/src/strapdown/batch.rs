@@ -1,6 +1,6 @@
 //! The strapdown model's sigma points propagated eight at a time: each block of
-//! [`LANES`] points is one [`Lanes`] value per state, and the rates of docs/model.md
-//! eqs. (51)-(58) are the same source as the one-state path ([`super::rates::nav_rates`]),
+//! [`LANES`] points is one [`Lanes`] value per state, and the rates
+//! (docs/model.md eqs. (51)-(58)) are the same source as the one-state path ([`super::rates::nav_rates`]),
 //! evaluated on lanes, so the compiler turns them into SIMD instructions. The RK4 stages are
 //! [`RK4`] stepped through as [`crate::integrate::propagate_one`] steps them, operation for
 //! operation, noise held over the window included; a lane lands where the point lands alone,

@@ -13,6 +13,7 @@
 
 pub mod attitude;
 pub mod batch;
+pub mod jacobian;
 pub mod model;
 pub mod rates;
 pub mod state;

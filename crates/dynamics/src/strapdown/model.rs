@@ -15,11 +15,14 @@
 //! gives roll, pitch and heading a channel of density `q_g` each, exact at level and off by
 //! terms of the order of the squared tilt for a road vehicle's few degrees.
 //!
-//! **Jacobians.** The rates and the measurement are written once over [`Real`]; their
-//! Jacobians are the same source on dual numbers ([`crate::dual`]).
+//! **Jacobians.** The rates and the measurement are written once over [`Real`]. The
+//! measurement's Jacobian is that source on dual numbers ([`crate::dual`]); the rates', taken
+//! at every RK4 stage of the EKF's step, is written out ([`super::jacobian`]) and held to the
+//! dual-number one by the tests.
 
 use super::attitude::{body_to_nav, rotate_back};
-use super::rates::{nav_rate_jacobian, nav_rates, ImuReading};
+use super::jacobian::nav_rate_jacobian_analytic;
+use super::rates::{nav_rates, ImuReading};
 use super::state::*;
 use crate::dual::Dual;
 use crate::effect::NoiseChannel;
@@ -102,7 +105,7 @@ impl SystemModel for StrapdownModel {
         nav_rates(x, &imu_of(u), dx);
     }
     fn rate_jacobian(&self, x: &[f64], u: &Input, jac: &mut [f64]) {
-        nav_rate_jacobian(x, &imu_of(u), jac);
+        nav_rate_jacobian_analytic(x, &imu_of(u), jac);
     }
     fn meas_dim(&self) -> usize {
         MEAS_DIM

@@ -1,6 +1,7 @@
 //! The strapdown state equations, docs/model.md eqs. (51)-(58), written once over
-//! [`Real`]: one state on `f64`, eight sigma points on [`crate::real::Lanes`], and the EKF's
-//! Jacobian on [`Dual`] numbers ([`nav_rate_jacobian`]), so the three cannot disagree.
+//! [`Real`]: one state on `f64`, eight sigma points on [`crate::real::Lanes`], and their
+//! exact Jacobian on [`Dual`] numbers ([`nav_rate_jacobian`]), which checks the written-out
+//! one the EKF runs ([`super::jacobian`]).
 
 use super::attitude::{angle_trig, body_to_nav_of, euler_rates_of, rotate, rotate_back};
 use super::state::*;

@@ -1,6 +1,8 @@
 //! What the CLI tests share: running the built `navkf` and reading its output.
 #![allow(dead_code)] // each test file uses a subset
 
+pub mod study_files;
+
 use std::process::{Command, Output};
 
 /// Runs the `navkf` binary of this build with `args` (paths may be any OS string).

@@ -5,7 +5,8 @@
 //! `cargo run --release -p navkf-benches --example strapdown_step [-- SECONDS]`
 
 use navkf_benches::{all_filters, Scenario};
-use navkf_dynamics::strapdown::model::{input_of, measurement, StrapdownModel, MEAS_DIM};
+use navkf_dynamics::strapdown::model::{measurement, StrapdownModel, MEAS_DIM};
+use navkf_dynamics::strapdown::rates::input_of;
 use navkf_dynamics::strapdown::rates::ImuReading;
 use navkf_dynamics::strapdown::state::*;
 use navkf_dynamics::{InputWindow, NoiseConfig};

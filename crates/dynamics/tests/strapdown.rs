@@ -324,7 +324,8 @@ fn dual_values_and_batches_are_the_scalar_rates_bit_for_bit() {
 /// division for three reciprocals allows.
 #[test]
 fn batched_propagation_matches_one_point_at_a_time() {
-    use navkf_dynamics::strapdown::model::{input_of, StrapdownModel};
+    use navkf_dynamics::strapdown::model::StrapdownModel;
+    use navkf_dynamics::strapdown::rates::input_of;
     use navkf_dynamics::system::propagate_generic;
     use navkf_dynamics::{InputWindow, NoiseConfig, SystemModel};
     let model = StrapdownModel::base(&NoiseConfig {

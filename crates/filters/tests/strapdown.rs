@@ -6,7 +6,8 @@
 
 use navkf_dynamics::earth::{normal_gravity, WIE};
 use navkf_dynamics::strapdown::attitude::{body_to_nav, rotate_back};
-use navkf_dynamics::strapdown::model::{input_of, measurement, StrapdownModel, MEAS_DIM};
+use navkf_dynamics::strapdown::model::{measurement, StrapdownModel, MEAS_DIM};
+use navkf_dynamics::strapdown::rates::input_of;
 use navkf_dynamics::strapdown::rates::{nav_rates, ImuReading};
 use navkf_dynamics::strapdown::state::*;
 use navkf_dynamics::{InputWindow, NoiseConfig};

@@ -7,8 +7,7 @@
 //! up to the reciprocals a batch takes with one division ([`crate::real::Real::reciprocals`]).
 //! Nothing is allocated: a block lives on the stack.
 
-use super::model::imu_of;
-use super::rates::nav_rates;
+use super::rates::{imu_of, nav_rates};
 use super::state::{BASE_DIM, NAV_DIM};
 use crate::effect::NoiseChannel;
 use crate::integrate::{rk4_step, InputWindow, RK4};

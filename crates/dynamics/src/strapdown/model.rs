@@ -22,7 +22,7 @@
 
 use super::attitude::{body_to_nav, rotate_back};
 use super::jacobian::nav_rate_jacobian_analytic;
-use super::rates::{nav_rates, ImuReading};
+use super::rates::{imu_of, nav_rates};
 use super::state::*;
 use crate::dual::Dual;
 use crate::effect::NoiseChannel;
@@ -62,19 +62,6 @@ impl StrapdownModel {
             ],
         }
     }
-}
-
-/// The unit's reading held in an input sample (module documentation).
-pub fn imu_of(u: &Input) -> ImuReading {
-    ImuReading {
-        w: [u[0], u[1], u[2]],
-        f: [u[3], u[4], u[5]],
-    }
-}
-
-/// An input sample holding the unit's reading.
-pub fn input_of(imu: &ImuReading) -> Input {
-    [imu.w[0], imu.w[1], imu.w[2], imu.f[0], imu.f[1], imu.f[2]]
 }
 
 /// The measurement, docs/model.md eqs. (59), (60): the body-frame velocity's forward

@@ -7,6 +7,7 @@ use super::attitude::{angle_trig, body_to_nav_of, euler_rates_of, rotate, rotate
 use super::state::*;
 use crate::dual::Dual;
 use crate::earth::{meridian_radius, prime_vertical_radius, WIE};
+use crate::kinematics::Input;
 use crate::real::Real;
 
 /// One reading of the unit, body (forward-left-up) axes: rate `w` (rad/s, relative to
@@ -17,6 +18,19 @@ pub struct ImuReading {
     pub w: [f64; 3],
     /// Specific force, m/s^2.
     pub f: [f64; 3],
+}
+
+/// The unit's reading held in an input sample (body rate in the first three numbers, specific force in the next three).
+pub fn imu_of(u: &Input) -> ImuReading {
+    ImuReading {
+        w: [u[0], u[1], u[2]],
+        f: [u[3], u[4], u[5]],
+    }
+}
+
+/// An input sample holding the unit's reading.
+pub fn input_of(imu: &ImuReading) -> Input {
+    [imu.w[0], imu.w[1], imu.w[2], imu.f[0], imu.f[1], imu.f[2]]
 }
 
 /// Writes the derivatives of the [`NAV_DIM`] navigation states of `x` (the base states at

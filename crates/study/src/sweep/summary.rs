@@ -11,7 +11,7 @@ use navkf_dynamics::state::PHI_Z;
 use navkf_filters::DivergenceCause;
 use navkf_report::figure::FigureOutcome;
 use navkf_report::markdown::{number, Number, Table};
-use navkf_report::stats::mean_chi2_bounds;
+use navkf_report::stats::MeanChi2;
 use navkf_report::write_atomic;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -49,6 +49,23 @@ pub struct PointFilter {
     pub runs_ok: u64,
     /// Median cost of one predict + update, ns.
     pub step_ns_median: f64,
+}
+
+impl PointFilter {
+    /// The average NEES at the first stored time with its bounds.
+    pub fn nees_early_chi2(&self) -> MeanChi2 {
+        MeanChi2 {
+            mean: self.nees_early,
+            bounds: self.nees_early_bounds,
+        }
+    }
+    /// The average NEES at the final time with its bounds.
+    pub fn nees_final_chi2(&self) -> MeanChi2 {
+        MeanChi2 {
+            mean: self.nees_final,
+            bounds: self.nees_final_bounds,
+        }
+    }
 }
 
 /// One point of a sweep.
@@ -123,11 +140,16 @@ pub fn point(
             .filter_map(|(c, r)| s.final_bound.get(c).map(|b| (c.clone(), r / b)))
             .collect();
         let logs: Vec<f64> = rms_over_bound.values().map(|v| v.ln()).collect();
-        let bounds = if ft.ok > 0 {
-            mean_chi2_bounds(ok * n as f64, ok)
-        } else {
-            [f64::NAN; 2]
+        // The average NEES at stored time k, the mean of `ok` chi-square variables of n
+        // degrees of freedom each, with its bounds.
+        let nees_at = |k: usize| {
+            if ft.ok > 0 {
+                MeanChi2::of_sum(ft.sum_nees[k], ok * n as f64, ok)
+            } else {
+                MeanChi2::of_sum(0.0, 0.0, 0.0)
+            }
         };
+        let (early, last_nees) = (nees_at(0), nees_at(last));
         filters.insert(
             name.clone(),
             PointFilter {
@@ -143,10 +165,10 @@ pub fn point(
                     (logs.iter().sum::<f64>() / logs.len() as f64).exp()
                 },
                 rms_over_bound,
-                nees_early: mean_nees(0),
-                nees_early_bounds: bounds,
-                nees_final: mean_nees(last),
-                nees_final_bounds: bounds,
+                nees_early: early.mean,
+                nees_early_bounds: early.bounds,
+                nees_final: last_nees.mean,
+                nees_final_bounds: last_nees.bounds,
                 nees_peak: peak,
                 nees_peak_t: peak_t,
                 diverged: s.diverged,

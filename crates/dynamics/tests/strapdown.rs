@@ -402,3 +402,36 @@ fn the_written_out_jacobian_is_the_dual_numbers_one() {
         }
     }
 }
+
+/// The EKF's shared evaluation (`rates_and_jacobian`, one set of sines and cosines for both)
+/// gives the rates and the Jacobian bit for bit, rows spread to the stride, padding zeroed.
+#[test]
+fn rates_and_jacobian_together_are_the_two_apart() {
+    use navkf_dynamics::strapdown::model::StrapdownModel;
+    use navkf_dynamics::strapdown::rates::input_of;
+    use navkf_dynamics::{NoiseConfig, SystemModel};
+    let model = StrapdownModel::base(&NoiseConfig::default());
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    for _ in 0..20 {
+        let x = random_state(&mut rng);
+        let u = input_of(&random_imu(&mut rng));
+        let mut dx = [0.0; NAV_DIM];
+        let mut jac = [0.0; NAV_DIM * BASE_DIM];
+        model.rates(&x, &u, &mut dx);
+        model.rate_jacobian(&x, &u, &mut jac);
+        let stride = BASE_DIM + 3;
+        let mut dx2 = [f64::NAN; NAV_DIM];
+        let mut jac2 = vec![f64::NAN; NAV_DIM * stride];
+        model.rates_and_jacobian(&x, &u, &mut dx2, &mut jac2, stride);
+        assert_eq!(dx.map(f64::to_bits), dx2.map(f64::to_bits));
+        for r in 0..NAV_DIM {
+            assert_eq!(
+                &jac2[r * stride..r * stride + BASE_DIM],
+                &jac[r * BASE_DIM..(r + 1) * BASE_DIM]
+            );
+            assert!(jac2[r * stride + BASE_DIM..(r + 1) * stride]
+                .iter()
+                .all(|v| *v == 0.0));
+        }
+    }
+}

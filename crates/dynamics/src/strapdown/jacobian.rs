@@ -43,9 +43,22 @@ fn mul_v(c: &M3, a: [f64; 3]) -> [f64; 3] {
 
 /// Writes `d(nav_rates)/dx` at `x` under `imu` into `jac` (`NAV_DIM x BASE_DIM`, row-major).
 pub fn nav_rate_jacobian_analytic(x: &[f64], imu: &ImuReading, jac: &mut [f64]) {
+    let trig = angle_trig([x[ROLL], x[PITCH], x[HEADING]]);
+    nav_rate_jacobian_with(x, imu, &trig, crate::trig::sin_cos_angle(x[LAT]), jac);
+}
+
+/// [`nav_rate_jacobian_analytic`] with the sines and cosines of the angles and of the
+/// latitude already evaluated (shared with the rates at the same point).
+pub fn nav_rate_jacobian_with(
+    x: &[f64],
+    imu: &ImuReading,
+    trig: &[(f64, f64); 3],
+    (sl, cl): (f64, f64),
+    jac: &mut [f64],
+) {
     let n = BASE_DIM;
     jac[..NAV_DIM * n].fill(0.0);
-    let [(sf, cf), (st, ct), (sp, cp)] = angle_trig([x[ROLL], x[PITCH], x[HEADING]]);
+    let [(sf, cf), (st, ct), (sp, cp)] = *trig;
     let rx: M3 = [[1.0, 0.0, 0.0], [0.0, cf, -sf], [0.0, sf, cf]];
     let ry: M3 = [[ct, 0.0, st], [0.0, 1.0, 0.0], [-st, 0.0, ct]];
     let rz: M3 = [[cp, -sp, 0.0], [sp, cp, 0.0], [0.0, 0.0, 1.0]];
@@ -63,7 +76,6 @@ pub fn nav_rate_jacobian_analytic(x: &[f64], imu: &ImuReading, jac: &mut [f64]) 
     let w: [f64; 3] = std::array::from_fn(|i| imu.w[i] - x[BG_X + i]);
     let f: [f64; 3] = std::array::from_fn(|i| imu.f[i] - x[BA_X + i]);
     let (v_e, v_n) = (x[V_E], x[V_N]);
-    let (sl, cl) = crate::trig::sin_cos(x[LAT]);
     let (rm, rn) = (meridian_radius(sl), prime_vertical_radius(sl));
     let tl = sl / cl;
     // d RM / dL and d RN / dL.

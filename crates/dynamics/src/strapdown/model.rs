@@ -20,9 +20,10 @@
 //! at every RK4 stage of the EKF's step, is written out ([`super::jacobian`]) and held to the
 //! dual-number one by the tests.
 
+use super::attitude::angle_trig;
 use super::attitude::{body_to_nav, rotate_back};
-use super::jacobian::nav_rate_jacobian_analytic;
-use super::rates::{imu_of, nav_rates};
+use super::jacobian::{nav_rate_jacobian_analytic, nav_rate_jacobian_with};
+use super::rates::{imu_of, nav_rates, nav_rates_with};
 use super::state::*;
 use crate::dual::Dual;
 use crate::effect::NoiseChannel;
@@ -93,6 +94,29 @@ impl SystemModel for StrapdownModel {
     }
     fn rate_jacobian(&self, x: &[f64], u: &Input, jac: &mut [f64]) {
         nav_rate_jacobian_analytic(x, &imu_of(u), jac);
+    }
+    /// The rates and their Jacobian from one evaluation of the angles' and the latitude's
+    /// sines and cosines (the EKF asks for both at every RK4 stage).
+    fn rates_and_jacobian(
+        &self,
+        x: &[f64],
+        u: &Input,
+        dx: &mut [f64],
+        jac: &mut [f64],
+        stride: usize,
+    ) {
+        assert!(stride >= BASE_DIM && jac.len() >= NAV_DIM * stride);
+        let imu = imu_of(u);
+        let trig = angle_trig([x[ROLL], x[PITCH], x[HEADING]]);
+        let lat = crate::trig::sin_cos_angle(x[LAT]);
+        nav_rates_with(x, &imu, &trig, lat, dx);
+        let mut j = [0.0; NAV_DIM * BASE_DIM];
+        nav_rate_jacobian_with(x, &imu, &trig, lat, &mut j);
+        for r in 0..NAV_DIM {
+            jac[r * stride..r * stride + BASE_DIM]
+                .copy_from_slice(&j[r * BASE_DIM..(r + 1) * BASE_DIM]);
+            jac[r * stride + BASE_DIM..(r + 1) * stride].fill(0.0);
+        }
     }
     fn meas_dim(&self) -> usize {
         MEAS_DIM

@@ -37,18 +37,29 @@ pub fn input_of(imu: &ImuReading) -> Input {
 /// least) under `imu`: docs/model.md eqs. (51)-(58) with no error matrices (the base model).
 #[inline(always)]
 pub fn nav_rates<T: Real>(x: &[T], imu: &ImuReading, dx: &mut [T]) {
+    let trig = angle_trig([x[ROLL], x[PITCH], x[HEADING]]);
+    nav_rates_with(x, imu, &trig, x[LAT].sin_cos(), dx);
+}
+
+/// [`nav_rates`] with the sines and cosines of the angles ([`angle_trig`]) and of the
+/// latitude already evaluated (the EKF shares them with the Jacobian).
+#[inline(always)]
+pub fn nav_rates_with<T: Real>(
+    x: &[T],
+    imu: &ImuReading,
+    trig: &[(T, T); 3],
+    (sin_l, cos_l): (T, T),
+    dx: &mut [T],
+) {
     let c = |v: f64| T::splat(v);
     // docs/model.md eq. (51): the readings corrected by the biases.
     let w: [T; 3] = std::array::from_fn(|i| c(imu.w[i]) - x[BG_X + i]);
     let f: [T; 3] = std::array::from_fn(|i| c(imu.f[i]) - x[BA_X + i]);
-    let euler = [x[ROLL], x[PITCH], x[HEADING]];
     let (v_e, v_n) = (x[V_E], x[V_N]);
-    let (sin_l, cos_l) = x[LAT].sin_cos();
     let [inv_rm, inv_rn, inv_cos] =
         T::reciprocals(meridian_radius(sin_l), prime_vertical_radius(sin_l), cos_l);
     let tan_l = sin_l * inv_cos;
-    let trig = angle_trig(euler);
-    let cbn = body_to_nav_of(&trig);
+    let cbn = body_to_nav_of(trig);
     // docs/model.md eqs. (52), (53): the rate of n relative to inertial space, taken out in body axes.
     let w_in = [
         -(v_n * inv_rm),
@@ -58,7 +69,7 @@ pub fn nav_rates<T: Real>(x: &[T], imu: &ImuReading, dx: &mut [T]) {
     let w_in_b = rotate_back(&cbn, w_in);
     let w_nb = [w[0] - w_in_b[0], w[1] - w_in_b[1], w[2] - w_in_b[2]];
     // docs/model.md eqs. (54), (55).
-    let angle_rates = euler_rates_of(&trig, w_nb);
+    let angle_rates = euler_rates_of(trig, w_nb);
     // docs/model.md eqs. (56), (57).
     let f_n = rotate(&cbn, f);
     let turn = sin_l * (2.0 * WIE) + v_e * tan_l * inv_rn;

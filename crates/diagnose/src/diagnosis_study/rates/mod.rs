@@ -307,9 +307,13 @@ fn detection(effect: &str, records: &[&Record]) -> Detection {
     let (lo, hi) = points.iter().fold((f64::INFINITY, 0.0f64), |(l, h), p| {
         (l.min(p.0), h.max(p.0))
     });
-    let all_named = !points.is_empty() && points.iter().all(|p| p.1);
+    // Named at least 90 % of the time over every size drawn: the limit is the smallest size
+    // drawn, whatever the curve's slope (a miss or two among the largest sizes would tilt a
+    // logistic fit the wrong way and read as "no size dependence").
+    let named = points.iter().filter(|p| p.1).count();
+    let named_from_the_smallest = !points.is_empty() && named as f64 >= 0.9 * points.len() as f64;
     let (limit, no_limit) = match fit {
-        _ if all_named => (Some(lo), None),
+        _ if named_from_the_smallest => (Some(lo), None),
         Some([a, b]) if b > 0.0 => {
             let m = ((LOGIT_90 - a) / b).exp();
             if m > hi {

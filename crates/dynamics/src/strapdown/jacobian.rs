@@ -44,20 +44,23 @@ fn mul_v(c: &M3, a: [f64; 3]) -> [f64; 3] {
 /// Writes `d(nav_rates)/dx` at `x` under `imu` into `jac` (`NAV_DIM x BASE_DIM`, row-major).
 pub fn nav_rate_jacobian_analytic(x: &[f64], imu: &ImuReading, jac: &mut [f64]) {
     let trig = angle_trig([x[ROLL], x[PITCH], x[HEADING]]);
-    nav_rate_jacobian_with(x, imu, &trig, crate::trig::sin_cos_angle(x[LAT]), jac);
+    let lat = crate::trig::sin_cos_angle(x[LAT]);
+    nav_rate_jacobian_with(x, imu, &trig, lat, jac, BASE_DIM);
 }
 
 /// [`nav_rate_jacobian_analytic`] with the sines and cosines of the angles and of the
-/// latitude already evaluated (shared with the rates at the same point).
+/// latitude already evaluated (shared with the rates at the same point), its rows `stride >=
+/// BASE_DIM` apart in `jac` (padding zeroed), as the EKF's tangent lays them out.
 pub fn nav_rate_jacobian_with(
     x: &[f64],
     imu: &ImuReading,
     trig: &[(f64, f64); 3],
     (sl, cl): (f64, f64),
     jac: &mut [f64],
+    stride: usize,
 ) {
-    let n = BASE_DIM;
-    jac[..NAV_DIM * n].fill(0.0);
+    assert!(stride >= BASE_DIM && jac.len() >= NAV_DIM * stride);
+    jac[..NAV_DIM * stride].fill(0.0);
     let [(sf, cf), (st, ct), (sp, cp)] = *trig;
     let rx: M3 = [[1.0, 0.0, 0.0], [0.0, cf, -sf], [0.0, sf, cf]];
     let ry: M3 = [[ct, 0.0, st], [0.0, 1.0, 0.0], [-st, 0.0, ct]];
@@ -116,7 +119,7 @@ pub fn nav_rate_jacobian_with(
     ];
     // E D: the angle rates per unit of w_nb.
     let ed: M3 = std::array::from_fn(|i| [e[i][0], -e[i][1], -e[i][2]]);
-    let set = |jac: &mut [f64], r: usize, col: usize, v: f64| jac[r * n + col] = v;
+    let set = |jac: &mut [f64], r: usize, col: usize, v: f64| jac[r * stride + col] = v;
     // Angle rows: through E (roll, pitch) and through w_nb (every angle, v, L, bg).
     for (a, col) in [ROLL, PITCH, HEADING].into_iter().enumerate() {
         let d_wnb = t_mul(&dc[a], w_in).map(|v| -v);

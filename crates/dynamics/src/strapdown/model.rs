@@ -105,18 +105,11 @@ impl SystemModel for StrapdownModel {
         jac: &mut [f64],
         stride: usize,
     ) {
-        assert!(stride >= BASE_DIM && jac.len() >= NAV_DIM * stride);
         let imu = imu_of(u);
         let trig = angle_trig([x[ROLL], x[PITCH], x[HEADING]]);
         let lat = crate::trig::sin_cos_angle(x[LAT]);
         nav_rates_with(x, &imu, &trig, lat, dx);
-        let mut j = [0.0; NAV_DIM * BASE_DIM];
-        nav_rate_jacobian_with(x, &imu, &trig, lat, &mut j);
-        for r in 0..NAV_DIM {
-            jac[r * stride..r * stride + BASE_DIM]
-                .copy_from_slice(&j[r * BASE_DIM..(r + 1) * BASE_DIM]);
-            jac[r * stride + BASE_DIM..(r + 1) * stride].fill(0.0);
-        }
+        nav_rate_jacobian_with(x, &imu, &trig, lat, jac, stride);
     }
     fn meas_dim(&self) -> usize {
         MEAS_DIM

@@ -22,6 +22,10 @@ pub struct NoiseConfig {
     pub odometer_floor: f64,
     /// GPS horizontal position one-sigma, metres (paper: 3 m).
     pub gps_m: f64,
+    /// One-sigma of the non-holonomic constraint's pseudo-measurements, m/s (the strapdown
+    /// family, docs/model.md eq. (60)); absent: the constraint is not used.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nhc_m_s: Option<f64>,
 }
 
 impl Default for NoiseConfig {
@@ -32,6 +36,7 @@ impl Default for NoiseConfig {
             odometer_rel: 0.002,
             odometer_floor: 0.01,
             gps_m: 3.0,
+            nhc_m_s: None,
         }
     }
 }
@@ -45,6 +50,7 @@ impl NoiseConfig {
             ("odometer_rel", self.odometer_rel),
             ("odometer_floor", self.odometer_floor),
             ("gps_m", self.gps_m),
+            ("nhc_m_s", self.nhc_m_s.unwrap_or(1.0)),
         ] {
             if !(v.is_finite() && v > 0.0) {
                 return Err(format!("noise.{key} = {v}: expected a finite number > 0"));

@@ -179,6 +179,9 @@ pub struct SimulatedRun {
     pub measurements: Vec<Measurement>,
     /// True states.
     pub truth: Truth,
+    /// The recorded input (the platform's specific force, the same for every run of a
+    /// path; a strapdown unit's readings, with this run's sensor errors).
+    pub inputs: Arc<Vec<InputSample>>,
 }
 
 /// The truth simulator for one model, trajectory and configuration; shared by all runs.
@@ -517,6 +520,7 @@ impl Simulator {
                 measurements.push(Measurement {
                     t,
                     velocity: Some([z[0] + e[0], z[1] + e[1]]),
+                    speed: None,
                     position_deg: Some([(z[2] + e[2]).to_degrees(), (z[3] + e[3]).to_degrees()]),
                 });
                 truth.t.push(t);
@@ -527,6 +531,7 @@ impl Simulator {
             run,
             measurements,
             truth,
+            inputs: self.inputs.clone(),
         }
     }
 

@@ -69,6 +69,7 @@ pub fn scaled(stated: &NoiseConfig, theta: [f64; 4]) -> NoiseConfig {
         odometer_rel: stated.odometer_rel * sigma(2),
         odometer_floor: stated.odometer_floor * sigma(2),
         gps_m: stated.gps_m * sigma(3),
+        nhc_m_s: stated.nhc_m_s,
     }
 }
 

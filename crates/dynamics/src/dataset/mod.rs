@@ -58,8 +58,11 @@ pub struct InputSample {
 pub struct Measurement {
     /// Time, s.
     pub t: f64,
-    /// Odometer velocity `[v_e, v_n]`, m/s.
+    /// Odometer velocity `[v_e, v_n]`, m/s (the platform family's odometer).
     pub velocity: Option<[f64; 2]>,
+    /// Odometer speed along the vehicle's forward axis, signed, m/s (the strapdown family's
+    /// odometer, docs/model.md eq. (59)).
+    pub speed: Option<f64>,
     /// GPS `[lat_deg, lon_deg]`, degrees.
     pub position_deg: Option<[f64; 2]>,
 }

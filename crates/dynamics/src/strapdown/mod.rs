@@ -9,11 +9,18 @@
 //! - [`batch`]: sigma points propagated eight at a time, from the same rates;
 //! - [`model`]: the base model as a [`crate::SystemModel`], with its measurement;
 //! - [`rates`]: the state equations, written once over [`crate::real::Real`], and their
-//!   Jacobian from the same source on dual numbers ([`crate::dual`]).
+//!   Jacobian from the same source on dual numbers ([`crate::dual`]);
+//! - [`sensors`]: odometer speed, GPS fix and the non-holonomic constraint as a filter's
+//!   observation (docs/model.md eqs. (59), (60));
+//! - [`simulate`]: the truth simulator, a level unit driving a [`crate::Trajectory`];
+//! - [`unit_class`]: navigation, tactical and MEMS units, with the sizes of their errors.
 
 pub mod attitude;
 pub mod batch;
 pub mod jacobian;
 pub mod model;
 pub mod rates;
+pub mod sensors;
+pub mod simulate;
 pub mod state;
+pub mod unit_class;

@@ -37,6 +37,10 @@ pub struct PathState {
     pub a: [f64; 2],
     /// Latitude and longitude, rad.
     pub pos: [f64; 2],
+    /// Heading from North, positive towards East (clockwise seen from above), rad.
+    pub heading: f64,
+    /// Signed speed along the heading, m/s.
+    pub speed: f64,
     /// Heading rate, rad/s.
     pub turn_rate: f64,
     /// Upward acceleration on a grade, m/s^2 (the vertical velocity itself is not modelled).
@@ -314,6 +318,8 @@ impl Trajectory {
             v,
             a,
             pos,
+            heading: psi,
+            speed: s,
             turn_rate: dpsi,
             a_up,
             phase: seg.phase(),

@@ -104,26 +104,31 @@ pub fn sample(name: &str) -> Dataset {
         Measurement {
             t: 0.0,
             velocity: Some([0.0, 0.0]),
+            speed: None,
             position_deg: Some([45.78, 126.63]),
         },
         Measurement {
             t: 1.0,
             velocity: Some([1.0 / 3.0, -0.1]),
+            speed: None,
             position_deg: None,
         },
         Measurement {
             t: 2.0,
             velocity: Some([0.7, 2.0_f64.sqrt()]),
+            speed: None,
             position_deg: Some([45.780_012_345_678_9, 126.630_000_1]),
         },
         Measurement {
             t: 3.0,
             velocity: None,
+            speed: None,
             position_deg: Some([45.780_03, -126.63]),
         },
         Measurement {
             t: 4.0,
             velocity: Some([1e-9, -0.0]),
+            speed: None,
             position_deg: Some([-45.78, 359.9]),
         },
     ];
@@ -146,6 +151,7 @@ pub fn sample(name: &str) -> Dataset {
             odometer_rel: 0.002,
             odometer_floor: 0.01,
             gps_m: 2.0,
+            nhc_m_s: None,
         },
         noise_stated: true,
         prior: PlatformPrior {

@@ -85,6 +85,7 @@ pub(super) fn read_measurements(
         measurements.push(Measurement {
             t,
             velocity,
+            speed: None,
             position_deg,
         });
         lines.push(row.line);

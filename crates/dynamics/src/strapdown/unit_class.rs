@@ -1,0 +1,119 @@
+//! Classes of strapdown inertial unit, with the sizes of their sensor errors: what
+//! `navkf simulate --model strapdown --unit mems` and a study's `[model] unit` draw from.
+//!
+//! The values sit inside the ranges of Groves, *Principles of GNSS, Inertial, and
+//! Multisensor Integrated Navigation Systems*, 2nd ed. (2013), section 4.4 (biases, Table
+//! 4.1 for accelerometers and Table 4.2 for gyros by grade; noise, section 4.4.3), and of
+//! Titterton & Weston, *Strapdown Inertial Navigation Technology*, 2nd ed. (2004), Table
+//! 8.1 (gyro performance by application). Where a range is wide, the class takes a value a
+//! unit of that class meets after its factory calibration:
+//!
+//! | class | gyro bias | angle random walk | accel bias | velocity random walk |
+//! |---|---|---|---|---|
+//! | navigation (ring-laser, aviation) | 0.01 deg/h | 0.002 deg/sqrt(h) | 50 ug | 30 ug/sqrt(Hz) |
+//! | tactical (fibre-optic) | 1 deg/h | 0.05 deg/sqrt(h) | 1 mg | 100 ug/sqrt(Hz) |
+//! | MEMS (industrial) | 50 deg/h | 0.3 deg/sqrt(h) | 5 mg | 200 ug/sqrt(Hz) |
+//!
+//! A bias here is the one-sigma of its turn-on value (a random constant over the test, the
+//! state of docs/model.md eq. (58)); the random walks are the white noises `q_g`, `q_a` of
+//! docs/model.md eq. (50), as densities: `q_g = ARW^2`, `q_a = VRW^2`.
+
+use serde::{Deserialize, Serialize};
+
+/// Standard gravity, m/s^2 (the unit of `g` in accelerometer data sheets).
+const G0: f64 = 9.80665;
+
+/// A class of inertial unit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum UnitClass {
+    /// Ring-laser or high-end fibre-optic gyros, navigation-grade accelerometers.
+    Navigation,
+    /// Fibre-optic gyros, tactical-grade accelerometers.
+    Tactical,
+    /// Industrial MEMS: what most vehicle recordings come from.
+    #[default]
+    Mems,
+}
+
+/// The error sizes of a [`UnitClass`], SI units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UnitErrors {
+    /// One-sigma gyro bias per axis, rad/s.
+    pub gyro_bias: f64,
+    /// One-sigma accelerometer bias per axis, m/s^2.
+    pub accel_bias: f64,
+    /// Gyro white-noise density `q_g`, rad^2/s.
+    pub gyro_psd: f64,
+    /// Accelerometer white-noise density `q_a`, (m/s^2)^2/s.
+    pub accel_psd: f64,
+}
+
+impl UnitClass {
+    /// Every class, best first.
+    pub const ALL: [UnitClass; 3] = [UnitClass::Navigation, UnitClass::Tactical, UnitClass::Mems];
+
+    /// The class's name as files write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            UnitClass::Navigation => "navigation",
+            UnitClass::Tactical => "tactical",
+            UnitClass::Mems => "mems",
+        }
+    }
+
+    /// The class's error sizes (module documentation).
+    pub fn errors(self) -> UnitErrors {
+        let deg_per_h = 1f64.to_radians() / 3600.0;
+        // deg/sqrt(h) -> rad/sqrt(s): one sqrt(h) is 60 sqrt(s).
+        let arw = |v: f64| v.to_radians() / 60.0;
+        let ug = 1e-6 * G0;
+        let (bias_g, arw_deg, bias_a_ug, vrw_ug) = match self {
+            UnitClass::Navigation => (0.01, 0.002, 50.0, 30.0),
+            UnitClass::Tactical => (1.0, 0.05, 1000.0, 100.0),
+            UnitClass::Mems => (50.0, 0.3, 5000.0, 200.0),
+        };
+        UnitErrors {
+            gyro_bias: bias_g * deg_per_h,
+            accel_bias: bias_a_ug * ug,
+            gyro_psd: arw(arw_deg).powi(2),
+            accel_psd: (vrw_ug * ug).powi(2),
+        }
+    }
+}
+
+impl std::str::FromStr for UnitClass {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        UnitClass::ALL
+            .into_iter()
+            .find(|c| c.name() == s)
+            .ok_or_else(|| {
+                format!("unknown unit class `{s}`; expected navigation, tactical or mems")
+            })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_classes_convert_their_data_sheet_units() {
+        let mems = UnitClass::Mems.errors();
+        // 50 deg/h = 2.42e-4 rad/s; 0.3 deg/sqrt(h) = 8.73e-5 rad/sqrt(s).
+        assert!((mems.gyro_bias - 2.424e-4).abs() < 1e-7);
+        assert!((mems.gyro_psd.sqrt() - 8.727e-5).abs() < 1e-8);
+        // 5 mg; 200 ug/sqrt(Hz).
+        assert!((mems.accel_bias - 0.049033).abs() < 1e-6);
+        assert!((mems.accel_psd.sqrt() - 1.9613e-3).abs() < 1e-7);
+        // Each class is worse than the one before it in every figure.
+        for pair in UnitClass::ALL.windows(2) {
+            let (a, b) = (pair[0].errors(), pair[1].errors());
+            assert!(a.gyro_bias < b.gyro_bias && a.accel_bias < b.accel_bias);
+            assert!(a.gyro_psd < b.gyro_psd && a.accel_psd < b.accel_psd);
+        }
+        assert_eq!("tactical".parse::<UnitClass>(), Ok(UnitClass::Tactical));
+        assert!("consumer".parse::<UnitClass>().is_err());
+    }
+}

@@ -19,6 +19,7 @@ pub mod effect;
 pub mod effect_spec;
 pub mod effects;
 pub mod error;
+pub mod family;
 pub mod input_cursor;
 pub mod input_file;
 pub mod integrate;
@@ -49,6 +50,7 @@ pub use effect::{
 };
 pub use effects::Registry;
 pub use error::DynamicsError;
+pub use family::{FamilyModel, ModelKind, TruthSimulation};
 pub use input_cursor::InputCursor;
 pub use integrate::{InputWindow, PropagationScratch};
 pub use kinematics::{Input, Kinematics, LatitudeTerms};

@@ -45,9 +45,8 @@ pub fn write_results(
 
 /// `t, filter, then rms_<state>, sigma_<state> for every state, nees, nis, bound_<coef>`.
 fn rms_csv(study: &Study, tally: &Tally) -> String {
-    use navkf_dynamics::SystemModel;
     let names = &study.names;
-    let truth_names = study.sim.model().state_names();
+    let truth_names = study.sim.truth_model().state_names();
     let mut s = String::from("t,filter");
     for n in names {
         let _ = write!(s, ",rms_{n}");

@@ -17,7 +17,6 @@
 use crate::error::StudyError;
 use crate::monte_carlo::Study;
 use navkf_dynamics::state::NAV_DIM;
-use navkf_dynamics::SystemModel;
 use navkf_report::markdown::{number, Number, Table};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write;
@@ -85,10 +84,10 @@ impl Plan {
 
 /// Predicts the identifiability of every coefficient of `study`'s truth model.
 pub fn plan(study: &Study) -> Result<Plan, StudyError> {
-    let model = study.sim.model();
+    let model = study.sim.truth_model();
     let n = model.dim();
     let names = model.state_names();
-    let units = model.units();
+    let units = model.state_units();
     let run = study.sim.run(study.config.study.seed, 0);
     let mut t = Vec::with_capacity(run.measurements.len());
     let mut variance: Vec<Vec<f64>> = vec![Vec::with_capacity(run.measurements.len()); n];

@@ -3,7 +3,6 @@
 use crate::monte_carlo::Study;
 use crate::tally::{quantile, Tally};
 use navkf_dynamics::state::NAV_DIM;
-use navkf_dynamics::SystemModel;
 use navkf_report::stats::{mean_chi2_bounds, MeanChi2};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -160,7 +159,7 @@ pub fn summarize(study: &Study, tally: &Tally) -> Summary {
     let names = &study.names;
     let n = names.len();
     let last = study.times.len() - 1;
-    let truth_names = study.sim.model().state_names();
+    let truth_names = study.sim.truth_model().state_names();
     let mut filters = BTreeMap::new();
     for (name, t) in study.filter_names().iter().zip(&tally.filters) {
         let ok = t.ok as f64;

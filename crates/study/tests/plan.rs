@@ -6,7 +6,7 @@ mod common;
 use common::{run_all, short_config, PAPER};
 use nalgebra::{DMatrix, DVector};
 use navkf_dynamics::earth::{meridian_radius, prime_vertical_radius, WIE};
-use navkf_dynamics::{Prior, SystemModel};
+use navkf_dynamics::Prior;
 use navkf_study::plan::plan;
 use navkf_study::summary::summarize;
 use navkf_study::{Study, StudyConfig};
@@ -77,7 +77,12 @@ fn at_rest_the_plan_is_the_closed_form_information() {
     // Process noise negligible (a PSD must be > 0): 1e-30 against priors of 1e-7 and more.
     c.noise.gyro_psd = 1e-30;
     c.noise.accel_psd = 1e-30;
-    let names: Vec<String> = Study::new(c.clone()).unwrap().sim.model().state_names()[7..].to_vec();
+    let names: Vec<String> = Study::new(c.clone())
+        .unwrap()
+        .sim
+        .truth_model()
+        .state_names()[7..]
+        .to_vec();
     assert_eq!(names.len(), 13);
     for name in &names {
         c.truth.coefficients.insert(name.clone(), Prior::fixed(0.0));
@@ -89,7 +94,7 @@ fn at_rest_the_plan_is_the_closed_form_information() {
     let lat = c.trajectory.start_lat_deg.to_radians();
     let (s, co) = lat.sin_cos();
     let (rm, rn) = (meridian_radius(s), prime_vertical_radius(s));
-    let inputs = study.sim.inputs();
+    let inputs = study.sim.run(c.study.seed, 0).inputs;
     let g = inputs[0].f[2];
     assert!(
         inputs

@@ -63,6 +63,12 @@ pub struct Measurement {
     /// Odometer speed along the vehicle's forward axis, signed, m/s (the strapdown family's
     /// odometer, docs/model.md eq. (59)).
     pub speed: Option<f64>,
+    /// The vehicle's lateral and vertical velocity that the non-holonomic constraint reads
+    /// as its measurement, m/s (docs/model.md eq. (60)): zero in a recording, where the
+    /// constraint asserts them; the strapdown simulator draws them with the stated
+    /// `nhc_m_s`, the sideslip and bounce that sigma stands for, which its path (a rigid
+    /// vehicle on its road) does not have. `None`: zero.
+    pub nhc: Option<[f64; 2]>,
     /// GPS `[lat_deg, lon_deg]`, degrees.
     pub position_deg: Option<[f64; 2]>,
 }

@@ -7,6 +7,7 @@
 //! - the exact-attitude variant instead: docs/model.md eqs. (45)-(48) ([`crate::attitude`]);
 //! - measurement: docs/model.md eq. (13); the effects' terms: docs/model.md eqs. (37)-(44).
 
+mod family;
 mod jacobian;
 mod rates;
 mod system;

@@ -17,6 +17,7 @@
 
 pub mod attitude;
 pub mod batch;
+pub mod family;
 pub mod jacobian;
 pub mod model;
 pub mod rates;

@@ -25,6 +25,7 @@ use super::attitude::{body_to_nav, rotate_back};
 use super::jacobian::{nav_rate_jacobian_analytic, nav_rate_jacobian_with};
 use super::rates::{imu_of, nav_rates, nav_rates_with};
 use super::state::*;
+use super::unit_class::{UnitClass, UnitErrors};
 use crate::dual::Dual;
 use crate::effect::NoiseChannel;
 use crate::integrate::{InputWindow, PropagationScratch};
@@ -43,6 +44,7 @@ pub const MEAS_DIM: usize = 5;
 #[derive(Debug, Clone)]
 pub struct StrapdownModel {
     noise: Vec<NoiseChannel>,
+    unit: UnitErrors,
 }
 
 impl StrapdownModel {
@@ -61,7 +63,20 @@ impl StrapdownModel {
                 channel("w_ve", V_E, noise.accel_psd),
                 channel("w_vn", V_N, noise.accel_psd),
             ],
+            unit: UnitClass::default().errors(),
         }
+    }
+
+    /// The model with the bias sizes of `unit` as its typical biases (the priors a study
+    /// draws and filters start from; the dynamics do not depend on them).
+    pub fn with_unit(mut self, unit: UnitErrors) -> Self {
+        self.unit = unit;
+        self
+    }
+
+    /// The typical bias sizes.
+    pub fn unit(&self) -> UnitErrors {
+        self.unit
     }
 }
 

@@ -46,6 +46,9 @@ impl StrapdownSensors {
             z[0] = speed;
             available[0] = true;
             if self.noise.nhc_m_s.is_some() {
+                let [lateral, vertical] = m.nhc.unwrap_or([0.0, 0.0]);
+                z[3] = lateral;
+                z[4] = vertical;
                 available[3] = true;
                 available[4] = true;
             }
@@ -94,6 +97,7 @@ mod tests {
             t: 1.0,
             velocity: None,
             speed,
+            nhc: None,
             position_deg: fix,
         }
     }

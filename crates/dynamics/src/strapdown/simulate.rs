@@ -13,8 +13,11 @@
 //! per sample, the noise the filters' process noise describes).
 //!
 //! The odometer reads the forward speed, the GPS the position, each with the noise of
-//! docs/model.md eq. (14). A real vehicle's wheels neither slide nor lift, so the path's
-//! lateral and vertical body velocities are zero: the non-holonomic constraint holds exactly.
+//! docs/model.md eq. (14). The path is a rigid vehicle on its road: its lateral and vertical
+//! body velocities are zero. A real car's are not quite (sideslip in the turns, bounce), and
+//! that is what the constraint's stated sigma `nhc_m_s` describes; the simulator draws them
+//! as the constraint's reading ([`Measurement::nhc`], `N(0, nhc_m_s^2)` per axis) so that the
+//! filters meet the error they are told of, as they do for every other sensor.
 //!
 //! Every draw comes from [`crate::rng::stream`]: the biases from `Coefficients`, the reading
 //! noise from `ProcessNoise`, the odometer and GPS noise from `MeasurementNoise`.
@@ -22,6 +25,7 @@
 use super::attitude::{body_to_nav, rotate_back};
 use super::model::StrapdownModel;
 use super::rates::{input_of, ImuReading};
+use super::sensors::StrapdownSensors;
 use super::state::*;
 use super::unit_class::UnitErrors;
 use crate::dataset::{InputSample, Measurement, Truth};
@@ -63,6 +67,7 @@ pub struct StrapdownSimulator {
     model: Arc<StrapdownModel>,
     trajectory: Arc<Trajectory>,
     noise: NoiseConfig,
+    sensors: StrapdownSensors,
     priors: Vec<Prior>,
     /// The error-free readings at the sample times, shared by every run.
     ideal: Vec<(f64, ImuReading)>,
@@ -177,6 +182,7 @@ impl StrapdownSimulator {
             model,
             trajectory,
             noise,
+            sensors: StrapdownSensors { noise },
             priors,
             ideal,
             path,
@@ -196,6 +202,10 @@ impl StrapdownSimulator {
     /// The noise settings.
     pub fn noise(&self) -> &NoiseConfig {
         &self.noise
+    }
+    /// The sensors, with the truth's noise.
+    pub fn sensors(&self) -> &StrapdownSensors {
+        &self.sensors
     }
     /// The prior of every state (the navigation states are the path's: fixed).
     pub fn priors(&self) -> &[Prior] {
@@ -263,11 +273,13 @@ impl StrapdownSimulator {
             }
             let speed = self.trajectory.state(*t).speed;
             let sig = self.noise.measurement_sigmas(speed.abs(), nav[LAT]);
-            let e: [f64; 3] = std::array::from_fn(|_| rng.sample(StandardNormal));
+            let e: [f64; 5] = std::array::from_fn(|_| rng.sample(StandardNormal));
+            let nhc = self.noise.nhc_m_s.map(|s| [s * e[3], s * e[4]]);
             measurements.push(Measurement {
                 t: *t,
                 velocity: None,
                 speed: Some(speed + sig[0] * e[0]),
+                nhc,
                 position_deg: Some([
                     (nav[LAT] + sig[2] * e[1]).to_degrees(),
                     (nav[LON] + sig[3] * e[2]).to_degrees(),

@@ -7,7 +7,10 @@
 //! own attitude equations or sigma-point scaling, compared under its label. Unknown keys are
 //! errors.
 
+pub mod model;
 pub mod points;
+
+pub use model::ModelSection;
 
 use crate::error::StudyError;
 use navkf_dynamics::input_file::{printable, read_text, toml_error, toml_message, TextFile};
@@ -256,6 +259,9 @@ impl Default for DivergenceSection {
 pub struct StudyConfig {
     /// `[study]`.
     pub study: StudySection,
+    /// `[model]`: the model family (the platform when absent).
+    #[serde(default, skip_serializing_if = "ModelSection::is_platform_default")]
+    pub model: ModelSection,
     /// `[trajectory]`.
     #[serde(default)]
     pub trajectory: TrajectoryConfig,
@@ -381,6 +387,7 @@ impl StudyConfig {
             ));
         }
         self.noise.validate()?;
+        model::check_family_keys(self)?;
         self.trajectory.validate().map_err(|e| e.to_string())?;
         let f = &self.filter;
         let i = &f.initial;

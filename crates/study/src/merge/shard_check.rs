@@ -42,14 +42,13 @@ struct Expected<'a> {
 
 impl<'a> Expected<'a> {
     fn of(study: &'a Study) -> Self {
-        let measurements =
-            study.sim.trajectory().duration() * study.sim.config().measurement_rate_hz;
+        let measurements = study.sim.trajectory().duration() * study.sim.measurement_rate_hz();
         Expected {
             runs: study.config.study.runs,
             blocks: study.block_count(),
             times: study.times.len(),
             names: &study.names,
-            truth_states: study.sim.model().dim(),
+            truth_states: study.sim.truth_model().dim(),
             filters: study.filter_names(),
             steps_per_run: measurements.max(0.0).ceil() as u64 + 1,
             example_run: study.config.study.example_run,

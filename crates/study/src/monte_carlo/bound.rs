@@ -3,8 +3,7 @@
 //! reset to the true state before each step.
 
 use super::Study;
-use navkf_dynamics::prior::typical_sigma;
-use navkf_dynamics::{SimulatedRun, SystemModel};
+use navkf_dynamics::SimulatedRun;
 use navkf_filters::{Ekf, Filter, RunFailure};
 
 impl Study {
@@ -24,7 +23,7 @@ impl Study {
     /// The initial one-sigma of every truth state in the bound's recursion: the filters'
     /// where the states coincide, the truth's prior otherwise.
     pub fn bound_prior_sigma(&self) -> Vec<f64> {
-        let model = self.sim.model();
+        let model = self.sim.truth_model();
         model
             .state_names()
             .iter()
@@ -32,7 +31,7 @@ impl Study {
             .map(
                 |(i, name)| match self.names.iter().position(|n| n == name) {
                     Some(j) => self.initial_sigma[j],
-                    None => self.sim.priors()[i].sigma.max(typical_sigma(model, i)),
+                    None => self.sim.priors()[i].sigma.max(model.typical_sigma(i)),
                 },
             )
             .collect()
@@ -48,7 +47,7 @@ impl Study {
         sim_run: &SimulatedRun,
         mut visit: impl FnMut(f64, &[f64], usize),
     ) -> Result<(), RunFailure> {
-        let model = self.sim.model().clone();
+        let model = self.sim.truth_model();
         let nt = model.dim();
         let mut ekf = Ekf::new(model.clone());
         let mut p0 = vec![0.0; nt * nt];
@@ -60,7 +59,10 @@ impl Study {
         ekf.reset(&xt0, &p0)
             .map_err(|e| RunFailure::of_filter(&e, format!("the initial covariance: {e}")))?;
         let mut window = navkf_dynamics::InputWindow::with_capacity(16);
-        let inputs = self.sim.inputs();
+        let inputs = &sim_run.inputs[..];
+        let sensors = self.sim.sensors();
+        let nz = sensors.dim();
+        let (mut z, mut sigma, mut available) = (vec![0.0; nz], vec![0.0; nz], vec![false; nz]);
         let mut cursor = navkf_dynamics::InputCursor::at(inputs, 0.0);
         for (k, m) in sim_run.measurements.iter().enumerate() {
             cursor.advance(inputs, m.t, &mut window);
@@ -71,12 +73,11 @@ impl Study {
             ekf.set_state(&sim_run.truth.states[k]);
             ekf.predict(&window).map_err(at)?;
             ekf.set_state(&sim_run.truth.states[k + 1]);
-            let (z, sigma, avail) =
-                navkf_dynamics::sensors::observation_of(m, self.sim.noise(), 0.0);
+            sensors.observe(m, ekf.state(), &mut z, &mut sigma, &mut available);
             ekf.update(&navkf_filters::Observation {
                 z: &z,
                 sigma: &sigma,
-                available: &avail,
+                available: &available,
             })
             .map_err(at)?;
             visit(m.t, ekf.covariance(), nt);

@@ -10,6 +10,7 @@
 
 mod bound;
 mod example;
+mod family;
 mod run;
 mod schedule;
 mod setup;
@@ -18,7 +19,7 @@ pub use example::{ExampleFilter, ExampleRun};
 pub use run::{FilterRun, NisTotals, RunRecord, TracePoint};
 
 use crate::config::StudyConfig;
-use navkf_dynamics::{PlatformModel, Simulator};
+use navkf_dynamics::{FamilyModel, TruthSimulation};
 use navkf_filters::FilterSpec;
 use std::sync::Arc;
 
@@ -26,10 +27,10 @@ use std::sync::Arc;
 pub struct Study {
     /// The study file.
     pub config: StudyConfig,
-    /// The truth simulator.
-    pub sim: Simulator,
+    /// The truth simulator (the family's).
+    pub sim: Box<dyn TruthSimulation>,
     /// The filters' model.
-    pub filter_model: Arc<PlatformModel>,
+    pub filter_model: Arc<dyn FamilyModel>,
     /// Filter state index -> truth state index (by name), `None` if the truth lacks it.
     pub to_truth: Vec<Option<usize>>,
     /// Initial one-sigma of every filter state.
@@ -46,5 +47,5 @@ pub struct Study {
 /// attitude equations).
 struct FilterSetup {
     spec: FilterSpec,
-    model: Arc<PlatformModel>,
+    model: Arc<dyn FamilyModel>,
 }

@@ -140,9 +140,9 @@ impl Study {
         let result = Runner::new(16).run(
             &mut *filter,
             0.0,
-            self.sim.inputs(),
+            &sim_run.inputs,
             &sim_run.measurements,
-            self.sim.noise(),
+            self.sim.sensors(),
             |v| {
                 out.step_ns.push(v.step_ns);
                 let nis = v.report.nis;

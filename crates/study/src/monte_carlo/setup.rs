@@ -2,16 +2,13 @@
 //! simulator with its coefficient priors, every compared filter's [`FilterSpec`] and model,
 //! the stored times and each filter state's initial sigma.
 
+use super::family::{self, FamilyParts};
 use super::{FilterSetup, Study};
 use crate::config::StudyConfig;
 use crate::error::StudyError;
-use navkf_dynamics::effect_spec::EffectSpec;
-use navkf_dynamics::prior::typical_sigma;
 use navkf_dynamics::rng::{stream, Purpose};
 use navkf_dynamics::state::*;
-use navkf_dynamics::{
-    Attitude, NoiseConfig, PlatformModel, Registry, Simulator, SystemModel, Trajectory,
-};
+use navkf_dynamics::Trajectory;
 use rand::Rng;
 use rand_distr::StandardNormal;
 use std::sync::Arc;
@@ -37,28 +34,6 @@ fn stored_times(every: f64, duration: f64, dt_meas: f64) -> Vec<f64> {
     times
 }
 
-/// The model of the effect list at study key `key` (`truth.effects`), with the coefficients
-/// it fixes. A bad entry is refused with its index: `truth.effects[1]: ...`.
-fn build_model(
-    key: &str,
-    effects: &[String],
-    noise: &NoiseConfig,
-    attitude: Attitude,
-) -> Result<
-    (
-        Arc<PlatformModel>,
-        std::collections::BTreeMap<String, navkf_dynamics::Prior>,
-    ),
-    StudyError,
-> {
-    let EffectSpec { effects, fixed } = EffectSpec::parse_entries(effects, &Registry::catalogue())
-        .map_err(|(i, e)| StudyError::Other(format!("{key}[{i}]: {e}")))?;
-    Ok((
-        Arc::new(PlatformModel::new(effects, noise)?.with_attitude(attitude)),
-        fixed,
-    ))
-}
-
 impl Study {
     /// Prepares a study from its configuration.
     pub fn new(config: StudyConfig) -> Result<Self, StudyError> {
@@ -69,32 +44,16 @@ impl Study {
                 sweep.key
             )));
         }
-        let noise = config.noise;
-        let (truth_model, truth_fixed) = build_model(
-            "truth.effects",
-            &config.truth.effects,
-            &noise,
-            config.truth.attitude,
-        )?;
-        let filter_noise = NoiseConfig {
-            gyro_psd: noise.gyro_psd * config.filter.process_noise_scale,
-            accel_psd: noise.accel_psd * config.filter.process_noise_scale,
-            ..noise
-        };
-        let filter_model_in = |attitude| {
-            build_model(
-                "filter.effects",
-                &config.filter.effects,
-                &filter_noise,
-                attitude,
-            )
-            .map(|(m, _)| m)
-        };
-        let filter_model = filter_model_in(config.filter.attitude)?;
+        let trajectory = Arc::new(Trajectory::build(&config.trajectory)?);
+        let FamilyParts {
+            sim,
+            filter_model,
+            filter_model_in,
+        } = family::parts(&config, trajectory)?;
         let mut filters = Vec::new();
         for label in &config.study.filters {
             let spec = config.filter.plan(label).map_err(StudyError::Other)?;
-            let model = if spec.attitude == filter_model.attitude() {
+            let model = if spec.attitude == config.filter.attitude {
                 filter_model.clone()
             } else {
                 filter_model_in(spec.attitude)?
@@ -104,25 +63,8 @@ impl Study {
             })?;
             filters.push(FilterSetup { spec, model });
         }
-        let trajectory = Arc::new(Trajectory::build(&config.trajectory)?);
-        let mut sim_cfg = config.truth.sim_config();
-        // Typical sigmas scaled, then the effect list's fixed values, then explicit priors.
+        let truth_model = sim.truth_model();
         let scale = config.truth.coefficient_scale;
-        for i in NAV_DIM..truth_model.dim() {
-            let name = &truth_model.state_names()[i];
-            let typical = typical_sigma(&truth_model, i);
-            sim_cfg
-                .coefficients
-                .entry(name.clone())
-                .or_insert(navkf_dynamics::Prior::zero_mean(typical * scale));
-        }
-        for (k, v) in &truth_fixed {
-            sim_cfg.coefficients.insert(k.clone(), *v);
-        }
-        for (k, v) in &config.truth.coefficients {
-            sim_cfg.coefficients.insert(k.clone(), *v);
-        }
-        let sim = Simulator::new(truth_model.clone(), trajectory, sim_cfg, noise)?;
         let names = filter_model.state_names();
         let truth_names = truth_model.state_names();
         let to_truth = names
@@ -150,7 +92,7 @@ impl Study {
                         .coefficient_sigma
                         .get(&names[i])
                         .copied()
-                        .unwrap_or(typical_sigma(&filter_model, i) * scale),
+                        .unwrap_or(filter_model.typical_sigma(i) * scale),
                 };
                 s * init.sigma_scale
             })
@@ -198,7 +140,7 @@ impl Study {
     pub(super) fn initial_estimate(&self, run: usize, truth0: &[f64]) -> Vec<f64> {
         let mut rng = stream(self.config.study.seed, run as u64, Purpose::Other(1));
         let mut x = vec![0.0; self.filter_model.dim()];
-        for i in [V_X, V_Y, LAT, LON] {
+        for i in (0..NAV_DIM).filter(|&i| self.filter_model.estimate_starts_at_truth(i)) {
             let z: f64 = rng.sample(StandardNormal);
             x[i] = truth0[i] + self.initial_sigma[i] * z;
         }

@@ -22,5 +22,11 @@ pub fn display_unit(unit: &str) -> (f64, String) {
 }
 
 pub(super) fn unit_of(study: &Study, i: usize) -> (f64, String) {
-    display_unit(study.filter_model.units().get(i).map_or("", String::as_str))
+    display_unit(
+        study
+            .filter_model
+            .state_units()
+            .get(i)
+            .map_or("", String::as_str),
+    )
 }

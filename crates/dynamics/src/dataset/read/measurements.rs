@@ -86,6 +86,7 @@ pub(super) fn read_measurements(
             t,
             velocity,
             speed: None,
+            nhc: None,
             position_deg,
         });
         lines.push(row.line);

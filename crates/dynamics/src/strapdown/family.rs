@@ -1,0 +1,54 @@
+//! The strapdown unit as a model family ([`crate::family`]): its states' units, its biases'
+//! typical sizes (its unit class's), and its simulator's runs.
+
+use super::model::StrapdownModel;
+use super::simulate::StrapdownSimulator;
+use super::state::*;
+use crate::dataset::Measurement;
+use crate::family::{FamilyModel, ModelKind, TruthSimulation};
+use crate::sensors::MeasurementModel;
+use crate::simulate::{Prior, SimulatedRun};
+use crate::trajectory::Trajectory;
+use std::sync::Arc;
+
+impl FamilyModel for StrapdownModel {
+    fn kind(&self) -> ModelKind {
+        ModelKind::Strapdown
+    }
+    fn state_units(&self) -> Vec<String> {
+        STATE_UNITS.iter().map(|u| u.to_string()).collect()
+    }
+    fn typical_sigma(&self, i: usize) -> f64 {
+        let unit = self.unit();
+        match i {
+            i if (BG_X..BG_X + 3).contains(&i) => unit.gyro_bias,
+            i if (BA_X..BA_X + 3).contains(&i) => unit.accel_bias,
+            _ => 0.0,
+        }
+    }
+    /// Every navigation state is absolute: a filter starts from the truth off by a draw.
+    fn estimate_starts_at_truth(&self, i: usize) -> bool {
+        i < NAV_DIM
+    }
+}
+
+impl TruthSimulation for StrapdownSimulator {
+    fn truth_model(&self) -> Arc<dyn FamilyModel> {
+        self.model().clone()
+    }
+    fn run(&self, seed: u64, run: u64) -> SimulatedRun {
+        StrapdownSimulator::run(self, seed, run)
+    }
+    fn priors(&self) -> &[Prior] {
+        StrapdownSimulator::priors(self)
+    }
+    fn sensors(&self) -> &(dyn MeasurementModel<Record = Measurement> + Sync) {
+        self.sensors()
+    }
+    fn trajectory(&self) -> &Arc<Trajectory> {
+        StrapdownSimulator::trajectory(self)
+    }
+    fn measurement_rate_hz(&self) -> f64 {
+        StrapdownSimulator::measurement_rate_hz(self)
+    }
+}

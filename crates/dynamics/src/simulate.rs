@@ -522,6 +522,7 @@ impl Simulator {
                     velocity: Some([z[0] + e[0], z[1] + e[1]]),
                     speed: None,
                     nhc: None,
+                    zupt: None,
                     position_deg: Some([(z[2] + e[2]).to_degrees(), (z[3] + e[3]).to_degrees()]),
                 });
                 truth.t.push(t);

@@ -41,6 +41,15 @@ fn unknown_simulation_key_is_refused_with_its_name() {
 }
 
 #[test]
+fn the_strapdown_constraint_in_a_platform_dataset_is_refused_not_ignored() {
+    let e = read_error(
+        "toml-nhc",
+        &[("dataset.toml", "[noise]\ngps_m = 3.0\nnhc_m_s = 0.1\n")],
+    );
+    assert_mentions(&e, &["dataset.toml:3:", "noise.nhc_m_s", "strapdown"]);
+}
+
+#[test]
 fn toml_syntax_error_gives_line_and_column() {
     let e = read_error("toml-syntax", &[("dataset.toml", "[noise]\ngps_m = = 3\n")]);
     assert_mentions(&e, &["dataset.toml:2:9:", "TOML parse error"]);

@@ -121,6 +121,7 @@ fn drive() -> Dataset {
                 velocity: Some([speed * heading.sin(), speed * heading.cos()]),
                 speed: None,
                 nhc: None,
+                zupt: None,
                 position_deg: (!(21.0..=25.0).contains(&t))
                     .then_some([45.0 + 1e-4 * t, 126.0 + 2e-4 * t]),
             }

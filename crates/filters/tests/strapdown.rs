@@ -134,6 +134,8 @@ fn sigmas(x: &[f64; BASE_DIM], noise: &NoiseConfig, nhc: f64) -> [f64; MEAS_DIM]
         noise.gps_m / (rn * cl),
         nhc,
         nhc,
+        noise.odometer_floor,
+        noise.odometer_floor,
     ]
 }
 
@@ -171,7 +173,8 @@ fn run_filter(
         f.update(&Observation {
             z: &zn,
             sigma: &sig,
-            available: &[true; MEAS_DIM],
+            // Never at rest: the odometer and the constraint, not the zero-velocity update.
+            available: &[true, true, true, true, true, false, false],
         })
         .unwrap();
     }

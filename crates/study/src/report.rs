@@ -1,6 +1,7 @@
 //! Human-readable tables of a summary (terminal and report.md), and `report.md` itself.
 
 use crate::summary::Summary;
+use navkf_dynamics::ModelKind;
 use navkf_report::markdown::{cell, number, Number, Table};
 use navkf_report::provenance::machine;
 use std::fmt::Write as _;
@@ -174,6 +175,22 @@ pub fn consistency(s: &Summary) -> String {
     out
 }
 
+/// `x` to six decimals, without trailing zeros (50 deg/h, not 50.000).
+fn rounded(x: f64) -> f64 {
+    (x * 1e6).round() / 1e6
+}
+
+/// `x` in exponent form, to four significant digits when its shortest form is longer
+/// (`1e-14` stays, `7.615435494667713e-9` is `7.615e-9`).
+fn short_e(x: f64) -> String {
+    let full = format!("{x:e}");
+    if full.len() > 10 {
+        format!("{x:.3e}")
+    } else {
+        full
+    }
+}
+
 fn settings(s: &Summary) -> String {
     let c = &s.settings;
     let list = |v: &[String]| {
@@ -207,18 +224,39 @@ fn settings(s: &Summary) -> String {
                 c.trajectory.start_lon_deg
             )
         },
-        format!(
-            "truth: effects {}; integration {} Hz, inputs {} Hz, measurements {} Hz; coefficients drawn at {} x their typical sigma",
-            list(&c.truth.effects),
-            c.truth.rate_hz,
-            c.truth.input_rate_hz,
-            c.truth.measurement_rate_hz,
-            c.truth.coefficient_scale
-        ),
-        format!(
-            "noise: gyro PSD {:e} rad^2/s, accel PSD {:e} (m/s^2)^2/s, odometer {} relative (floor {} m/s), GPS {} m",
-            c.noise.gyro_psd, c.noise.accel_psd, c.noise.odometer_rel, c.noise.odometer_floor, c.noise.gps_m
-        ),
+        match c.model.kind {
+            ModelKind::Platform => format!(
+                "truth: effects {}; integration {} Hz, inputs {} Hz, measurements {} Hz; coefficients drawn at {} x their typical sigma",
+                list(&c.truth.effects),
+                c.truth.rate_hz,
+                c.truth.input_rate_hz,
+                c.truth.measurement_rate_hz,
+                c.truth.coefficient_scale
+            ),
+            ModelKind::Strapdown => {
+                let unit = c.model.unit_class();
+                let e = unit.errors();
+                format!(
+                    "truth: a strapdown {} unit (biases {} deg/h and {} mg one sigma, drawn at {} x) on the path itself; IMU read at {} Hz, measurements {} Hz",
+                    unit.name(),
+                    rounded(e.gyro_bias.to_degrees() * 3600.0),
+                    rounded(e.accel_bias / 9.80665e-3),
+                    c.truth.coefficient_scale,
+                    c.truth.input_rate_hz,
+                    c.truth.measurement_rate_hz
+                )
+            }
+        },
+        {
+            let n = c.truth_noise();
+            let nhc = n
+                .nhc_m_s
+                .map_or(String::new(), |s| format!(", non-holonomic constraint {s} m/s"));
+            format!(
+                "noise: gyro PSD {} rad^2/s, accel PSD {} (m/s^2)^2/s, odometer {} relative (floor {} m/s), GPS {} m{nhc}",
+                short_e(n.gyro_psd), short_e(n.accel_psd), n.odometer_rel, n.odometer_floor, n.gps_m
+            )
+        },
         format!(
             "filters' model: effects {}; sigma points alpha {}, beta {}, kappa {}; process noise x {}; initial sigmas x {}",
             list(&c.filter.effects),

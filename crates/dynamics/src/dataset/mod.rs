@@ -69,6 +69,10 @@ pub struct Measurement {
     /// `nhc_m_s`, the sideslip and bounce that sigma stands for, which its path (a rigid
     /// vehicle on its road) does not have. `None`: zero.
     pub nhc: Option<[f64; 2]>,
+    /// The vehicle's East and North velocity that the zero-velocity update reads at a
+    /// standstill (a speed of exactly zero), m/s: zero in a recording; drawn by the simulator
+    /// with the odometer's floor sigma, as `nhc`. `None`: zero.
+    pub zupt: Option<[f64; 2]>,
     /// GPS `[lat_deg, lon_deg]`, degrees.
     pub position_deg: Option<[f64; 2]>,
 }

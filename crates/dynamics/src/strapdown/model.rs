@@ -34,11 +34,20 @@ use crate::noise::NoiseConfig;
 use crate::real::Real;
 use crate::system::SystemModel;
 
-/// Rows of the measurement: odometer speed, GPS latitude and longitude, and the two
-/// non-holonomic pseudo-measurements (lateral and vertical body velocity, zero).
-pub const MEASUREMENT_NAMES: [&str; 5] = ["speed", "L", "lambda", "nhc_lateral", "nhc_vertical"];
+/// Rows of the measurement: odometer speed, GPS latitude and longitude, the two
+/// non-holonomic pseudo-measurements (lateral and vertical body velocity, zero) and the
+/// zero-velocity update's two (East and North velocity, zero at a standstill).
+pub const MEASUREMENT_NAMES: [&str; 7] = [
+    "speed",
+    "L",
+    "lambda",
+    "nhc_lateral",
+    "nhc_vertical",
+    "zupt_east",
+    "zupt_north",
+];
 /// Measurement dimension.
-pub const MEAS_DIM: usize = 5;
+pub const MEAS_DIM: usize = 7;
 
 /// The strapdown base model (module documentation).
 #[derive(Debug, Clone)]
@@ -80,9 +89,9 @@ impl StrapdownModel {
     }
 }
 
-/// The measurement, docs/model.md eqs. (59), (60): the body-frame velocity's forward
-/// component (the odometer), the position (the GPS), and the lateral and vertical components
-/// (zero for a wheeled vehicle).
+/// The measurement, docs/model.md eqs. (59)-(61): the body-frame velocity's forward
+/// component (the odometer), the position (the GPS), the lateral and vertical components
+/// (zero for a wheeled vehicle), and the navigation-frame velocity (zero at a standstill).
 #[inline(always)]
 pub fn measurement<T: Real>(x: &[T], z: &mut [T]) {
     let cbn = body_to_nav([x[ROLL], x[PITCH], x[HEADING]]);
@@ -92,6 +101,8 @@ pub fn measurement<T: Real>(x: &[T], z: &mut [T]) {
     z[2] = x[LON];
     z[3] = v_b[1];
     z[4] = v_b[2];
+    z[5] = x[V_E];
+    z[6] = x[V_N];
 }
 
 impl SystemModel for StrapdownModel {

@@ -7,6 +7,14 @@
 //! The constraint holds whenever the vehicle's wheels are on the road, so it is applied at
 //! each odometer time (a record without a speed has no constraint rows either: the spec ties
 //! the constraint to the odometer's clock).
+//!
+//! **At a standstill** (a speed of exactly zero: a wheel that does not turn gives no count)
+//! the vehicle's velocity is zero in every frame, and the record's speed and constraint rows
+//! give way to the zero-velocity update: `v_e = v_n = 0` with the odometer's floor sigma
+//! (docs/model.md eq. (61)). The body-frame rows say the same thing through the attitude,
+//! and a filter linearising them at its own velocity estimate (a few cm/s off zero) reads
+//! heading information into them that the data do not hold (docs/model.md eq. (61) says
+//! how much).
 
 use super::model::MEAS_DIM;
 use super::state::LAT;
@@ -42,7 +50,13 @@ impl StrapdownSensors {
         let speed = m.speed.unwrap_or(0.0);
         let gps = self.noise.measurement_sigmas(speed.abs(), lat);
         let nhc = self.noise.nhc_m_s.unwrap_or(f64::INFINITY);
-        if m.speed.is_some() {
+        if m.speed == Some(0.0) {
+            let [east, north] = m.zupt.unwrap_or([0.0, 0.0]);
+            z[5] = east;
+            z[6] = north;
+            available[5] = true;
+            available[6] = true;
+        } else if m.speed.is_some() {
             z[0] = speed;
             available[0] = true;
             if self.noise.nhc_m_s.is_some() {
@@ -53,12 +67,15 @@ impl StrapdownSensors {
                 available[4] = true;
             }
         }
+        let floor = self.noise.odometer_floor;
         let sigma = [
             self.noise.odometer_sigma(speed.abs()),
             gps[2],
             gps[3],
             nhc,
             nhc,
+            floor,
+            floor,
         ];
         (z, sigma, available)
     }
@@ -98,6 +115,7 @@ mod tests {
             velocity: None,
             speed,
             nhc: None,
+            zupt: None,
             position_deg: fix,
         }
     }
@@ -115,17 +133,24 @@ mod tests {
         };
         let full = record(Some(-2.0), Some([45.0, 7.0]));
         let (z, s, a) = with.observation_of(&full, 0.0);
-        assert_eq!(a, [true; MEAS_DIM]);
+        assert_eq!(a, [true, true, true, true, true, false, false]);
         assert_eq!(z[0], -2.0);
         assert!((z[1] - 45f64.to_radians()).abs() < 1e-15);
         assert_eq!([s[3], s[4]], [0.1, 0.1]);
         // A reversing vehicle's speed sigma grows with |s|, never negative.
         assert_eq!(s[0], (0.002f64 * 2.0).max(0.01));
         let (_, _, a) = without.observation_of(&full, 0.0);
-        assert_eq!(a, [true, true, true, false, false]);
+        assert_eq!(a, [true, true, true, false, false, false, false]);
         let (_, _, a) = with.observation_of(&record(None, Some([45.0, 7.0])), 0.0);
-        assert_eq!(a, [false, true, true, false, false]);
+        assert_eq!(a, [false, true, true, false, false, false, false]);
         let (_, _, a) = with.observation_of(&record(Some(3.0), None), 0.0);
-        assert_eq!(a, [true, false, false, true, true]);
+        assert_eq!(a, [true, false, false, true, true, false, false]);
+        // At a standstill the velocity is zero in every frame: the update is made in n.
+        let (z, s, a) = without.observation_of(&record(Some(0.0), Some([45.0, 7.0])), 0.0);
+        assert_eq!(a, [false, true, true, false, false, true, true]);
+        assert_eq!([z[5], z[6], s[5]], [0.0, 0.0, 0.01]);
+        // A barely moving vehicle is not standing: the odometer's row, not the update.
+        let (_, _, a) = with.observation_of(&record(Some(1e-9), None), 0.0);
+        assert_eq!(a, [true, false, false, true, true, false, false]);
     }
 }

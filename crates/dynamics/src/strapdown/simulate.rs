@@ -3,7 +3,7 @@
 //!
 //! **The truth is the path.** The vehicle's attitude (level, heading along its velocity),
 //! velocity and position at any time are the trajectory's, exactly; nothing is integrated
-//! to make them. The unit's error-free reading is what makes the error-free model of
+//! to make them. The unit's error-free reading (docs/model.md eq. (62)) is what makes the error-free model of
 //! docs/model.md eqs. (51)-(58) follow that path: the rate of the body relative to inertial
 //! space (the Earth's rate and the transport rate seen in body axes, plus the turn) and the
 //! specific force resolved in body axes (the platform's, [`specific_force_for`]). A test
@@ -274,12 +274,22 @@ impl StrapdownSimulator {
             let speed = self.trajectory.state(*t).speed;
             let sig = self.noise.measurement_sigmas(speed.abs(), nav[LAT]);
             let e: [f64; 5] = std::array::from_fn(|_| rng.sample(StandardNormal));
-            let nhc = self.noise.nhc_m_s.map(|s| [s * e[3], s * e[4]]);
+            // A wheel that does not turn counts nothing: at a standstill the odometer reads
+            // exactly zero, and the zero-velocity update's reading gets the floor's noise.
+            let still = speed == 0.0;
+            let floor = self.noise.odometer_floor;
+            let nhc = self
+                .noise
+                .nhc_m_s
+                .filter(|_| !still)
+                .map(|s| [s * e[3], s * e[4]]);
+            let zupt = still.then(|| [floor * e[3], floor * e[4]]);
             measurements.push(Measurement {
                 t: *t,
                 velocity: None,
-                speed: Some(speed + sig[0] * e[0]),
+                speed: Some(if still { 0.0 } else { speed + sig[0] * e[0] }),
                 nhc,
+                zupt,
                 position_deg: Some([
                     (nav[LAT] + sig[2] * e[1]).to_degrees(),
                     (nav[LON] + sig[3] * e[2]).to_degrees(),

@@ -106,6 +106,7 @@ pub fn sample(name: &str) -> Dataset {
             velocity: Some([0.0, 0.0]),
             speed: None,
             nhc: None,
+            zupt: None,
             position_deg: Some([45.78, 126.63]),
         },
         Measurement {
@@ -113,6 +114,7 @@ pub fn sample(name: &str) -> Dataset {
             velocity: Some([1.0 / 3.0, -0.1]),
             speed: None,
             nhc: None,
+            zupt: None,
             position_deg: None,
         },
         Measurement {
@@ -120,6 +122,7 @@ pub fn sample(name: &str) -> Dataset {
             velocity: Some([0.7, 2.0_f64.sqrt()]),
             speed: None,
             nhc: None,
+            zupt: None,
             position_deg: Some([45.780_012_345_678_9, 126.630_000_1]),
         },
         Measurement {
@@ -127,6 +130,7 @@ pub fn sample(name: &str) -> Dataset {
             velocity: None,
             speed: None,
             nhc: None,
+            zupt: None,
             position_deg: Some([45.780_03, -126.63]),
         },
         Measurement {
@@ -134,6 +138,7 @@ pub fn sample(name: &str) -> Dataset {
             velocity: Some([1e-9, -0.0]),
             speed: None,
             nhc: None,
+            zupt: None,
             position_deg: Some([-45.78, 359.9]),
         },
     ];

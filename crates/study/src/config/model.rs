@@ -29,6 +29,24 @@ impl ModelSection {
     }
 }
 
+impl StudyConfig {
+    /// The noise the truth is simulated with: `[noise]`, with the reading noise's densities
+    /// of the unit class in a strapdown study.
+    pub fn truth_noise(&self) -> NoiseConfig {
+        match self.model.kind {
+            ModelKind::Platform => self.noise,
+            ModelKind::Strapdown => {
+                let unit = self.model.unit_class().errors();
+                NoiseConfig {
+                    gyro_psd: unit.gyro_psd,
+                    accel_psd: unit.accel_psd,
+                    ..self.noise
+                }
+            }
+        }
+    }
+}
+
 /// Checks that `config` sets nothing its family does not read; the message names the key.
 pub(super) fn check_family_keys(config: &StudyConfig) -> Result<(), String> {
     let defaults = NoiseConfig::default();

@@ -122,11 +122,7 @@ fn strapdown(config: &StudyConfig, trajectory: Arc<Trajectory>) -> Result<Family
         accel_bias: unit.accel_bias * scale,
         ..unit
     };
-    let noise = NoiseConfig {
-        gyro_psd: unit.gyro_psd,
-        accel_psd: unit.accel_psd,
-        ..config.noise
-    };
+    let noise = config.truth_noise();
     let truth_model = Arc::new(StrapdownModel::base(&noise).with_unit(drawn));
     let sim = StrapdownSimulator::new(
         truth_model,

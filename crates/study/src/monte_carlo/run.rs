@@ -50,7 +50,8 @@ pub struct FilterRun {
     pub var: Vec<Vec<f64>>,
     /// Per stored time: NEES.
     pub nees: Vec<f64>,
-    /// Per stored time: mean NIS since the previous stored time.
+    /// Per stored time: the NIS since the previous stored time, per measured row, times the
+    /// run's average number of rows (the mean NIS when the rows present do not vary).
     pub nis_window: Vec<f64>,
     /// NIS over the run.
     pub nis: NisTotals,
@@ -135,7 +136,7 @@ impl Study {
         }
         let mut scratch = vec![0.0; n * n + n];
         let mut next = 0usize;
-        let (mut win_sum, mut win_count) = (0.0, 0u64);
+        let (mut win_sum, mut win_dof) = (0.0, 0u64);
         let mut failure: Option<RunFailure> = None;
         let result = Runner::new(16).run(
             &mut *filter,
@@ -150,7 +151,7 @@ impl Study {
                 out.nis.updates += 1;
                 out.nis.dof += v.report.dim() as u64;
                 win_sum += nis;
-                win_count += 1;
+                win_dof += v.report.dim() as u64;
                 let x = v.filter.state();
                 let p = v.filter.covariance();
                 if let Some(tr) = out.trace.as_mut() {
@@ -194,13 +195,25 @@ impl Study {
                     out.err.push(err);
                     out.var.push(var);
                     out.nees.push(e);
-                    out.nis_window.push(win_sum / win_count.max(1) as f64);
+                    // NIS per measured row; scaled to the run's average rows below.
+                    out.nis_window.push(win_sum / win_dof.max(1) as f64);
                     win_sum = 0.0;
-                    win_count = 0;
+                    win_dof = 0;
                     next += 1;
                 }
             },
         );
+        // Each window's NIS per row times the run's average rows: where the rows present vary
+        // (a strapdown vehicle at a standstill has four, moving five) every window then has
+        // the same expected value, the one the figure draws. With the platform's four rows at
+        // every update this is the window's mean NIS bit for bit (dividing and multiplying by
+        // four round nothing).
+        if out.nis.updates > 0 {
+            let rows = out.nis.dof as f64 / out.nis.updates as f64;
+            for w in &mut out.nis_window {
+                *w *= rows;
+            }
+        }
         if let Err(e) = result {
             out.outcome = Err(RunFailure::of_filter(&e.error, e.to_string()));
         } else if let Some(f) = failure {

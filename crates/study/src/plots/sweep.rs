@@ -103,13 +103,9 @@ pub fn draw(s: &SweepSummary, dim: usize, dir: &Path) -> Vec<FigureOutcome> {
     let accuracy = Grid {
         title: ACCURACY_TITLE.into(),
         panels: vec![
-            per_filter(
-                s,
-                "heading error (phi_z)",
-                "final RMS / bound",
-                Scale::Log,
-                |f| f.heading_rms / f.heading_bound,
-            ),
+            per_filter(s, "heading error", "final RMS / bound", Scale::Log, |f| {
+                f.heading_rms / f.heading_bound
+            }),
             per_filter(
                 s,
                 "coefficients (geometric mean)",

@@ -47,6 +47,19 @@ pub(super) fn read_config(path: &Path, known: &[String]) -> Result<ConfigFile, D
             },
         });
     }
+    if config.noise.is_some_and(|n| n.nhc_m_s.is_some()) {
+        let message = "the non-holonomic constraint belongs to the strapdown family, whose \
+                       datasets navkf does not read yet; expected no noise.nhc_m_s in a \
+                       platform dataset"
+            .to_string();
+        return Err(match key_line(&text, "noise", "nhc_m_s") {
+            Some(line) => data_error(path, line, "noise.nhc_m_s", message),
+            None => DynamicsError::File {
+                path: path.to_path_buf(),
+                message: format!("noise.nhc_m_s: {message}"),
+            },
+        });
+    }
     if let Err((key, message)) = config.prior.validate(known) {
         // `prior.level_rad` sits in [prior]; `prior.coefficients.X` in [prior.coefficients].
         let (table, name) = key.rsplit_once('.').unwrap_or(("prior", &key));

@@ -87,6 +87,7 @@ pub(super) fn read_measurements(
             velocity,
             speed: None,
             nhc: None,
+            zupt: None,
             position_deg,
         });
         lines.push(row.line);

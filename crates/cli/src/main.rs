@@ -25,6 +25,8 @@ mod diagnose;
 mod effects;
 mod plan;
 mod simulate;
+mod simulate_strapdown;
+mod simulated_dataset;
 mod study;
 mod study_file;
 

@@ -7,7 +7,7 @@
 //! back through [`Dataset::read`] before it is written, so that a truth driven non-finite or
 //! off the Earth (a latitude beyond 90 deg) is refused, not written.
 
-use navkf_dynamics::dataset::Dataset;
+use crate::simulated_dataset::{read_trajectory, readable};
 use navkf_dynamics::effect_spec::EffectSpec;
 use navkf_dynamics::{
     NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TrajectoryConfig, TruthConfig,
@@ -49,9 +49,57 @@ pub struct Args {
     /// Write the truth file (truth.csv); on by default.
     #[arg(long, default_value_t = true, action = clap::ArgAction::Set)]
     truth: bool,
+    /// The model family: `platform` (the paper's) or `strapdown` (a unit bolted to the
+    /// vehicle; writes imu.csv and the odometer's speed).
+    #[arg(long, default_value = "platform", value_parser = ["platform", "strapdown"])]
+    model: String,
+    /// The strapdown unit's class: `navigation`, `tactical` or `mems` (its bias sizes and
+    /// noise densities; docs/model.md, "Simulating a strapdown test").
+    #[arg(long, value_parser = ["navigation", "tactical", "mems"])]
+    unit: Option<String>,
+    /// The strapdown unit's sample rate, Hz.
+    #[arg(long, value_name = "HZ")]
+    imu_rate: Option<f64>,
+    /// The non-holonomic constraint's sigma stated in dataset.toml, m/s (strapdown).
+    #[arg(long, value_name = "M_S")]
+    nhc_sigma: Option<f64>,
 }
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
+    if a.model == "strapdown" {
+        let mut trajectory = match &a.trajectory {
+            Some(path) => read_trajectory(path)?,
+            None => TrajectoryConfig::default(),
+        };
+        if let Some(d) = a.duration {
+            trajectory.duration_s = d;
+        }
+        return crate::simulate_strapdown::run(crate::simulate_strapdown::Settings {
+            out: a.out,
+            seed: a.seed,
+            run: a.run,
+            effects: a.effects,
+            attitude: a.attitude,
+            heading_sigma: a.azimuth_sigma,
+            truth: a.truth,
+            unit: a.unit,
+            imu_rate: a.imu_rate,
+            nhc_sigma: a.nhc_sigma,
+            trajectory,
+        });
+    }
+    for (flag, given) in [
+        ("--unit", a.unit.is_some()),
+        ("--imu-rate", a.imu_rate.is_some()),
+        ("--nhc-sigma", a.nhc_sigma.is_some()),
+    ] {
+        if given {
+            return Err(format!(
+                "{flag}: a strapdown setting; expected --model strapdown, or no {flag}"
+            )
+            .into());
+        }
+    }
     // dataset.toml records both as TOML integers, which are signed 64-bit.
     for (flag, value) in [("--seed", a.seed), ("--run", a.run)] {
         if value > i64::MAX as u64 {
@@ -143,50 +191,4 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     );
     println!("{}", ds.summary());
     Ok(())
-}
-
-/// The `[trajectory]` table of the TOML file at `path`, checked; errors name the file and
-/// the line and column (a parse error) or the key (a value the trajectory refuses).
-/// Anything but a regular file of bounded size is refused unread (`read_text`).
-fn read_trajectory(path: &std::path::Path) -> Result<TrajectoryConfig, Box<dyn std::error::Error>> {
-    /// The file's other tables (a study file's `[study]`, `[noise]`...) are not read here.
-    #[derive(serde::Deserialize)]
-    struct TrajectoryFile {
-        trajectory: Option<TrajectoryConfig>,
-    }
-    use navkf_dynamics::input_file::{read_text, toml_error, TextFile};
-    let text = read_text(path, &TextFile::TRAJECTORY)?;
-    let file: TrajectoryFile = toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))?;
-    let trajectory = file.trajectory.ok_or_else(|| {
-        format!(
-            "{}: no [trajectory] table; expected the test to drive there",
-            path.display()
-        )
-    })?;
-    trajectory
-        .validate()
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    Ok(trajectory)
-}
-
-/// Checks that the dataset written in the staging folder `written` reads back through
-/// [`Dataset::read`] (every value finite, positions on the Earth, every rule of the data
-/// format) before it is put in place at `out`: a truth the settings drove off the Earth is
-/// refused, and `out` is left as it was. Messages name `out`, not the staging folder.
-fn readable(written: &std::path::Path, out: &std::path::Path, effects: &str) -> Result<(), String> {
-    let checked = Dataset::read(written)
-        .map(|_| ())
-        .map_err(|e| e.to_string());
-    checked.map_err(|e| {
-        let e = e.replace(&written.display().to_string(), &out.display().to_string());
-        format!(
-            "the simulated dataset is not one navkf reads back ({e}): the truth left real \
-             values{}; nothing was written",
-            if effects.trim().is_empty() {
-                String::new()
-            } else {
-                format!(" under --effects {effects}")
-            }
-        )
-    })
 }

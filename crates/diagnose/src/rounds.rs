@@ -197,6 +197,15 @@ pub fn diagnose(
 
 /// Refuses a dataset too short to judge, and options under which nothing is tested.
 fn judgeable(ds: &Dataset, opts: &Options) -> Result<(), DiagnoseError> {
+    if !ds.model.is_platform() {
+        return Err(DiagnoseError::Data(format!(
+            "{}: a {} dataset; the diagnosis judges the platform family only so far (its \
+             noise fit, rounds and catalogue are the platform's). `navkf inspect` reads it, \
+             and a strapdown study (studies/strapdown.toml) runs the filters on the family",
+            ds.name,
+            ds.model.name()
+        )));
+    }
     let updates = ds.measurements.len();
     if updates < MIN_UPDATES {
         return Err(DiagnoseError::Data(format!(

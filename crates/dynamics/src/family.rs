@@ -15,38 +15,12 @@
 //! arm where a study builds its parts (`navkf_study::monte_carlo::family`).
 
 use crate::dataset::Measurement;
+pub use crate::model_kind::ModelKind;
 use crate::sensors::MeasurementModel;
 use crate::simulate::{Prior, SimulatedRun};
 use crate::system::SystemModel;
 use crate::trajectory::Trajectory;
-use serde::{Deserialize, Serialize};
 use std::sync::Arc;
-
-/// Which model family a dataset or a study describes (`[model] kind`).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ModelKind {
-    /// The paper's stabilised platform (docs/model.md): sensor errors constant in the
-    /// navigation frame.
-    #[default]
-    Platform,
-    /// A unit bolted to the vehicle: sensor errors in the body frame.
-    Strapdown,
-}
-
-impl ModelKind {
-    /// The family's name as files write it.
-    pub fn name(self) -> &'static str {
-        match self {
-            ModelKind::Platform => "platform",
-            ModelKind::Strapdown => "strapdown",
-        }
-    }
-    /// Whether this is the platform (the default, which files need not write).
-    pub fn is_platform(&self) -> bool {
-        *self == ModelKind::Platform
-    }
-}
 
 /// A model as the harness sees it: the filters' [`SystemModel`] plus what tables, figures
 /// and Monte Carlo set-up need to know of its states.

@@ -27,6 +27,7 @@ pub mod kinematics;
 pub mod linear_rates;
 pub mod memory;
 pub mod model;
+pub mod model_kind;
 pub mod noise;
 pub mod outside;
 pub mod partials;

@@ -57,8 +57,12 @@ pub struct PlatformPrior {
     /// Initial level error (about East and North), rad.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub level_rad: Option<f64>,
-    /// Initial azimuth error, rad.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// Initial azimuth error, rad (a strapdown dataset may call it `heading_rad`).
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        alias = "heading_rad"
+    )]
     pub azimuth_rad: Option<f64>,
     /// One-sigma of coefficients by name (base or effect, as in `docs/model.md`), in the
     /// coefficient's unit.

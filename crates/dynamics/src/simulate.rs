@@ -556,6 +556,8 @@ impl Simulator {
                 )),
             }),
             truth: Some(run.truth.clone()),
+            model: Default::default(),
+            initial: None,
         }
     }
 }

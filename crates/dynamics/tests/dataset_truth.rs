@@ -136,6 +136,8 @@ fn drive() -> Dataset {
         prior: PlatformPrior::default(),
         provenance: None,
         truth: None,
+        model: Default::default(),
+        initial: None,
     }
 }
 
@@ -229,6 +231,8 @@ fn summary_names_truth_columns_and_survives_an_empty_dataset() {
         prior: PlatformPrior::default(),
         provenance: None,
         truth: None,
+        model: Default::default(),
+        initial: None,
     };
     let s = empty.summary();
     assert_eq!((s.span, s.speed, s.extent), (None, None, None));

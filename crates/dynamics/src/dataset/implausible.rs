@@ -159,7 +159,10 @@ impl Dataset {
         let magnitude: Vec<f64> = self
             .inputs
             .iter()
-            .map(|i| i.f[0].hypot(i.f[1]).hypot(i.f[2]))
+            .map(|i| {
+                let f = self.specific_force(i);
+                f[0].hypot(f[1]).hypot(f[2])
+            })
             .collect();
         let mut count = 0;
         let mut longest: Option<(f64, f64, f64)> = None;

@@ -11,6 +11,7 @@ mod implausible;
 mod limits;
 mod plausibility;
 mod read;
+mod strapdown_plausibility;
 mod summary;
 mod write;
 
@@ -43,6 +44,31 @@ pub const TRUTH_FILE: &str = "truth.csv";
 pub const INPUT_COLUMNS: [&str; 4] = ["t", "f_e", "f_n", "f_u"];
 /// The header of `measurements.csv`, exactly.
 pub const MEASUREMENT_COLUMNS: [&str; 5] = ["t", "v_e", "v_n", "lat_deg", "lon_deg"];
+/// The strapdown family's file of IMU readings (required there, instead of `inputs.csv`).
+pub const IMU_FILE: &str = "imu.csv";
+/// The header of `imu.csv` holding rates: body rate (rad/s) and specific force (m/s^2),
+/// forward-left-up axes, each the reading at `t`.
+pub const IMU_RATE_COLUMNS: [&str; 7] = ["t", "w_x", "w_y", "w_z", "f_x", "f_y", "f_z"];
+/// The header of `imu.csv` holding increments: angle (rad) and velocity (m/s) over the
+/// interval that ends at `t`.
+pub const IMU_INCREMENT_COLUMNS: [&str; 7] = [
+    "t", "dtheta_x", "dtheta_y", "dtheta_z", "dv_x", "dv_y", "dv_z",
+];
+/// The header of a strapdown dataset's `measurements.csv`: odometer speed and GPS.
+pub const SPEED_MEASUREMENT_COLUMNS: [&str; 4] = ["t", "speed", "lat_deg", "lon_deg"];
+
+/// `[initial]` of a strapdown dataset: the unit's attitude at the first IMU row's time, from
+/// the recording's own alignment, degrees (any heading; reports use (-180, 180]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialAttitude {
+    /// Roll, right side down positive, deg.
+    pub roll_deg: f64,
+    /// Pitch, nose up positive, deg.
+    pub pitch_deg: f64,
+    /// Heading from North, clockwise, deg.
+    pub heading_deg: f64,
+}
 
 /// One row of `inputs.csv`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -82,6 +108,18 @@ impl Measurement {
     pub fn gps_rad(&self) -> Option<[f64; 2]> {
         self.position_deg
             .map(|[a, b]| [a.to_radians(), b.to_radians()])
+    }
+}
+
+impl Dataset {
+    /// The specific force of input sample `s`, m/s^2: the platform's navigation-frame
+    /// `[f_e, f_n, f_u]`, or the strapdown unit's body-frame `[f_x, f_y, f_z]` (its inputs
+    /// hold the body rate first). Its magnitude is the same in any frame.
+    pub fn specific_force(&self, s: &InputSample) -> [f64; 3] {
+        match self.model {
+            crate::model_kind::ModelKind::Platform => [s.f[0], s.f[1], s.f[2]],
+            crate::model_kind::ModelKind::Strapdown => [s.f[3], s.f[4], s.f[5]],
+        }
     }
 }
 
@@ -135,4 +173,10 @@ pub struct Dataset {
     pub provenance: Option<Provenance>,
     /// `truth.csv`, when present.
     pub truth: Option<Truth>,
+    /// The model family (`[model] kind`; the platform when absent). A strapdown dataset's
+    /// inputs are the unit's readings (body rate, then specific force) and its odometer
+    /// measures the forward speed ([`Measurement::speed`]).
+    pub model: crate::model_kind::ModelKind,
+    /// `[initial]`: the strapdown unit's first attitude, when the dataset states it.
+    pub initial: Option<InitialAttitude>,
 }

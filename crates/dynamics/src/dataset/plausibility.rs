@@ -38,6 +38,14 @@ pub enum Doubt {
     LongitudeInRadians,
     /// The specific force is far from gravity: not m/s^2, or not a specific force.
     SpecificForceNotGravity,
+    /// A strapdown unit's rates are beyond any road vehicle's: deg/s, not rad/s.
+    RatesInDegrees,
+    /// A strapdown unit's readings are a sample interval's worth of gravity: increments
+    /// written under the rates' header.
+    IncrementsReadAsRates,
+    /// A strapdown unit's up axis points down: mounted upside down, or its axes are
+    /// forward-right-down.
+    UpsideDown,
 }
 
 /// One warning: what, where (file and column), and the evidence.
@@ -74,13 +82,16 @@ const RADIANS_RATIO: f64 = 0.1;
 /// A median input interval beyond this (s) is no vehicle test's inertial record: data-format.md
 /// asks for inputs at least at the filter rate (1 Hz), while a 10-500 Hz record written in
 /// milliseconds shows intervals of 2-100.
-const SLOWEST_INPUT_S: f64 = 1.5;
+pub(super) const SLOWEST_INPUT_S: f64 = 1.5;
 /// The median specific force must lie within this fraction of gravity.
-const GRAVITY_TOLERANCE: f64 = 0.3;
+pub(super) const GRAVITY_TOLERANCE: f64 = 0.3;
 
 impl Dataset {
     /// The warnings this module describes: empty for data that look as data-format.md says.
     pub fn warnings(&self) -> Vec<DataWarning> {
+        if self.model == crate::model_kind::ModelKind::Strapdown {
+            return self.strapdown_warnings();
+        }
         let mut out = Vec::new();
         let odometer_fast = !self.odometer_beyond_road().is_empty();
         // Nor is a GPS track at a pole, where longitude measures no distance.

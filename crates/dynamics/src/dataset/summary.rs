@@ -160,10 +160,15 @@ impl Dataset {
     pub fn summary(&self) -> DatasetSummary {
         let input_t: Vec<f64> = self.inputs.iter().map(|s| s.t).collect();
         let meas_t: Vec<f64> = self.measurements.iter().map(|m| m.t).collect();
+        // A strapdown odometer's speed, as a velocity along North (for speed and stream).
         let odometer: Vec<(f64, [f64; 2])> = self
             .measurements
             .iter()
-            .filter_map(|m| m.velocity.map(|v| (m.t, v)))
+            .filter_map(|m| {
+                m.velocity
+                    .or(m.speed.map(|s| [0.0, s.abs()]))
+                    .map(|v| (m.t, v))
+            })
             .collect();
         let fixes: Vec<[f64; 2]> = self
             .measurements
@@ -200,14 +205,32 @@ impl Dataset {
     }
 
     fn turn_profile(&self, odometer: &[(f64, [f64; 2])], duration: f64) -> TurnProfile {
-        let horizontal: Vec<f64> = self.inputs.iter().map(|s| s.f[0].hypot(s.f[1])).collect();
+        let horizontal: Vec<f64> = self
+            .inputs
+            .iter()
+            .map(|s| {
+                let f = self.specific_force(s);
+                f[0].hypot(f[1])
+            })
+            .collect();
         let max_horizontal_force = horizontal.iter().copied().reduce(f64::max);
         let rms_horizontal_force = (!horizontal.is_empty()).then(|| {
             (horizontal.iter().map(|f| f * f).sum::<f64>() / horizontal.len() as f64).sqrt()
         });
         let mut max_rate: Option<f64> = None;
         let mut turning_time = 0.0;
-        for w in odometer.windows(2) {
+        if self.model == crate::model_kind::ModelKind::Strapdown {
+            // The unit reads its turn rate: |w_z| (the Earth's rate, 0.004 deg/s, is noise
+            // here), each sample standing for the interval after it.
+            for w in self.inputs.windows(2) {
+                let rate = w[0].f[2].abs().to_degrees();
+                max_rate = Some(max_rate.map_or(rate, |m| m.max(rate)));
+                if rate > TURN_RATE_DEG_S {
+                    turning_time += w[1].t - w[0].t;
+                }
+            }
+        }
+        for w in odometer.windows(2).filter(|_| self.model.is_platform()) {
             let ((t0, v0), (t1, v1)) = (w[0], w[1]);
             let dt = t1 - t0;
             let fast = |v: [f64; 2]| v[0].hypot(v[1]) >= MIN_HEADING_SPEED;

@@ -13,24 +13,30 @@
 //! (a NaN written here is refused on reading, with its line).
 
 use super::{
-    Dataset, CONFIG_FILE, INPUTS_FILE, INPUT_COLUMNS, MEASUREMENTS_FILE, MEASUREMENT_COLUMNS,
-    TRUTH_FILE,
+    Dataset, CONFIG_FILE, IMU_FILE, IMU_RATE_COLUMNS, INPUTS_FILE, INPUT_COLUMNS,
+    MEASUREMENTS_FILE, MEASUREMENT_COLUMNS, SPEED_MEASUREMENT_COLUMNS, TRUTH_FILE,
 };
 use crate::error::DynamicsError;
+use crate::model_kind::ModelKind;
 use std::fs;
 use std::io::{ErrorKind, Write};
 use std::path::{Path, PathBuf};
 
 impl Dataset {
-    /// Writes the dataset into `dir` (created if needed): `inputs.csv`, `measurements.csv`,
+    /// Writes the dataset into `dir` (created if needed): `inputs.csv` (a strapdown dataset's
+    /// `imu.csv`, as rates), `measurements.csv`,
     /// `dataset.toml` (`[noise]` with every key, `[prior]` with what it states, `[simulation]`
     /// when there is provenance) and
     /// `truth.csv` when there is truth (a `truth.csv` left from an earlier write is removed
     /// otherwise). Existing files are replaced atomically.
     pub fn write(&self, dir: &Path) -> Result<(), DynamicsError> {
         fs::create_dir_all(dir).map_err(|source| io_error(dir, source))?;
+        let inputs_file = match self.model {
+            ModelKind::Platform => INPUTS_FILE,
+            ModelKind::Strapdown => IMU_FILE,
+        };
         let mut files = vec![
-            (INPUTS_FILE, self.inputs_csv(dir)?),
+            (inputs_file, self.inputs_csv(dir)?),
             (MEASUREMENTS_FILE, self.measurements_csv(dir)?),
             (CONFIG_FILE, self.config_toml(dir)?),
         ];
@@ -68,25 +74,51 @@ impl Dataset {
     }
 
     fn inputs_csv(&self, dir: &Path) -> Result<Vec<u8>, DynamicsError> {
-        let path = dir.join(INPUTS_FILE);
         let mut w = csv_writer();
-        record(&mut w, &path, INPUT_COLUMNS)?;
-        for s in &self.inputs {
-            record(&mut w, &path, [s.t, s.f[0], s.f[1], s.f[2]].map(fmt_f64))?;
-        }
+        let path = match self.model {
+            ModelKind::Platform => {
+                let path = dir.join(INPUTS_FILE);
+                record(&mut w, &path, INPUT_COLUMNS)?;
+                for s in &self.inputs {
+                    record(&mut w, &path, [s.t, s.f[0], s.f[1], s.f[2]].map(fmt_f64))?;
+                }
+                path
+            }
+            ModelKind::Strapdown => {
+                let path = dir.join(IMU_FILE);
+                record(&mut w, &path, IMU_RATE_COLUMNS)?;
+                for s in &self.inputs {
+                    let [a, b, c, d, e, f] = s.f;
+                    record(&mut w, &path, [s.t, a, b, c, d, e, f].map(fmt_f64))?;
+                }
+                path
+            }
+        };
         finish(w, &path)
     }
 
     fn measurements_csv(&self, dir: &Path) -> Result<Vec<u8>, DynamicsError> {
         let path = dir.join(MEASUREMENTS_FILE);
         let mut w = csv_writer();
-        record(&mut w, &path, MEASUREMENT_COLUMNS)?;
         let pair =
             |p: Option<[f64; 2]>| p.map_or([String::new(), String::new()], |p| p.map(fmt_f64));
-        for m in &self.measurements {
-            let [ve, vn] = pair(m.velocity);
-            let [lat, lon] = pair(m.position_deg);
-            record(&mut w, &path, [fmt_f64(m.t), ve, vn, lat, lon])?;
+        match self.model {
+            ModelKind::Platform => {
+                record(&mut w, &path, MEASUREMENT_COLUMNS)?;
+                for m in &self.measurements {
+                    let [ve, vn] = pair(m.velocity);
+                    let [lat, lon] = pair(m.position_deg);
+                    record(&mut w, &path, [fmt_f64(m.t), ve, vn, lat, lon])?;
+                }
+            }
+            ModelKind::Strapdown => {
+                record(&mut w, &path, SPEED_MEASUREMENT_COLUMNS)?;
+                for m in &self.measurements {
+                    let speed = m.speed.map_or(String::new(), fmt_f64);
+                    let [lat, lon] = pair(m.position_deg);
+                    record(&mut w, &path, [fmt_f64(m.t), speed, lat, lon])?;
+                }
+            }
         }
         finish(w, &path)
     }
@@ -116,7 +148,24 @@ impl Dataset {
     fn config_toml(&self, dir: &Path) -> Result<Vec<u8>, DynamicsError> {
         let path = dir.join(CONFIG_FILE);
         let n = &self.noise;
-        let mut text = String::from("[noise]\n");
+        let mut text = String::new();
+        if self.model != ModelKind::Platform {
+            text.push_str(&format!("[model]\nkind = \"{}\"\n\n", self.model.name()));
+        }
+        if let Some(a) = &self.initial {
+            text.push_str(
+                "[initial]                                # attitude at the first IMU row, deg\n",
+            );
+            for (key, v) in [
+                ("roll_deg", a.roll_deg),
+                ("pitch_deg", a.pitch_deg),
+                ("heading_deg", a.heading_deg),
+            ] {
+                text.push_str(&format!("{key} = {}\n", toml_f64(v)));
+            }
+            text.push('\n');
+        }
+        text.push_str("[noise]\n");
         for (key, value, comment) in [
             ("gyro_psd", n.gyro_psd, "q_g, rad^2/s"),
             ("accel_psd", n.accel_psd, "q_a, (m/s^2)^2/s"),
@@ -131,10 +180,20 @@ impl Dataset {
             let entry = format!("{key} = {}", toml_f64(value));
             text.push_str(&format!("{entry:<40} # {comment}\n"));
         }
+        if let Some(v) = n.nhc_m_s {
+            let entry = format!("nhc_m_s = {}", toml_f64(v));
+            text.push_str(&format!(
+                "{entry:<40} # non-holonomic constraint sigma, m/s\n"
+            ));
+        }
         if !self.prior.is_empty() {
             let p = &self.prior;
             text.push_str("\n[prior]\n");
-            for (key, value) in [("level_rad", p.level_rad), ("azimuth_rad", p.azimuth_rad)] {
+            let azimuth = match self.model {
+                ModelKind::Platform => "azimuth_rad",
+                ModelKind::Strapdown => "heading_rad",
+            };
+            for (key, value) in [("level_rad", p.level_rad), (azimuth, p.azimuth_rad)] {
                 if let Some(v) = value {
                     text.push_str(&format!("{key} = {}\n", toml_f64(v)));
                 }

@@ -28,10 +28,12 @@ use super::rates::{input_of, ImuReading};
 use super::sensors::StrapdownSensors;
 use super::state::*;
 use super::unit_class::UnitErrors;
-use crate::dataset::{InputSample, Measurement, Truth};
+use crate::dataset::{Dataset, InitialAttitude, InputSample, Measurement, Provenance, Truth};
 use crate::earth::{meridian_radius, prime_vertical_radius, WIE};
 use crate::error::DynamicsError;
+use crate::model_kind::ModelKind;
 use crate::noise::NoiseConfig;
+use crate::prior::PlatformPrior;
 use crate::rng::{stream, Purpose};
 use crate::simulate::{Prior, SimulatedRun};
 use crate::system::SystemModel;
@@ -301,6 +303,67 @@ impl StrapdownSimulator {
             measurements,
             truth,
             inputs: Arc::new(inputs),
+        }
+    }
+}
+
+impl StrapdownSimulator {
+    /// Run `run` as a dataset named `name`, with `[initial]` the way a recording states it:
+    /// the true first attitude off by the unit's own alignment error, drawn with one-sigma
+    /// `level_rad` (roll and pitch) and `heading_rad` (heading), which `[prior]` states.
+    ///
+    /// The files cannot hold the constraint's and the zero-velocity update's readings that a
+    /// study's runs draw ([`Measurement::nhc`]): a recording's are zero, and so are a written
+    /// dataset's. Its vehicle then has no sideslip at all, less than its `nhc_m_s` says.
+    pub fn dataset(
+        &self,
+        name: &str,
+        seed: u64,
+        run: &SimulatedRun,
+        level_rad: f64,
+        heading_rad: f64,
+    ) -> Dataset {
+        let mut rng = stream(seed, run.run, Purpose::InitialState);
+        let mut draw = |sigma: f64| sigma * rng.sample::<f64, _>(StandardNormal);
+        let x0 = &run.truth.states[0];
+        let initial = InitialAttitude {
+            roll_deg: (x0[ROLL] + draw(level_rad)).to_degrees(),
+            pitch_deg: (x0[PITCH] + draw(level_rad)).to_degrees(),
+            heading_deg: (x0[HEADING] + draw(heading_rad)).to_degrees(),
+        };
+        let measurements = run
+            .measurements
+            .iter()
+            .map(|m| Measurement {
+                nhc: None,
+                zupt: None,
+                ..*m
+            })
+            .collect();
+        Dataset {
+            name: name.to_string(),
+            inputs: run.inputs.to_vec(),
+            measurements,
+            noise: self.noise,
+            noise_stated: true,
+            prior: PlatformPrior {
+                level_rad: Some(level_rad),
+                azimuth_rad: Some(heading_rad),
+                coefficients: Default::default(),
+            },
+            provenance: Some(Provenance {
+                seed: Some(seed),
+                run: Some(run.run),
+                effects: Vec::new(),
+                note: Some(format!(
+                    "navkf strapdown simulation: the truth is the path; IMU readings at {} Hz, \
+                     odometer and GPS at {} Hz",
+                    self.imu_rate_hz, self.measurement_rate_hz
+                )),
+            }),
+            truth: Some(run.truth.clone()),
+            model: ModelKind::Strapdown,
+            initial: Some(initial),
         }
     }
 }

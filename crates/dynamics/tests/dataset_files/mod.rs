@@ -176,6 +176,8 @@ pub fn sample(name: &str) -> Dataset {
             note: Some("hand-built, with a comma and a \"quote\"\nand a newline".into()),
         }),
         truth: Some(truth),
+        model: Default::default(),
+        initial: None,
     }
 }
 

@@ -3,7 +3,8 @@
 
 use super::*;
 
-/// `dataset.toml`: the `[noise]`, `[prior]` and `[simulation]` tables, nothing else.
+/// `dataset.toml`: the `[noise]`, `[prior]`, `[simulation]`, `[model]` and `[initial]`
+/// tables, nothing else.
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub(super) struct ConfigFile {
@@ -13,6 +14,33 @@ pub(super) struct ConfigFile {
     pub(super) prior: PlatformPrior,
     #[serde(default)]
     pub(super) simulation: Option<Provenance>,
+    #[serde(default)]
+    pub(super) model: Option<ModelTable>,
+    #[serde(default)]
+    pub(super) initial: Option<InitialAttitude>,
+}
+
+/// `[model]`: the family.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ModelTable {
+    pub(super) kind: ModelKind,
+}
+
+impl ConfigFile {
+    /// The family the file states (the platform when it says none).
+    pub(super) fn kind(&self) -> ModelKind {
+        self.model.as_ref().map(|m| m.kind).unwrap_or_default()
+    }
+}
+
+/// The coefficient names `[prior.coefficients]` and `truth.csv` may use in a strapdown
+/// dataset: the biases.
+pub(super) fn strapdown_coefficients() -> Vec<String> {
+    crate::strapdown::state::STATE_NAMES[crate::strapdown::state::NAV_DIM..]
+        .iter()
+        .map(|s| s.to_string())
+        .collect()
 }
 
 /// Every coefficient name a `[prior.coefficients]` key may take: the base model's and those
@@ -30,9 +58,57 @@ pub(super) fn known_coefficients(registry: &Registry) -> Vec<String> {
     names
 }
 
-pub(super) fn read_config(path: &Path, known: &[String]) -> Result<ConfigFile, DynamicsError> {
+/// Reads and checks `dataset.toml`; `known` gives the coefficient names of the family the
+/// file states.
+pub(super) fn read_config(
+    path: &Path,
+    known: impl Fn(ModelKind) -> Vec<String>,
+) -> Result<ConfigFile, DynamicsError> {
     let text = read_text(path, &TextFile::DATASET_CONFIG)?;
     let config: ConfigFile = toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))?;
+    let kind = config.kind();
+    let known = known(kind);
+    let located = |table: &str, key: &str, message: String| match key_line(&text, table, key) {
+        Some(line) => data_error(path, line, &format!("{table}.{key}"), message),
+        None => DynamicsError::File {
+            path: path.to_path_buf(),
+            message: printable(&format!("{table}.{key}: {message}")),
+        },
+    };
+    match (kind, &config.initial) {
+        (ModelKind::Platform, Some(_)) => {
+            return Err(DynamicsError::File {
+                path: path.to_path_buf(),
+                message: "[initial]: a platform dataset has no attitude to state (its tilt is \
+                          an error, stated by [prior]); expected [model] kind = \"strapdown\" \
+                          or no [initial]"
+                    .into(),
+            })
+        }
+        (ModelKind::Strapdown, Some(a)) => {
+            for (key, v, limit) in [
+                ("roll_deg", a.roll_deg, 180.0),
+                ("pitch_deg", a.pitch_deg, 90.0),
+                ("heading_deg", a.heading_deg, f64::INFINITY),
+            ] {
+                if !(v.is_finite() && v.abs() <= limit) {
+                    return Err(located(
+                        "initial",
+                        key,
+                        format!("{v}: expected finite degrees within +-{limit}"),
+                    ));
+                }
+            }
+            if a.pitch_deg.abs() == 90.0 {
+                return Err(located(
+                    "initial",
+                    "pitch_deg",
+                    "90 deg: the Euler angles are singular there; expected |pitch| < 90".into(),
+                ));
+            }
+        }
+        _ => {}
+    }
     if let Err(message) = config.noise.unwrap_or_default().validate() {
         // validate() names the key as `noise.<key>`; point at its line when we can find it.
         let key = message
@@ -47,10 +123,9 @@ pub(super) fn read_config(path: &Path, known: &[String]) -> Result<ConfigFile, D
             },
         });
     }
-    if config.noise.is_some_and(|n| n.nhc_m_s.is_some()) {
-        let message = "the non-holonomic constraint belongs to the strapdown family, whose \
-                       datasets navkf does not read yet; expected no noise.nhc_m_s in a \
-                       platform dataset"
+    if kind == ModelKind::Platform && config.noise.is_some_and(|n| n.nhc_m_s.is_some()) {
+        let message = "the non-holonomic constraint belongs to the strapdown family; expected \
+                       [model] kind = \"strapdown\" or no noise.nhc_m_s"
             .to_string();
         return Err(match key_line(&text, "noise", "nhc_m_s") {
             Some(line) => data_error(path, line, "noise.nhc_m_s", message),
@@ -60,7 +135,7 @@ pub(super) fn read_config(path: &Path, known: &[String]) -> Result<ConfigFile, D
             },
         });
     }
-    if let Err((key, message)) = config.prior.validate(known) {
+    if let Err((key, message)) = config.prior.validate(&known) {
         // `prior.level_rad` sits in [prior]; `prior.coefficients.X` in [prior.coefficients].
         let (table, name) = key.rsplit_once('.').unwrap_or(("prior", &key));
         return Err(match key_line(&text, table, name) {

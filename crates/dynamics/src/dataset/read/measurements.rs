@@ -38,33 +38,72 @@ pub(super) fn read_inputs(path: &Path) -> Result<Vec<InputSample>, DynamicsError
     Ok(inputs)
 }
 
+/// The family's `measurements.csv`: its header, and the file of inputs beside it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Layout {
+    /// `t,v_e,v_n,lat_deg,lon_deg` beside `inputs.csv`.
+    Platform,
+    /// `t,speed,lat_deg,lon_deg` beside `imu.csv`.
+    Strapdown,
+}
+
+impl Layout {
+    fn columns(self) -> &'static [&'static str] {
+        match self {
+            Layout::Platform => &MEASUREMENT_COLUMNS,
+            Layout::Strapdown => &SPEED_MEASUREMENT_COLUMNS,
+        }
+    }
+    /// The inputs' file name.
+    pub(super) fn inputs_file(self) -> &'static str {
+        match self {
+            Layout::Platform => INPUTS_FILE,
+            Layout::Strapdown => IMU_FILE,
+        }
+    }
+}
+
 pub(super) fn read_measurements(
     path: &Path,
     inputs: &[InputSample],
+    layout: Layout,
 ) -> Result<Vec<Measurement>, DynamicsError> {
-    let mut table = read_table(path, &MEASUREMENT_COLUMNS.join(","))?;
-    check_header(&table, &MEASUREMENT_COLUMNS)?;
+    let columns = layout.columns();
+    let mut table = read_table(path, &columns.join(","))?;
+    check_header(&table, columns)?;
     let mut measurements = Vec::new();
     let mut lines = Vec::new();
     let mut previous = None;
+    // The GPS pair's columns: the last two.
+    let gps = [columns.len() - 2, columns.len() - 1];
     while let Some(row) = table.next_row()? {
         let cells = Cells {
             path,
-            columns: &MEASUREMENT_COLUMNS,
+            columns,
             row: &row,
         };
         cells.check_count()?;
         let t = cells.required(0)?;
-        let v = [cells.optional(1)?, cells.optional(2)?];
-        let p = [cells.optional(3)?, cells.optional(4)?];
-        let velocity = pair(&cells, v, [1, 2], "odometer")?;
-        let position_deg = pair(&cells, p, [3, 4], "GPS")?;
-        if velocity.is_none() && position_deg.is_none() {
+        let p = [cells.optional(gps[0])?, cells.optional(gps[1])?];
+        let position_deg = pair(&cells, p, gps, "GPS")?;
+        let (velocity, speed) = match layout {
+            Layout::Platform => {
+                let v = [cells.optional(1)?, cells.optional(2)?];
+                (pair(&cells, v, [1, 2], "odometer")?, None)
+            }
+            Layout::Strapdown => (None, cells.optional(1)?),
+        };
+        if velocity.is_none() && speed.is_none() && position_deg.is_none() {
+            let (odometer, all) = match layout {
+                Layout::Platform => ("an odometer pair (v_e,v_n)", "four"),
+                Layout::Strapdown => ("an odometer speed", "three"),
+            };
             return Err(cells.error(
-                "v_e,v_n,lat_deg,lon_deg",
-                "all four cells empty: the row says nothing; expected an odometer pair \
-                 (v_e,v_n), a GPS pair (lat_deg,lon_deg) or both"
-                    .to_owned(),
+                &columns[1..].join(","),
+                format!(
+                    "all {all} cells empty: the row says nothing; expected {odometer}, a GPS \
+                     pair (lat_deg,lon_deg) or both"
+                ),
             ));
         }
         if let Some([lat, lon]) = position_deg {
@@ -85,7 +124,7 @@ pub(super) fn read_measurements(
         measurements.push(Measurement {
             t,
             velocity,
-            speed: None,
+            speed,
             nhc: None,
             zupt: None,
             position_deg,
@@ -112,13 +151,19 @@ pub(super) fn read_measurements(
                 line,
                 "t",
                 format!(
-                    "t = {} is outside the span of {INPUTS_FILE}; expected {t0} <= t <= {t1}",
-                    m.t
+                    "t = {} is outside the span of {}; expected {t0} <= t <= {t1}",
+                    m.t,
+                    layout.inputs_file()
                 ),
             ));
         }
     }
-    check_input_rate(path, &inputs_path(path), inputs, &measurements)?;
+    check_input_rate(
+        path,
+        &path.with_file_name(layout.inputs_file()),
+        inputs,
+        &measurements,
+    )?;
     if let Some((line, why)) = looks_like_radians(&measurements, &lines) {
         return Err(data_error(
             path,
@@ -133,11 +178,6 @@ pub(super) fn read_measurements(
     }
     unwrap_longitude(&mut measurements);
     Ok(measurements)
-}
-
-/// `inputs.csv` beside `measurements`.
-pub(super) fn inputs_path(measurements: &Path) -> PathBuf {
-    measurements.with_file_name(INPUTS_FILE)
 }
 
 /// Largest change of longitude (deg) between consecutive fixes that an antimeridian

@@ -8,8 +8,9 @@
 //! latitude/longitude in degrees, sensor pairs either complete or empty.
 
 use crate::dataset::{
-    Dataset, InputSample, Measurement, Provenance, Truth, CONFIG_FILE, INPUTS_FILE, INPUT_COLUMNS,
-    MEASUREMENTS_FILE, MEASUREMENT_COLUMNS, TRUTH_FILE,
+    Dataset, InitialAttitude, InputSample, Measurement, Provenance, Truth, CONFIG_FILE, IMU_FILE,
+    INPUTS_FILE, INPUT_COLUMNS, MEASUREMENTS_FILE, MEASUREMENT_COLUMNS, SPEED_MEASUREMENT_COLUMNS,
+    TRUTH_FILE,
 };
 use crate::earth::{meridian_radius, prime_vertical_radius};
 use crate::effects::Registry;
@@ -18,6 +19,7 @@ use crate::input_file::{
     check_regular, other_encoding, printable, read_text, toml_error, LineLimit, LineTooLong,
     TextFile, CSV_LINE_MAX_BYTES,
 };
+use crate::model_kind::ModelKind;
 use crate::noise::NoiseConfig;
 use crate::prior::PlatformPrior;
 use crate::state::{BASE_NAMES, NAV_DIM};
@@ -27,12 +29,14 @@ use std::path::{Path, PathBuf};
 
 mod config;
 mod csv_table;
+mod imu;
 mod measurements;
 mod truth;
 mod units;
 
 use config::*;
 use csv_table::*;
+use imu::*;
 use measurements::*;
 use truth::*;
 use units::*;
@@ -60,19 +64,44 @@ impl Dataset {
                 ),
             });
         }
-        let inputs = read_inputs(&dir.join(INPUTS_FILE))?;
-        let measurements = read_measurements(&dir.join(MEASUREMENTS_FILE), &inputs)?;
+        // dataset.toml first: it says which family's files to read.
         let config_path = dir.join(CONFIG_FILE);
         let config = if exists(&config_path)? {
-            read_config(&config_path, &known_coefficients(registry))?
+            read_config(&config_path, |kind| match kind {
+                ModelKind::Platform => known_coefficients(registry),
+                ModelKind::Strapdown => strapdown_coefficients(),
+            })?
         } else {
             ConfigFile::default()
         };
+        let kind = config.kind();
+        let (inputs, layout, state_names) = match kind {
+            ModelKind::Platform => {
+                let mut names: Vec<String> = BASE_NAMES.iter().map(|s| s.to_string()).collect();
+                names.extend(known_coefficients(registry));
+                (
+                    read_inputs(&dir.join(INPUTS_FILE))?,
+                    Layout::Platform,
+                    names,
+                )
+            }
+            ModelKind::Strapdown => {
+                let names = crate::strapdown::state::STATE_NAMES
+                    .iter()
+                    .map(|s| s.to_string())
+                    .collect();
+                (read_imu(&dir.join(IMU_FILE))?, Layout::Strapdown, names)
+            }
+        };
+        let measurements = read_measurements(&dir.join(MEASUREMENTS_FILE), &inputs, layout)?;
         let truth_path = dir.join(TRUTH_FILE);
         let truth = if exists(&truth_path)? {
-            let mut known: Vec<String> = BASE_NAMES.iter().map(|s| s.to_string()).collect();
-            known.extend(known_coefficients(registry));
-            Some(read_truth(&truth_path, &known, &inputs, &measurements)?)
+            Some(read_truth(
+                &truth_path,
+                &state_names,
+                &inputs,
+                &measurements,
+            )?)
         } else {
             None
         };
@@ -85,6 +114,8 @@ impl Dataset {
             prior: config.prior,
             provenance: config.simulation,
             truth,
+            model: kind,
+            initial: config.initial,
         })
     }
 }

@@ -1,0 +1,230 @@
+//! A strapdown dataset folder (`[model] kind = "strapdown"`): `imu.csv` as rates or as
+//! increments, `measurements.csv` with the odometer's speed, `[initial]`; written and read back
+//! bit for bit, and every refusal naming its file, line and column or key.
+
+mod dataset_files;
+
+use dataset_files::*;
+use navkf_dynamics::dataset::{Dataset, Doubt};
+use navkf_dynamics::strapdown::model::StrapdownModel;
+use navkf_dynamics::strapdown::simulate::StrapdownSimulator;
+use navkf_dynamics::strapdown::unit_class::UnitClass;
+use navkf_dynamics::{ModelKind, NoiseConfig, Trajectory, TrajectoryConfig};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+const CONFIG: &str = "[model]\nkind = \"strapdown\"\n\n[noise]\ngps_m = 3.0\nnhc_m_s = 0.1\n";
+const MEASUREMENTS: &str = "t,speed,lat_deg,lon_deg\n0.5,0,45.0,7.0\n1.0,,45.0,7.0\n1.5,0.2,,\n";
+
+fn simulated() -> Dataset {
+    simulated_at(10.0)
+}
+
+fn simulated_at(imu_hz: f64) -> Dataset {
+    let traj = Arc::new(
+        Trajectory::build(&TrajectoryConfig {
+            duration_s: 500.0,
+            initial_standstill_s: 20.0,
+            leg_north_m: 800.0,
+            leg_east_m: 500.0,
+            ..TrajectoryConfig::default()
+        })
+        .unwrap(),
+    );
+    let unit = UnitClass::Mems.errors();
+    let noise = NoiseConfig {
+        gyro_psd: unit.gyro_psd,
+        accel_psd: unit.accel_psd,
+        nhc_m_s: Some(0.1),
+        ..NoiseConfig::default()
+    };
+    let model = Arc::new(StrapdownModel::base(&noise));
+    let sim =
+        StrapdownSimulator::new(model, traj, imu_hz, 1.0, unit, &BTreeMap::new(), noise).unwrap();
+    let run = sim.run(5, 2);
+    sim.dataset("drive", 5, &run, 5e-3, 0.035)
+}
+
+#[test]
+fn a_simulated_strapdown_dataset_is_read_back_bit_for_bit() {
+    let ds = simulated();
+    let dir = temp_folder("sd-roundtrip");
+    ds.write(&dir).unwrap();
+    for file in ["imu.csv", "measurements.csv", "dataset.toml", "truth.csv"] {
+        assert!(dir.join(file).is_file(), "{file}");
+    }
+    assert!(!dir.join("inputs.csv").exists());
+    let text = std::fs::read_to_string(dir.join("dataset.toml")).unwrap();
+    assert!(text.starts_with("[model]\nkind = \"strapdown\""), "{text}");
+    assert!(text.contains("heading_rad = 0.035") && text.contains("nhc_m_s = 0.1"));
+    let back = Dataset::read(&dir).unwrap();
+    assert_eq!(back.model, ModelKind::Strapdown);
+    assert_eq!(
+        back,
+        Dataset {
+            name: back.name.clone(),
+            ..ds.clone()
+        }
+    );
+    assert_eq!(bits_of(&back), bits_of(&ds));
+    // The odometer reads exactly zero at the standstill, its speed elsewhere; the heading
+    // stated is the true one off by the alignment's draw.
+    assert_eq!(back.measurements[0].speed, Some(0.0));
+    assert!(back.measurements.iter().any(|m| m.speed.unwrap() > 10.0));
+    let a = back.initial.unwrap();
+    let true_heading = back.truth.as_ref().unwrap().states[0][2].to_degrees();
+    assert!(a.heading_deg != true_heading && (a.heading_deg - true_heading).abs() < 10.0);
+}
+
+#[test]
+fn increments_are_read_as_mean_rates_at_the_middle_of_their_interval() {
+    // A rate ramp w_x = 0.1 t sampled as increments every 0.5 s: the mean over (t - 0.5, t]
+    // is the value at t - 0.25, exactly, for a linear signal.
+    let mut imu = String::from("t,dtheta_x,dtheta_y,dtheta_z,dv_x,dv_y,dv_z\n");
+    for k in 0..=4 {
+        let t = 0.5 * k as f64;
+        let (a, b) = (t - 0.5, t);
+        let dtheta = 0.05 * (b * b - a * a);
+        imu += &format!("{t},{dtheta},0,0,0.5,0,4.9\n");
+    }
+    let dir = folder(
+        "sd-increments",
+        &[
+            ("imu.csv", &imu),
+            ("dataset.toml", CONFIG),
+            (
+                "measurements.csv",
+                "t,speed,lat_deg,lon_deg\n0.5,0,45.0,7.0\n1.5,0.2,,\n",
+            ),
+        ],
+    );
+    let ds = Dataset::read(&dir).unwrap();
+    // The first row marks the start: four readings from five rows.
+    assert_eq!(ds.inputs.len(), 4);
+    for (s, t_mid) in ds.inputs.iter().zip([0.25, 0.75, 1.25, 1.75]) {
+        assert!((s.t - t_mid).abs() < 1e-15, "{}", s.t);
+        assert!((s.f[0] - 0.1 * t_mid).abs() < 1e-12, "{:?}", s.f);
+        assert_eq!([s.f[3], s.f[5]], [1.0, 9.8]);
+    }
+    // Empty speed and empty GPS cells: no reading, not zero.
+    let m = &ds.measurements;
+    assert_eq!((m[0].speed, m[1].speed), (Some(0.0), Some(0.2)));
+    assert!(m[1].position_deg.is_none());
+}
+
+#[test]
+fn bad_strapdown_files_are_refused_where_they_are_wrong() {
+    let imu = "t,w_x,w_y,w_z,f_x,f_y,f_z\n0,0,0,0,0,0,9.8\n0.5,0,0,0,0,0,9.8\n1,0,0,0,0,0,9.8\n1.5,0,0,0,0,0,9.8\n";
+    type Case<'a> = (&'a str, Vec<(&'a str, String)>, &'a [&'a str]);
+    let cases: [Case; 6] = [
+        (
+            "empty-imu-cell",
+            vec![(
+                "imu.csv",
+                imu.replace("0.5,0,0,0,0,0,9.8", "0.5,0,,0,0,0,9.8"),
+            )],
+            &["imu.csv:3:", "w_y", "one whole reading"],
+        ),
+        (
+            "platform-header",
+            vec![(
+                "imu.csv",
+                imu.replace("t,w_x,w_y,w_z,f_x,f_y,f_z", "t,f_e,f_n,f_u"),
+            )],
+            &["imu.csv:1:", "w_x"],
+        ),
+        (
+            "platform-measurements",
+            vec![(
+                "measurements.csv",
+                "t,v_e,v_n,lat_deg,lon_deg\n0.5,0,0,45,7\n".to_string(),
+            )],
+            &["measurements.csv:1:", "speed"],
+        ),
+        (
+            "pitch-90",
+            vec![(
+                "dataset.toml",
+                format!("{CONFIG}\n[initial]\nroll_deg = 0\npitch_deg = 90\nheading_deg = 10\n"),
+            )],
+            &["dataset.toml:10:", "initial.pitch_deg", "singular"],
+        ),
+        ("no-imu", vec![("imu.csv", String::new())], &["imu.csv"]),
+        (
+            "platform-initial",
+            vec![(
+                "dataset.toml",
+                "[initial]\nroll_deg = 0\npitch_deg = 0\nheading_deg = 10\n".to_string(),
+            )],
+            &["dataset.toml", "[initial]", "strapdown"],
+        ),
+    ];
+    for (tag, replace, expect) in cases {
+        let mut files: Vec<(&str, String)> = vec![
+            ("imu.csv", imu.to_string()),
+            ("measurements.csv", MEASUREMENTS.to_string()),
+            ("dataset.toml", CONFIG.to_string()),
+        ];
+        for (name, text) in replace {
+            files.retain(|(n, _)| *n != name);
+            files.push((name, text));
+        }
+        if tag == "platform-initial" {
+            // A platform dataset: inputs.csv and the platform's measurements.
+            files = vec![
+                ("inputs.csv", inputs_text(20)),
+                (
+                    "measurements.csv",
+                    "t,v_e,v_n,lat_deg,lon_deg\n0.5,0,0,45,7\n".to_string(),
+                ),
+                files.pop().unwrap(),
+            ];
+        }
+        let borrowed: Vec<(&str, &str)> = files.iter().map(|(n, t)| (*n, t.as_str())).collect();
+        let e = read_error(tag, &borrowed);
+        assert_mentions(&e, expect);
+    }
+}
+
+#[test]
+fn readings_in_the_wrong_unit_axes_or_form_are_warned_of_and_clean_ones_are_not() {
+    let clean = simulated();
+    assert_eq!(clean.warnings(), vec![]);
+    assert_eq!(clean.implausibilities(), vec![]);
+    let s = clean.summary();
+    assert!(s.speed.unwrap().max > 10.0, "{s}");
+    assert!(s.turn.max_turn_rate_deg_s.unwrap() > 3.0, "{s}");
+    let with = |edit: &dyn Fn(&mut [f64; 6]), ds: &Dataset| {
+        let mut ds = ds.clone();
+        for i in &mut ds.inputs {
+            edit(&mut i.f);
+        }
+        ds.warnings().iter().map(|w| w.doubt).collect::<Vec<_>>()
+    };
+    let in_g = |f: &mut [f64; 6]| f[3..].iter_mut().for_each(|v| *v /= 9.80665);
+    assert_eq!(with(&in_g, &clean), [Doubt::SpecificForceNotGravity]);
+    let in_degrees = |f: &mut [f64; 6]| f[..3].iter_mut().for_each(|v| *v = v.to_degrees());
+    assert_eq!(with(&in_degrees, &clean), [Doubt::RatesInDegrees]);
+    let upside_down = |f: &mut [f64; 6]| {
+        for k in [1, 2, 4, 5] {
+            f[k] = -f[k];
+        }
+    };
+    assert_eq!(with(&upside_down, &clean), [Doubt::UpsideDown]);
+    // Increments under the rates' header, at 100 Hz: a hundredth of the readings.
+    let fast = simulated_at(100.0);
+    assert_eq!(fast.warnings(), vec![]);
+    let increments = |f: &mut [f64; 6]| f.iter_mut().for_each(|v| *v *= 0.01);
+    assert_eq!(with(&increments, &fast), [Doubt::IncrementsReadAsRates]);
+    let w = &{
+        let mut ds = fast.clone();
+        ds.inputs.iter_mut().for_each(|i| increments(&mut i.f));
+        ds
+    }
+    .warnings()[0];
+    assert!(
+        w.to_string().starts_with("imu.csv: column `f_x,f_y,f_z`"),
+        "{w}"
+    );
+    assert!(w.message.contains("t,dtheta_x"), "{w}");
+}

@@ -21,6 +21,7 @@ macro_rules! say {
     };
 }
 
+mod convert;
 mod diagnose;
 mod effects;
 mod plan;
@@ -55,6 +56,8 @@ enum Command {
     Merge(study::MergeArgs),
     /// List the base coefficients and every catalogued effect: coefficients, units, sizes.
     Effects(effects::Args),
+    /// Write a recording in another format (KITTI raw OXTS) as a dataset folder.
+    Convert(convert::Args),
     /// Validate a dataset folder and print a summary of it.
     Inspect {
         /// The dataset folder (inputs.csv, measurements.csv, optional dataset.toml, truth.csv).
@@ -160,6 +163,7 @@ fn main() -> ExitCode {
     handle_ctrl_c(matches!(cli.command, Command::Study(_)));
     let result = match cli.command {
         Command::Simulate(args) => simulate::run(args),
+        Command::Convert(args) => convert::run(args),
         Command::Inspect { dir, json } => inspect(&dir, json),
         Command::Study(args) => study::run(args),
         Command::Diagnose(args) => diagnose::run(args),

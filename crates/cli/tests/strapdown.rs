@@ -101,3 +101,45 @@ fn strapdown_settings_are_refused_where_they_mean_nothing() {
     );
     assert!(!out.exists(), "nothing is written when refused");
 }
+
+#[test]
+fn a_kitti_oxts_folder_is_converted_and_read_back() {
+    // Four seconds at rest at 10 Hz, in KITTI's layout: yaw 0 (East), az gravity.
+    let oxts = fresh("kitti").join("oxts");
+    std::fs::create_dir_all(oxts.join("data")).unwrap();
+    let mut stamps = String::new();
+    for k in 0..=40 {
+        stamps += &format!("2011-09-26 13:02:{:012.9}\n", 10.0 + 0.1 * k as f64);
+        let mut v = vec!["0".to_string(); 30];
+        v[0] = "49.0".into();
+        v[1] = "8.4".into();
+        v[13] = "9.81".into();
+        v[23] = "0.3".into();
+        std::fs::write(oxts.join("data").join(format!("{k:010}.txt")), v.join(" ")).unwrap();
+    }
+    std::fs::write(oxts.join("timestamps.txt"), stamps).unwrap();
+    let out = fresh("kitti-out");
+    let o = navkf([
+        std::ffi::OsStr::new("convert"),
+        std::ffi::OsStr::new("kitti"),
+        oxts.as_os_str(),
+        std::ffi::OsStr::new("--out"),
+        out.as_os_str(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("41 readings, 4 measurements"),
+        "{}",
+        text(&o.stderr)
+    );
+    let toml = std::fs::read_to_string(out.join("dataset.toml")).unwrap();
+    assert!(
+        toml.contains("heading_deg = 90") && toml.contains("gps_m = 0.3"),
+        "{toml}"
+    );
+    assert!(toml.contains("not a wheel odometer"), "{toml}");
+    let o = navkf([std::ffi::OsStr::new("inspect"), out.as_os_str()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let _ = std::fs::remove_dir_all(oxts.parent().unwrap());
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -8,6 +8,7 @@
 
 mod implausibility;
 mod implausible;
+pub mod kitti;
 mod limits;
 mod plausibility;
 mod read;

@@ -198,6 +198,41 @@ fn inspect(dir: &std::path::Path, json: bool) -> Result<(), Box<dyn std::error::
         say!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
         say!("{summary}");
+        if !ds.model.is_platform() {
+            say!("{}", attitude_line(&ds));
+        }
     }
     Ok(())
+}
+
+/// A strapdown dataset's first attitude, as stated or as its data align it, with its prior.
+fn attitude_line(ds: &navkf_dynamics::dataset::Dataset) -> String {
+    let sigma = |v: Option<f64>| {
+        v.map_or("not stated".to_string(), |s| {
+            format!("{:.3} deg", s.to_degrees())
+        })
+    };
+    match (&ds.initial, ds.align_from_data()) {
+        (Some(a), _) => format!(
+            "  attitude      stated: roll {:.3} deg, pitch {:.3} deg, heading {:.3} deg; prior level {}, heading {}",
+            a.roll_deg,
+            a.pitch_deg,
+            a.heading_deg,
+            sigma(ds.prior.level_rad),
+            sigma(ds.prior.azimuth_rad)
+        ),
+        (None, Ok(al)) => format!(
+            "  attitude      aligned from the data: roll {:.3} deg, pitch {:.3} deg (level from the standstill {:.0}-{:.0} s, sigma {:.3} deg), heading {:.3} deg (GPS track {:.0}-{:.0} s, sigma {:.3} deg)",
+            al.attitude.roll_deg,
+            al.attitude.pitch_deg,
+            al.level_from[0],
+            al.level_from[1],
+            al.level_sigma.to_degrees(),
+            al.attitude.heading_deg,
+            al.heading_from[0],
+            al.heading_from[1],
+            al.heading_sigma.to_degrees()
+        ),
+        (None, Err(why)) => format!("  attitude      not stated, and the data cannot align it: {why}"),
+    }
 }

@@ -49,6 +49,25 @@ fn a_simulated_strapdown_dataset_is_inspected_and_its_diagnosis_refused_in_words
         "{s}"
     );
     assert!(!s.to_lowercase().contains("warning"), "{s}");
+    assert!(s.contains("attitude      stated: roll"), "{s}");
+    // Without [initial], the data align the unit and say from what.
+    let toml = std::fs::read_to_string(out.join("dataset.toml")).unwrap();
+    let without: String = toml
+        .lines()
+        .filter(|l| {
+            !["[initial]", "roll_deg", "pitch_deg", "heading_deg"]
+                .iter()
+                .any(|k| l.starts_with(k))
+        })
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(out.join("dataset.toml"), without).unwrap();
+    let o = navkf([std::ffi::OsStr::new("inspect"), out.as_os_str()]);
+    let s = text(&o.stdout);
+    assert!(
+        s.contains("aligned from the data") && s.contains("GPS track"),
+        "{s}"
+    );
     let o = navkf([std::ffi::OsStr::new("diagnose"), out.as_os_str()]);
     assert!(!o.status.success());
     let e = text(&o.stderr);

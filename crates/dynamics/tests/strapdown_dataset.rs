@@ -228,3 +228,144 @@ fn readings_in_the_wrong_unit_axes_or_form_are_warned_of_and_clean_ones_are_not(
     );
     assert!(w.message.contains("t,dtheta_x"), "{w}");
 }
+
+/// A MEMS drive of `segments`, seed `seed`, as a dataset without `[initial]`.
+fn unaligned(segments: Vec<navkf_dynamics::segments::SegmentSpec>, seed: u64) -> Dataset {
+    let traj = Arc::new(
+        Trajectory::build(&TrajectoryConfig {
+            duration_s: 200.0,
+            segments,
+            ..TrajectoryConfig::default()
+        })
+        .unwrap(),
+    );
+    let unit = UnitClass::Mems.errors();
+    let noise = NoiseConfig {
+        gyro_psd: unit.gyro_psd,
+        accel_psd: unit.accel_psd,
+        ..NoiseConfig::default()
+    };
+    let sim = StrapdownSimulator::new(
+        Arc::new(StrapdownModel::base(&noise)),
+        traj,
+        50.0,
+        1.0,
+        unit,
+        &BTreeMap::new(),
+        noise,
+    )
+    .unwrap();
+    let mut ds = sim.dataset("drive", seed, &sim.run(seed, 0), 5e-3, 0.035);
+    ds.initial = None;
+    ds
+}
+
+#[test]
+fn the_data_align_the_unit_within_the_sigmas_they_state() {
+    use navkf_dynamics::segments::SegmentSpec::*;
+    // Moving off, turning 37 deg to the right at once, then straight: the heading at the
+    // first reading is the track's bearing less what the gyro turned before it.
+    let drive = || {
+        vec![
+            Hold { duration_s: 30.0 },
+            Speed {
+                to: 5.0,
+                accel: 1.0,
+                climb_m: 0.0,
+            },
+            Turn {
+                angle_deg: 37.0,
+                rate_deg: 8.0,
+                climb_m: 0.0,
+            },
+            Speed {
+                to: 12.0,
+                accel: 1.0,
+                climb_m: 0.0,
+            },
+            Cruise {
+                duration_s: Some(100.0),
+                distance_m: None,
+                climb_m: 0.0,
+            },
+        ]
+    };
+    let (mut level2, mut heading2, mut worst) = (0.0, 0.0, 0.0f64);
+    let runs = 40;
+    for seed in 0..runs {
+        let ds = unaligned(drive(), seed);
+        let a = ds.align_from_data().unwrap();
+        let truth = &ds.truth.as_ref().unwrap().states[0];
+        let e = [
+            (a.attitude.roll_deg.to_radians() - truth[0]) / a.level_sigma,
+            (a.attitude.pitch_deg.to_radians() - truth[1]) / a.level_sigma,
+            (a.attitude.heading_deg.to_radians() - truth[2]) / a.heading_sigma,
+        ];
+        level2 += e[0] * e[0] + e[1] * e[1];
+        heading2 += e[2] * e[2];
+        worst = worst.max(e[2].abs());
+        assert_eq!(
+            a.level_from[1], 30.0,
+            "the standstill ends where the odometer moves"
+        );
+        assert!(a.heading_from[0] > 30.0);
+    }
+    // The level's error is the accelerometer bias over g: chi-square with 80 dof (99 %:
+    // 53.5-112.3). The heading's sigma bounds its error (GPS chord and gyro bias), RMS
+    // within it and no error beyond 4 of it.
+    let n = runs as f64;
+    assert!(
+        (53.5..112.3).contains(&level2),
+        "level chi-square {level2} of {}",
+        2.0 * n
+    );
+    let rms = (heading2 / n).sqrt();
+    assert!(
+        (0.2..1.2).contains(&rms) && worst < 4.0,
+        "heading RMS {rms} sigma, worst {worst}"
+    );
+}
+
+#[test]
+fn without_a_standstill_or_a_straight_track_the_alignment_says_what_is_missing() {
+    use navkf_dynamics::segments::SegmentSpec::*;
+    let moving_at_once = unaligned(
+        vec![
+            Hold { duration_s: 2.0 },
+            Speed {
+                to: 10.0,
+                accel: 1.0,
+                climb_m: 0.0,
+            },
+            Cruise {
+                duration_s: Some(150.0),
+                distance_m: None,
+                climb_m: 0.0,
+            },
+        ],
+        1,
+    );
+    let e = moving_at_once.align_from_data().unwrap_err();
+    assert!(e.to_string().contains("no standstill"), "{e}");
+    let only_turning = unaligned(
+        vec![
+            Hold { duration_s: 20.0 },
+            Speed {
+                to: 3.0,
+                accel: 1.0,
+                climb_m: 0.0,
+            },
+            Repeat {
+                count: 9,
+                segments: vec![Turn {
+                    angle_deg: 90.0,
+                    rate_deg: 10.0,
+                    climb_m: 0.0,
+                }],
+            },
+        ],
+        1,
+    );
+    let e = only_turning.align_from_data().unwrap_err();
+    assert!(e.to_string().contains("no straight GPS track"), "{e}");
+}

@@ -6,6 +6,7 @@
 //! antimeridian is made continuous), so that a dataset written and read back is
 //! bit-identical; [`Measurement::gps_rad`] converts for the filters.
 
+pub mod alignment;
 mod implausibility;
 mod implausible;
 pub mod kitti;

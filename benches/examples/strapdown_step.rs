@@ -1,7 +1,8 @@
 //! One predict + update of each filter on the strapdown base model against the same filter on
 //! the platform base model, timed in one run, interleaved, so that the ratio holds whatever the
 //! CPU (the strapdown issue's bound: at most 1.5x). Both windows are 1 s with 10 input
-//! sub-steps; the strapdown update has five rows (speed, GPS, two NHC), the platform's four.
+//! sub-steps; the strapdown update has the five rows of a moving vehicle (speed, GPS, two NHC;
+//! the two zero-velocity rows are a standstill's), the platform's four.
 //! `cargo run --release -p navkf-benches --example strapdown_step [-- SECONDS]`
 
 use navkf_benches::{all_filters, Scenario};
@@ -80,11 +81,12 @@ fn main() {
     }
     let mut z = [0.0; MEAS_DIM];
     measurement(&x, &mut z);
-    let sigma = [0.03, 5e-7, 7e-7, 0.05, 0.05];
+    let sigma = [0.03, 5e-7, 7e-7, 0.05, 0.05, 0.01, 0.01];
+    // Moving: speed, GPS and the constraint; the zero-velocity rows are a standstill's.
     let obs = Observation {
         z: &z,
         sigma: &sigma,
-        available: &[true; MEAS_DIM],
+        available: &[true, true, true, true, true, false, false],
     };
     println!(
         "{:16} {:>10} {:>10} {:>6}",

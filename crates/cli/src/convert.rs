@@ -31,11 +31,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         )
         .into());
     }
-    let name = a
-        .out
-        .file_name()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "dataset".into());
+    let name = crate::simulated_dataset::dataset_name(&a.out);
     let staged = ResultsDir::begin_kind(&a.out, FolderKind::Dataset, &[])?;
     let ds = read_kitti(&a.from, &name, a.every)?;
     ds.write(staged.path())?;

@@ -103,11 +103,7 @@ pub fn run(a: Settings) -> Result<(), Box<dyn std::error::Error>> {
         })?;
     let staged = ResultsDir::begin_kind(&a.out, FolderKind::Dataset, &[])?;
     let run = sim.run(a.seed, a.run);
-    let name = a
-        .out
-        .file_name()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "dataset".into());
+    let name = crate::simulated_dataset::dataset_name(&a.out);
     let mut ds = sim.dataset(&name, a.seed, &run, level_sigma, heading_sigma);
     if !a.truth {
         ds.truth = None;

@@ -3,6 +3,14 @@
 //! place.
 
 use navkf_dynamics::dataset::Dataset;
+use std::path::Path;
+
+/// The dataset's name: the output folder's last component.
+pub fn dataset_name(out: &Path) -> String {
+    out.file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "dataset".into())
+}
 use navkf_dynamics::TrajectoryConfig;
 
 /// The `[trajectory]` table of the TOML file at `path`, checked; errors name the file and

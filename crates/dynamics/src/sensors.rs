@@ -76,9 +76,19 @@ impl MeasurementModel for NoiseConfig {
         available: &mut [bool],
     ) {
         let lat = state.get(LAT).copied().unwrap_or(0.0);
-        let (zz, ss, aa) = observation_of(record, self, lat);
-        z[..MEAS_DIM].copy_from_slice(&zz);
-        sigma[..MEAS_DIM].copy_from_slice(&ss);
-        available[..MEAS_DIM].copy_from_slice(&aa);
+        write_observation(observation_of(record, self, lat), z, sigma, available);
     }
+}
+
+/// Writes an observation `(z, sigma, available)` of `N` rows into a runner's buffers (the
+/// first `N` of each), as [`MeasurementModel::observe`] does.
+pub fn write_observation<const N: usize>(
+    (zz, ss, aa): ([f64; N], [f64; N], [bool; N]),
+    z: &mut [f64],
+    sigma: &mut [f64],
+    available: &mut [bool],
+) {
+    z[..N].copy_from_slice(&zz);
+    sigma[..N].copy_from_slice(&ss);
+    available[..N].copy_from_slice(&aa);
 }

@@ -175,12 +175,7 @@ impl Dataset {
                 .iter()
                 .map(|i| i.f[0].hypot(i.f[1]).hypot(i.f[2])),
         ) {
-            let lat = self
-                .measurements
-                .iter()
-                .find_map(|m| m.position_deg)
-                .map_or(45.0, |p| p[0]);
-            let g = normal_gravity(lat.to_radians().sin());
+            let g = self.local_gravity();
             if !((1.0 - GRAVITY_TOLERANCE) * g..=(1.0 + GRAVITY_TOLERANCE) * g).contains(&f) {
                 let hint = if (f - 1.0).abs() < GRAVITY_TOLERANCE {
                     " It is near 1: in g? Multiply by 9.81."
@@ -202,6 +197,19 @@ impl Dataset {
             }
         }
         out
+    }
+}
+
+impl Dataset {
+    /// Gravity at the first GPS fix (at 45 deg without one), m/s^2: what a unit on a road
+    /// feels, to compare the specific force with.
+    pub(super) fn local_gravity(&self) -> f64 {
+        let lat = self
+            .measurements
+            .iter()
+            .find_map(|m| m.position_deg)
+            .map_or(45.0, |p| p[0]);
+        normal_gravity(lat.to_radians().sin())
     }
 }
 

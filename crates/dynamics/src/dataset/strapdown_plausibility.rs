@@ -15,7 +15,6 @@
 
 use super::plausibility::{median, median_interval, GRAVITY_TOLERANCE, SLOWEST_INPUT_S};
 use super::{DataWarning, Dataset, Doubt, IMU_FILE};
-use crate::earth::normal_gravity;
 
 /// Rates whose 99th percentile exceeds this (rad/s) are no road vehicle's.
 const ROAD_RATE_MAX: f64 = 3.0;
@@ -30,12 +29,7 @@ impl Dataset {
             column: column.to_owned(),
             message,
         };
-        let lat = self
-            .measurements
-            .iter()
-            .find_map(|m| m.position_deg)
-            .map_or(45.0, |p| p[0]);
-        let g = normal_gravity(lat.to_radians().sin());
+        let g = self.local_gravity();
         let dt = median_interval(self.inputs.iter().map(|i| i.t));
         if let Some(dt) = dt.filter(|dt| *dt > SLOWEST_INPUT_S) {
             out.push(warn(

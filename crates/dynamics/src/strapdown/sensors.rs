@@ -20,7 +20,7 @@ use super::model::MEAS_DIM;
 use super::state::LAT;
 use crate::dataset::Measurement;
 use crate::noise::NoiseConfig;
-use crate::sensors::MeasurementModel;
+use crate::sensors::{write_observation, MeasurementModel};
 
 /// The strapdown family's sensors, described by the dataset's noise table.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -98,10 +98,7 @@ impl MeasurementModel for StrapdownSensors {
         available: &mut [bool],
     ) {
         let lat = state.get(LAT).copied().unwrap_or(0.0);
-        let (zz, ss, aa) = self.observation_of(record, lat);
-        z[..MEAS_DIM].copy_from_slice(&zz);
-        sigma[..MEAS_DIM].copy_from_slice(&ss);
-        available[..MEAS_DIM].copy_from_slice(&aa);
+        write_observation(self.observation_of(record, lat), z, sigma, available);
     }
 }
 

@@ -162,3 +162,55 @@ fn a_kitti_oxts_folder_is_converted_and_read_back() {
     let _ = std::fs::remove_dir_all(oxts.parent().unwrap());
     let _ = std::fs::remove_dir_all(&out);
 }
+
+#[test]
+fn a_strapdown_study_in_shards_merges_to_the_single_run() {
+    // Before the shard check knew the family's rows, merge refused the strapdown's five.
+    let study = include_str!("../../../studies/strapdown.toml")
+        .replace("runs = 500", "runs = 20")
+        .replace("name = \"strapdown\"", "name = \"sd-shards\"")
+        .replace("duration_s = 2400.0", "duration_s = 600.0")
+        .replace("leg_north_m = 9000.0", "leg_north_m = 1500.0")
+        .replace("leg_east_m = 6500.0", "leg_east_m = 1000.0")
+        .replace(
+            "initial_standstill_s = 120.0",
+            "initial_standstill_s = 30.0",
+        );
+    let dir = fresh("shards");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("sd.toml");
+    std::fs::write(&file, study).unwrap();
+    let (one, parts, merged) = (dir.join("one"), dir.join("parts"), dir.join("merged"));
+    let run = |args: Vec<std::ffi::OsString>| {
+        let o = navkf(args);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+    };
+    let os = |s: &str| std::ffi::OsString::from(s);
+    run(vec![
+        os("study"),
+        file.clone().into(),
+        os("--quiet"),
+        os("--out"),
+        one.clone().into(),
+    ]);
+    for shard in ["0/2", "1/2"] {
+        run(vec![
+            os("study"),
+            file.clone().into(),
+            os("--quiet"),
+            os("--shard"),
+            os(shard),
+            os("--out"),
+            parts.clone().into(),
+        ]);
+    }
+    let mut merge = vec![os("merge")];
+    for p in ["partial-0-of-2.json", "partial-1-of-2.json"] {
+        merge.push(parts.join(p).into());
+    }
+    merge.extend([os("--out"), merged.clone().into()]);
+    run(merge);
+    let csv = |d: &PathBuf| std::fs::read(d.join("rms_over_time.csv")).unwrap();
+    assert_eq!(csv(&one), csv(&merged));
+    let _ = std::fs::remove_dir_all(&dir);
+}

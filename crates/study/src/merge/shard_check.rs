@@ -16,7 +16,6 @@
 use crate::monte_carlo::{ExampleRun, Study};
 use crate::partial::{shard_blocks, Partial};
 use crate::tally::{cost_bin, FilterTally, Tally, BLOCK};
-use navkf_dynamics::state::MEAS_DIM;
 use navkf_report::names::shown;
 use std::ops::Range;
 
@@ -38,6 +37,8 @@ struct Expected<'a> {
     steps_per_run: u64,
     /// The run whose traces the example holds.
     example_run: usize,
+    /// Measurement rows of the filters' model: at most this many in one update.
+    meas_dim: u64,
 }
 
 impl<'a> Expected<'a> {
@@ -52,6 +53,7 @@ impl<'a> Expected<'a> {
             filters: study.filter_names(),
             steps_per_run: measurements.max(0.0).ceil() as u64 + 1,
             example_run: study.config.study.example_run,
+            meas_dim: study.filter_model.meas_dim() as u64,
         }
     }
 
@@ -323,7 +325,7 @@ fn check_filter(
         }
     }
     // Every finished run updated at each stored time at least, and at most at every
-    // measurement; an update has at most MEAS_DIM measurements.
+    // measurement; an update has at most the model's measurement rows.
     let (fewest, most) = (
         t.ok.saturating_mul(want.times as u64),
         t.ok.saturating_mul(want.steps_per_run),
@@ -334,11 +336,11 @@ fn check_filter(
             t.nis_count, t.ok, want.times, want.steps_per_run
         ));
     }
-    let dof = t.nis_count.saturating_mul(MEAS_DIM as u64);
+    let dof = t.nis_count.saturating_mul(want.meas_dim);
     if t.nis_dof > dof {
         return Err(format!(
-            "{p}.nis_dof = {}: more than {dof} ({MEAS_DIM} measurements in each of {} updates)",
-            t.nis_dof, t.nis_count
+            "{p}.nis_dof = {}: more than {dof} ({} measurements in each of {} updates)",
+            t.nis_dof, want.meas_dim, t.nis_count
         ));
     }
     check_step_cost(p, t, n, want)

@@ -158,6 +158,19 @@ fn check_row(md: &str, name: &str, unit: &str, sigma: Option<f64>) {
 }
 
 #[test]
+fn the_glossary_has_the_strapdown_states_with_the_mems_sizes() {
+    use navkf_dynamics::strapdown::model::StrapdownModel;
+    use navkf_dynamics::strapdown::state::{BASE_DIM, STATE_NAMES, STATE_UNITS};
+    use navkf_dynamics::FamilyModel;
+    let md = doc("glossary.md");
+    let model = StrapdownModel::base(&NoiseConfig::default());
+    for i in 0..BASE_DIM {
+        let sigma = Some(model.typical_sigma(i)).filter(|s| *s > 0.0);
+        check_row(&md, STATE_NAMES[i], STATE_UNITS[i], sigma);
+    }
+}
+
+#[test]
 fn the_glossary_has_every_state_coefficient_and_effect() {
     let md = doc("glossary.md");
     for i in 0..BASE_DIM {

@@ -94,6 +94,17 @@ impl TextFile {
         what: "a study's summary.json",
         max_bytes: SUMMARY_MAX_BYTES,
     };
+    /// A KITTI raw drive's `oxts/timestamps.txt`: 30 bytes a frame, so 64 MiB holds two
+    /// million frames (over five hours at 100 Hz).
+    pub const KITTI_STAMPS: TextFile = TextFile {
+        what: "a KITTI oxts timestamps.txt (one YYYY-MM-DD HH:MM:SS.fffffffff line a frame)",
+        max_bytes: 64 * MIB,
+    };
+    /// One KITTI OXTS frame, `oxts/data/NNNNNNNNNN.txt`: 30 numbers, a few hundred bytes.
+    pub const KITTI_FRAME: TextFile = TextFile {
+        what: "a KITTI oxts frame (30 numbers on one line)",
+        max_bytes: 64 * KIB,
+    };
 }
 
 /// Checks that `path` (following links) is a regular file, without opening it (opening a

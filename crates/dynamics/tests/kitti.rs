@@ -179,8 +179,25 @@ fn a_broken_excerpt_is_refused_where_it_is_broken() {
     std::fs::write(dir.join("timestamps.txt"), lines.join("\n")).unwrap();
     let e = read_kitti(&dir, "d", 1.0).unwrap_err().to_string();
     assert_mentions(&e, &["timestamps.txt:5:", "not after line 4"]);
+    // A frame is a line of 30 numbers; a file of megabytes is refused unread, not parsed.
+    let dir = write_oxts(&traj, None);
+    with_frame(&dir, 3, &"1 ".repeat(100_000));
+    let e = read_kitti(&dir, "d", 1.0).unwrap_err().to_string();
+    assert_mentions(
+        &e,
+        &[
+            "0000000003.txt",
+            "expected a KITTI oxts frame",
+            "at most 64 KiB",
+        ],
+    );
     let dir = write_oxts(&traj, None);
     std::fs::remove_file(dir.join("data").join("0000000010.txt")).unwrap();
     let e = read_kitti(&dir, "d", 1.0).unwrap_err().to_string();
-    assert_mentions(&e, &["0000000010.txt"]);
+    assert_mentions(&e, &["data", "1800 frame files", "1801 stamps"]);
+    // A frame beyond the last stamp is not left out unsaid.
+    let dir = write_oxts(&traj, None);
+    with_frame(&dir, 5000, "1 2 3");
+    let e = read_kitti(&dir, "d", 1.0).unwrap_err().to_string();
+    assert_mentions(&e, &["1802 frame files", "1801 stamps"]);
 }

@@ -28,6 +28,7 @@
 
 use super::{Dataset, InitialAttitude, InputSample, Measurement, Provenance};
 use crate::error::DynamicsError;
+use crate::input_file::{read_text, TextFile};
 use crate::model_kind::ModelKind;
 use crate::noise::NoiseConfig;
 use crate::prior::PlatformPrior;
@@ -57,13 +58,6 @@ fn data_error(path: &Path, line: usize, column: &str, message: String) -> Dynami
         column: column.to_string(),
         message,
     }
-}
-
-fn read(path: &Path) -> Result<String, DynamicsError> {
-    std::fs::read_to_string(path).map_err(|source| DynamicsError::Io {
-        path: path.to_path_buf(),
-        source,
-    })
 }
 
 /// Whole seconds since 1970-01-01 and the fraction of a `YYYY-MM-DD HH:MM:SS.fffffffff`
@@ -121,7 +115,7 @@ pub fn read_kitti(dir: &Path, name: &str, every_s: f64) -> Result<Dataset, Dynam
         });
     }
     let stamps_path = dir.join("timestamps.txt");
-    let stamps = read(&stamps_path)?;
+    let stamps = read_text(&stamps_path, &TextFile::KITTI_STAMPS)?;
     let mut t = Vec::new();
     let mut first = None;
     for (i, line) in stamps.lines().enumerate() {
@@ -154,6 +148,32 @@ pub fn read_kitti(dir: &Path, name: &str, every_s: f64) -> Result<Dataset, Dynam
             format!("{} frame(s); expected at least 3", t.len()),
         ));
     }
+    // Every frame file has its stamp: a frame past the last stamp would be left out unsaid.
+    let data = dir.join("data");
+    let files = std::fs::read_dir(&data)
+        .map_err(|source| DynamicsError::Io {
+            path: data.clone(),
+            source,
+        })?
+        .filter_map(Result::ok)
+        .filter(|e| e.path().extension().is_some_and(|x| x == "txt"))
+        .count();
+    if files != t.len() {
+        return Err(DynamicsError::File {
+            path: data,
+            message: format!(
+                "{files} frame files (*.txt) for the {} stamps of timestamps.txt; expected one \
+                 frame file per stamp, 0000000000.txt on",
+                t.len()
+            ),
+        });
+    }
+    crate::memory::check(
+        "timestamps.txt",
+        "the KITTI frames",
+        t.len() as f64,
+        std::mem::size_of::<[f64; 30]>() + std::mem::size_of::<InputSample>(),
+    )?;
     let frames: Vec<[f64; 30]> = (0..t.len())
         .map(|k| read_frame(&dir.join("data").join(format!("{k:010}.txt"))))
         .collect::<Result<_, _>>()?;
@@ -220,7 +240,7 @@ pub fn read_kitti(dir: &Path, name: &str, every_s: f64) -> Result<Dataset, Dynam
 
 /// One frame's 30 values; errors name the file, line 1 and the field.
 fn read_frame(path: &Path) -> Result<[f64; 30], DynamicsError> {
-    let text = read(path)?;
+    let text = read_text(path, &TextFile::KITTI_FRAME)?;
     let cells: Vec<&str> = text.split_whitespace().collect();
     if cells.len() != OXTS_FIELDS.len() {
         return Err(data_error(

@@ -88,12 +88,10 @@ pub fn run(a: Settings) -> Result<(), Box<dyn std::error::Error>> {
     // Levelling from the accelerometers leaves a tilt of about the bias over g.
     let level_sigma = errors.accel_bias / 9.80665;
     let traj = Arc::new(Trajectory::build(&a.trajectory)?);
-    let noise = NoiseConfig {
-        gyro_psd: errors.gyro_psd,
-        accel_psd: errors.accel_psd,
+    let noise = errors.noise(NoiseConfig {
         nhc_m_s: Some(nhc),
         ..NoiseConfig::default()
-    };
+    });
     let model = Arc::new(StrapdownModel::base(&noise).with_unit(errors));
     let sim = StrapdownSimulator::new(model, traj, imu_hz, 1.0, errors, &BTreeMap::new(), noise)
         .map_err(|e| {

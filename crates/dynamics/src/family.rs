@@ -25,8 +25,6 @@ use std::sync::Arc;
 /// A model as the harness sees it: the filters' [`SystemModel`] plus what tables, figures
 /// and Monte Carlo set-up need to know of its states.
 pub trait FamilyModel: SystemModel {
-    /// The family.
-    fn kind(&self) -> ModelKind;
     /// The unit of every state, for tables and axes (`rad`, `m/s`, `rad/s`, ...).
     fn state_units(&self) -> Vec<String>;
     /// The typical one-sigma of constant state `i` (a coefficient or a bias): the truth's

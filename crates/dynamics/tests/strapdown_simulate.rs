@@ -78,11 +78,7 @@ fn the_ideal_readings_drive_the_model_along_the_path() {
 fn a_run_reads_biases_and_noise_of_the_stated_size() {
     let traj = Arc::new(Trajectory::build(&TrajectoryConfig::default()).unwrap());
     let unit = UnitClass::Tactical.errors();
-    let noise = NoiseConfig {
-        gyro_psd: unit.gyro_psd,
-        accel_psd: unit.accel_psd,
-        ..NoiseConfig::default()
-    };
+    let noise = unit.noise(NoiseConfig::default());
     let model = Arc::new(StrapdownModel::base(&noise));
     let sim = StrapdownSimulator::new(
         model,

@@ -3,7 +3,7 @@
 
 use super::PlatformModel;
 use crate::dataset::Measurement;
-use crate::family::{FamilyModel, ModelKind, TruthSimulation};
+use crate::family::{FamilyModel, TruthSimulation};
 use crate::prior::typical_sigma;
 use crate::sensors::MeasurementModel;
 use crate::simulate::{Prior, SimulatedRun, Simulator};
@@ -12,9 +12,6 @@ use crate::trajectory::Trajectory;
 use std::sync::Arc;
 
 impl FamilyModel for PlatformModel {
-    fn kind(&self) -> ModelKind {
-        ModelKind::Platform
-    }
     fn state_units(&self) -> Vec<String> {
         self.units().to_vec()
     }

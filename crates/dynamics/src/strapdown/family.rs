@@ -5,16 +5,13 @@ use super::model::StrapdownModel;
 use super::simulate::StrapdownSimulator;
 use super::state::*;
 use crate::dataset::Measurement;
-use crate::family::{FamilyModel, ModelKind, TruthSimulation};
+use crate::family::{FamilyModel, TruthSimulation};
 use crate::sensors::MeasurementModel;
 use crate::simulate::{Prior, SimulatedRun};
 use crate::trajectory::Trajectory;
 use std::sync::Arc;
 
 impl FamilyModel for StrapdownModel {
-    fn kind(&self) -> ModelKind {
-        ModelKind::Strapdown
-    }
     fn state_units(&self) -> Vec<String> {
         STATE_UNITS.iter().map(|u| u.to_string()).collect()
     }

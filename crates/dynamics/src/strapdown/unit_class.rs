@@ -1,12 +1,14 @@
 //! Classes of strapdown inertial unit, with the sizes of their sensor errors: what
 //! `navkf simulate --model strapdown --unit mems` and a study's `[model] unit` draw from.
 //!
-//! The values sit inside the ranges of Groves, *Principles of GNSS, Inertial, and
-//! Multisensor Integrated Navigation Systems*, 2nd ed. (2013), section 4.4 (biases, Table
-//! 4.1 for accelerometers and Table 4.2 for gyros by grade; noise, section 4.4.3), and of
-//! Titterton & Weston, *Strapdown Inertial Navigation Technology*, 2nd ed. (2004), Table
-//! 8.1 (gyro performance by application). Where a range is wide, the class takes a value a
-//! unit of that class meets after its factory calibration:
+//! The values are chosen inside the ranges by grade that Groves, *Principles of GNSS,
+//! Inertial, and Multisensor Integrated Navigation Systems*, 2nd ed. (2013), chapter 4
+//! (inertial sensors: biases, scale factors and noise by grade), and Titterton & Weston,
+//! *Strapdown Inertial Navigation Technology*, 2nd ed. (2004), give. These are cited from
+//! memory of those books, not checked against the page while writing: a user with a data
+//! sheet should state its figures (a dataset's `[noise]` and `[prior]`) rather than trust a
+//! class. Where a range is wide, the class takes a value a unit of that class meets after
+//! its factory calibration:
 //!
 //! | class | gyro bias | angle random walk | accel bias | velocity random walk |
 //! |---|---|---|---|---|
@@ -18,6 +20,7 @@
 //! state of docs/model.md eq. (58)); the random walks are the white noises `q_g`, `q_a` of
 //! docs/model.md eq. (50), as densities: `q_g = ARW^2`, `q_a = VRW^2`.
 
+use crate::noise::NoiseConfig;
 use serde::{Deserialize, Serialize};
 
 /// Standard gravity, m/s^2 (the unit of `g` in accelerometer data sheets).
@@ -47,6 +50,18 @@ pub struct UnitErrors {
     pub gyro_psd: f64,
     /// Accelerometer white-noise density `q_a`, (m/s^2)^2/s.
     pub accel_psd: f64,
+}
+
+impl UnitErrors {
+    /// `aids` (the odometer's, GPS's and constraint's sigmas) with this unit's reading-noise
+    /// densities.
+    pub fn noise(&self, aids: NoiseConfig) -> NoiseConfig {
+        NoiseConfig {
+            gyro_psd: self.gyro_psd,
+            accel_psd: self.accel_psd,
+            ..aids
+        }
+    }
 }
 
 impl UnitClass {

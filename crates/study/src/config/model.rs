@@ -35,14 +35,7 @@ impl StudyConfig {
     pub fn truth_noise(&self) -> NoiseConfig {
         match self.model.kind {
             ModelKind::Platform => self.noise,
-            ModelKind::Strapdown => {
-                let unit = self.model.unit_class().errors();
-                NoiseConfig {
-                    gyro_psd: unit.gyro_psd,
-                    accel_psd: unit.accel_psd,
-                    ..self.noise
-                }
-            }
+            ModelKind::Strapdown => self.model.unit_class().errors().noise(self.noise),
         }
     }
 }

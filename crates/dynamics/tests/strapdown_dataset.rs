@@ -32,12 +32,10 @@ fn simulated_at(imu_hz: f64) -> Dataset {
         .unwrap(),
     );
     let unit = UnitClass::Mems.errors();
-    let noise = NoiseConfig {
-        gyro_psd: unit.gyro_psd,
-        accel_psd: unit.accel_psd,
+    let noise = unit.noise(NoiseConfig {
         nhc_m_s: Some(0.1),
         ..NoiseConfig::default()
-    };
+    });
     let model = Arc::new(StrapdownModel::base(&noise));
     let sim =
         StrapdownSimulator::new(model, traj, imu_hz, 1.0, unit, &BTreeMap::new(), noise).unwrap();
@@ -231,6 +229,17 @@ fn readings_in_the_wrong_unit_axes_or_form_are_warned_of_and_clean_ones_are_not(
 
 /// A MEMS drive of `segments`, seed `seed`, as a dataset without `[initial]`.
 fn unaligned(segments: Vec<navkf_dynamics::segments::SegmentSpec>, seed: u64) -> Dataset {
+    unaligned_with(segments, seed, UnitClass::Mems, 3.0)
+}
+
+/// [`unaligned`] for a unit of `class`, stating its levelling accuracy (bias over g), with a
+/// GPS of `gps_m`.
+fn unaligned_with(
+    segments: Vec<navkf_dynamics::segments::SegmentSpec>,
+    seed: u64,
+    class: UnitClass,
+    gps_m: f64,
+) -> Dataset {
     let traj = Arc::new(
         Trajectory::build(&TrajectoryConfig {
             duration_s: 200.0,
@@ -239,12 +248,11 @@ fn unaligned(segments: Vec<navkf_dynamics::segments::SegmentSpec>, seed: u64) ->
         })
         .unwrap(),
     );
-    let unit = UnitClass::Mems.errors();
-    let noise = NoiseConfig {
-        gyro_psd: unit.gyro_psd,
-        accel_psd: unit.accel_psd,
+    let unit = class.errors();
+    let noise = unit.noise(NoiseConfig {
+        gps_m,
         ..NoiseConfig::default()
-    };
+    });
     let sim = StrapdownSimulator::new(
         Arc::new(StrapdownModel::base(&noise)),
         traj,
@@ -255,9 +263,65 @@ fn unaligned(segments: Vec<navkf_dynamics::segments::SegmentSpec>, seed: u64) ->
         noise,
     )
     .unwrap();
-    let mut ds = sim.dataset("drive", seed, &sim.run(seed, 0), 5e-3, 0.035);
+    let level = unit.accel_bias / 9.80665;
+    let mut ds = sim.dataset("drive", seed, &sim.run(seed, 0), level, 0.035);
     ds.initial = None;
     ds
+}
+
+#[test]
+fn the_data_align_drawn_units_on_drawn_drives_within_their_sigmas() {
+    use navkf_dynamics::segments::SegmentSpec::*;
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(20261125);
+    let (mut level2, mut heading2, mut worst) = (0.0, 0.0, 0.0f64);
+    let runs = 40;
+    for seed in 0..runs {
+        let class = UnitClass::ALL[rng.gen_range(0..3)];
+        let speed = rng.gen_range(3.0..20.0);
+        let drive = vec![
+            Hold {
+                duration_s: rng.gen_range(10.0..60.0),
+            },
+            Speed {
+                to: speed,
+                accel: 1.0,
+                climb_m: 0.0,
+            },
+            Turn {
+                angle_deg: rng.gen_range(-150.0..150.0),
+                rate_deg: 8.0,
+                climb_m: 0.0,
+            },
+            Cruise {
+                duration_s: Some(60.0),
+                distance_m: None,
+                climb_m: 0.0,
+            },
+        ];
+        let ds = unaligned_with(drive, seed, class, rng.gen_range(0.5..8.0));
+        let a = ds.align_from_data().unwrap();
+        let truth = &ds.truth.as_ref().unwrap().states[0];
+        let e = [
+            (a.attitude.roll_deg.to_radians() - truth[0]) / a.level_sigma,
+            (a.attitude.pitch_deg.to_radians() - truth[1]) / a.level_sigma,
+            (a.attitude.heading_deg.to_radians() - truth[2]) / a.heading_sigma,
+        ];
+        level2 += e[0] * e[0] + e[1] * e[1];
+        heading2 += e[2] * e[2];
+        worst = worst.max(e[2].abs());
+    }
+    let n = runs as f64;
+    assert!(
+        (53.5..112.3).contains(&level2),
+        "level chi-square {level2} of {}",
+        2.0 * n
+    );
+    let rms = (heading2 / n).sqrt();
+    assert!(
+        (0.2..1.2).contains(&rms) && worst < 4.0,
+        "heading RMS {rms} sigma, worst {worst}"
+    );
 }
 
 #[test]

@@ -13,14 +13,20 @@ use std::sync::Arc;
 
 impl FamilyModel for StrapdownModel {
     fn state_units(&self) -> Vec<String> {
-        STATE_UNITS.iter().map(|u| u.to_string()).collect()
+        let coefficients = self.effects().iter().flat_map(|e| e.coefficients.iter());
+        STATE_UNITS
+            .iter()
+            .copied()
+            .chain(coefficients.map(|c| c.unit))
+            .map(str::to_string)
+            .collect()
     }
     fn typical_sigma(&self, i: usize) -> f64 {
         let unit = self.unit();
         match i {
             i if (BG_X..BG_X + 3).contains(&i) => unit.gyro_bias,
             i if (BA_X..BA_X + 3).contains(&i) => unit.accel_bias,
-            _ => 0.0,
+            i => self.coefficient_sigma(i).unwrap_or(0.0),
         }
     }
     /// Every navigation state is absolute: a filter starts from the truth off by a draw.

@@ -7,16 +7,24 @@
 //! - [`attitude`]: the body-to-navigation rotation from roll, pitch and heading, and the
 //!   angle rates from a body rate (docs/model.md eqs. (49), (53)-(55));
 //! - [`batch`]: sigma points propagated eight at a time, from the same rates;
+//! - [`effects`]: the catalogue of strapdown effects, each a declaration of where its
+//!   coefficients act, and [`effect_list`] the lists users write;
+//! - [`errors`]: the sensor errors those places describe, evaluated once for every number
+//!   type (corrected readings, the readings of a unit with errors, the measurement);
 //! - [`model`]: the base model as a [`crate::SystemModel`], with its measurement;
 //! - [`rates`]: the state equations, written once over [`crate::real::Real`], and their
 //!   Jacobian from the same source on dual numbers ([`crate::dual`]);
 //! - [`sensors`]: odometer speed, GPS fix and the non-holonomic constraint as a filter's
 //!   observation (docs/model.md eqs. (59), (60));
 //! - [`simulate`]: the truth simulator, a level unit driving a [`crate::Trajectory`];
+//! - [`tangent`]: the Jacobians of a model with effects, on dual numbers;
 //! - [`unit_class`]: navigation, tactical and MEMS units, with the sizes of their errors.
 
 pub mod attitude;
 pub mod batch;
+pub mod effect_list;
+pub mod effects;
+pub mod errors;
 pub mod family;
 pub mod jacobian;
 pub mod model;
@@ -24,4 +32,5 @@ pub mod rates;
 pub mod sensors;
 pub mod simulate;
 pub mod state;
+pub mod tangent;
 pub mod unit_class;

@@ -22,12 +22,17 @@
 
 use super::attitude::angle_trig;
 use super::attitude::{body_to_nav, rotate_back};
+use super::effect_list::StrapdownEffectList;
+use super::effects::{StrapdownEffect, Triad};
+use super::errors::{measurement_with, ErrorLayout};
 use super::jacobian::{nav_rate_jacobian_analytic, nav_rate_jacobian_with};
-use super::rates::{imu_of, nav_rates, nav_rates_with};
+use super::rates::{imu_of, nav_rates, nav_rates_with, rates_with_effects};
 use super::state::*;
+use super::tangent;
 use super::unit_class::{UnitClass, UnitErrors};
 use crate::dual::Dual;
 use crate::effect::NoiseChannel;
+use crate::error::DynamicsError;
 use crate::integrate::{InputWindow, PropagationScratch};
 use crate::kinematics::Input;
 use crate::noise::NoiseConfig;
@@ -49,11 +54,16 @@ pub const MEASUREMENT_NAMES: [&str; 7] = [
 /// Measurement dimension.
 pub const MEAS_DIM: usize = 7;
 
-/// The strapdown base model (module documentation).
+/// The strapdown model (module documentation): the base states and the coefficients of
+/// its effects ([`super::effects`]).
 #[derive(Debug, Clone)]
 pub struct StrapdownModel {
     noise: Vec<NoiseChannel>,
     unit: UnitErrors,
+    effects: Vec<StrapdownEffect>,
+    layout: ErrorLayout,
+    /// Typical one-sigma of each effect coefficient, in state order.
+    coefficient_sigma: Vec<f64>,
 }
 
 impl StrapdownModel {
@@ -73,6 +83,9 @@ impl StrapdownModel {
                 channel("w_vn", V_N, noise.accel_psd),
             ],
             unit: UnitClass::default().errors(),
+            effects: Vec::new(),
+            layout: ErrorLayout::default(),
+            coefficient_sigma: Vec::new(),
         }
     }
 
@@ -83,9 +96,67 @@ impl StrapdownModel {
         self
     }
 
+    /// The model with `list`'s effects switched on: their coefficients join the state after
+    /// the base states, typical sizes those of `class` times `scale`; a bias instability
+    /// adds its Gauss-Markov law (docs/model.md eq. (69)) with the list's parameters or the
+    /// class's defaults.
+    pub fn with_effects(
+        mut self,
+        list: &StrapdownEffectList,
+        class: UnitClass,
+        scale: f64,
+    ) -> Result<Self, DynamicsError> {
+        let law = |triad| list.instability(triad, class);
+        let layout = ErrorLayout::new(&list.effects, |t| 1.0 / law(t).map_or(1.0, |l| l.0))
+            .map_err(DynamicsError::Effect)?;
+        for triad in [Triad::Gyro, Triad::Accel] {
+            if let Some((time_s, sigma)) = law(triad) {
+                let (first, prefix) = match triad {
+                    Triad::Gyro => (BG_X, "w_bg"),
+                    Triad::Accel => (BA_X, "w_ba"),
+                };
+                for (a, axis) in ["x", "y", "z"].iter().enumerate() {
+                    self.noise.push(NoiseChannel {
+                        name: format!("{prefix}{axis}"),
+                        state: first + a,
+                        psd: 2.0 * sigma * sigma / time_s,
+                    });
+                }
+            }
+        }
+        self.coefficient_sigma = list
+            .effects
+            .iter()
+            .flat_map(|e| e.coefficients.iter().map(|c| c.sigma_for(class) * scale))
+            .collect();
+        self.effects = list.effects.clone();
+        self.layout = layout;
+        Ok(self)
+    }
+
     /// The typical bias sizes.
     pub fn unit(&self) -> UnitErrors {
         self.unit
+    }
+
+    /// The effects switched on, in state order.
+    pub fn effects(&self) -> &[StrapdownEffect] {
+        &self.effects
+    }
+
+    /// Where the effects' coefficients act.
+    pub fn layout(&self) -> &ErrorLayout {
+        &self.layout
+    }
+
+    /// Typical one-sigma of state `i` when it is an effect coefficient.
+    pub fn coefficient_sigma(&self, i: usize) -> Option<f64> {
+        i.checked_sub(BASE_DIM)
+            .and_then(|k| self.coefficient_sigma.get(k).copied())
+    }
+
+    fn plain(&self) -> bool {
+        self.effects.is_empty()
     }
 }
 
@@ -107,19 +178,32 @@ pub fn measurement<T: Real>(x: &[T], z: &mut [T]) {
 
 impl SystemModel for StrapdownModel {
     fn dim(&self) -> usize {
-        BASE_DIM
+        BASE_DIM + self.coefficient_sigma.len()
     }
     fn dynamic_dim(&self) -> usize {
-        NAV_DIM
+        if self.layout.biases_wander() {
+            BASE_DIM
+        } else {
+            NAV_DIM
+        }
     }
     fn noise_channels(&self) -> &[NoiseChannel] {
         &self.noise
     }
     fn rates(&self, x: &[f64], u: &Input, dx: &mut [f64]) {
-        nav_rates(x, &imu_of(u), dx);
+        if self.plain() {
+            nav_rates(x, &imu_of(u), dx);
+        } else {
+            rates_with_effects(&self.layout, x, &imu_of(u), dx);
+        }
     }
     fn rate_jacobian(&self, x: &[f64], u: &Input, jac: &mut [f64]) {
-        nav_rate_jacobian_analytic(x, &imu_of(u), jac);
+        if self.plain() {
+            nav_rate_jacobian_analytic(x, &imu_of(u), jac);
+        } else {
+            let dynamic = self.dynamic_dim();
+            tangent::rate_jacobian(&self.layout, dynamic, x, &imu_of(u), jac, x.len());
+        }
     }
     /// The rates and their Jacobian from one evaluation of the angles' and the latitude's
     /// sines and cosines (the EKF asks for both at every RK4 stage).
@@ -132,6 +216,11 @@ impl SystemModel for StrapdownModel {
         stride: usize,
     ) {
         let imu = imu_of(u);
+        if !self.plain() {
+            rates_with_effects(&self.layout, x, &imu, dx);
+            let dynamic = self.dynamic_dim();
+            return tangent::rate_jacobian(&self.layout, dynamic, x, &imu, jac, stride);
+        }
         let trig = angle_trig([x[ROLL], x[PITCH], x[HEADING]]);
         let lat = crate::trig::sin_cos_angle(x[LAT]);
         nav_rates_with(x, &imu, &trig, lat, dx);
@@ -141,9 +230,12 @@ impl SystemModel for StrapdownModel {
         MEAS_DIM
     }
     fn measure(&self, x: &[f64], z: &mut [f64]) {
-        measurement(x, z);
+        measurement_with(&self.layout, x, z);
     }
     fn measurement_jacobian(&self, x: &[f64], h: &mut [f64]) {
+        if !self.plain() {
+            return tangent::measurement_jacobian(&self.layout, x, h);
+        }
         let xd: [Dual<BASE_DIM>; BASE_DIM] = std::array::from_fn(|i| Dual::variable(x[i], i));
         let mut z = [Dual::<BASE_DIM>::constant(0.0); MEAS_DIM];
         measurement(&xd, &mut z);
@@ -155,7 +247,10 @@ impl SystemModel for StrapdownModel {
         false
     }
     fn state_names(&self) -> Vec<String> {
-        STATE_NAMES.iter().map(|s| s.to_string()).collect()
+        let base = STATE_NAMES.iter().map(|s| s.to_string());
+        let coefficients = self.effects.iter().flat_map(|e| e.coefficients.iter());
+        base.chain(coefficients.map(|c| c.name.to_string()))
+            .collect()
     }
     fn propagate_points(
         &self,
@@ -164,6 +259,18 @@ impl SystemModel for StrapdownModel {
         window: &InputWindow,
         _scratch: &mut PropagationScratch,
     ) {
-        super::batch::propagate_blocks(points, noise, &self.noise, window);
+        if self.plain() {
+            super::batch::propagate_blocks(points, noise, &self.noise, window);
+        } else {
+            let dim = self.dim();
+            super::batch::propagate_blocks_with(
+                &self.layout,
+                dim,
+                points,
+                noise,
+                &self.noise,
+                window,
+            );
+        }
     }
 }

@@ -4,6 +4,7 @@
 //! one the EKF runs ([`super::jacobian`]).
 
 use super::attitude::{angle_trig, body_to_nav_of, euler_rates_of, rotate, rotate_back};
+use super::errors::{corrected_reading, ErrorLayout};
 use super::state::*;
 use crate::dual::Dual;
 use crate::earth::{meridian_radius, prime_vertical_radius, WIE};
@@ -55,6 +56,20 @@ pub fn nav_rates_with<T: Real>(
     // docs/model.md eq. (51): the readings corrected by the biases.
     let w: [T; 3] = std::array::from_fn(|i| c(imu.w[i]) - x[BG_X + i]);
     let f: [T; 3] = std::array::from_fn(|i| c(imu.f[i]) - x[BA_X + i]);
+    nav_rates_corrected(x, w, f, trig, (sin_l, cos_l), dx);
+}
+
+/// The navigation states' derivatives under the true body rate `w` and specific force `f`
+/// (the readings already corrected: docs/model.md eqs. (52)-(58)).
+#[inline(always)]
+pub fn nav_rates_corrected<T: Real>(
+    x: &[T],
+    w: [T; 3],
+    f: [T; 3],
+    trig: &[(T, T); 3],
+    (sin_l, cos_l): (T, T),
+    dx: &mut [T],
+) {
     let (v_e, v_n) = (x[V_E], x[V_N]);
     let [inv_rm, inv_rn, inv_cos] =
         T::reciprocals(meridian_radius(sin_l), prime_vertical_radius(sin_l), cos_l);
@@ -91,5 +106,23 @@ pub fn nav_rate_jacobian(x: &[f64], imu: &ImuReading, jac: &mut [f64]) {
     nav_rates(&xd, imu, &mut dx);
     for (r, row) in dx.iter().enumerate() {
         jac[r * BASE_DIM..(r + 1) * BASE_DIM].copy_from_slice(&row.d);
+    }
+}
+
+/// The derivatives of the dynamic states of a model with effects: the navigation states under the readings corrected by the biases
+/// and the effects' coefficients, then, when a triad's biases follow a Gauss-Markov law,
+/// their decay `-b / T` (`dx` holds [`NAV_DIM`] values, or [`BASE_DIM`] then);
+/// docs/model.md eqs. (51)-(58), (63)-(69).
+#[inline(always)]
+pub fn rates_with_effects<T: Real>(layout: &ErrorLayout, x: &[T], imu: &ImuReading, dx: &mut [T]) {
+    let trig = angle_trig([x[ROLL], x[PITCH], x[HEADING]]);
+    let (w, f) = corrected_reading(layout, imu, x);
+    nav_rates_corrected(x, w, f, &trig, x[LAT].sin_cos(), dx);
+    if layout.biases_wander() {
+        for (first, decay) in [(BG_X, layout.gyro_decay), (BA_X, layout.accel_decay)] {
+            for i in first..first + 3 {
+                dx[i] = decay.map_or(T::splat(0.0), |d| -(x[i] * d));
+            }
+        }
     }
 }

@@ -22,8 +22,9 @@
 //! Every draw comes from [`crate::rng::stream`]: the biases from `Coefficients`, the reading
 //! noise from `ProcessNoise`, the odometer and GPS noise from `MeasurementNoise`.
 
-use super::attitude::{body_to_nav, rotate_back};
-use super::model::StrapdownModel;
+use super::attitude::{body_to_nav, euler_of, rotate_back};
+use super::errors::{measurement_with, reading_with_errors, vehicle_axes, ErrorLayout};
+use super::model::{StrapdownModel, MEAS_DIM};
 use super::rates::{input_of, ImuReading};
 use super::sensors::StrapdownSensors;
 use super::state::*;
@@ -73,8 +74,11 @@ pub struct StrapdownSimulator {
     priors: Vec<Prior>,
     /// The error-free readings at the sample times, shared by every run.
     ideal: Vec<(f64, ImuReading)>,
-    /// Measurement times and the true navigation state there.
+    /// Measurement times and the true navigation state there (the vehicle's: its unit's
+    /// when no mounting effect turns the two apart).
     path: Vec<(f64, [f64; NAV_DIM])>,
+    /// IMU samples per measurement.
+    per_measurement: usize,
     imu_rate_hz: f64,
     measurement_rate_hz: f64,
 }
@@ -136,7 +140,9 @@ impl StrapdownSimulator {
             .map(|i| match i {
                 i if (BG_X..BG_X + 3).contains(&i) => Prior::zero_mean(unit.gyro_bias),
                 i if (BA_X..BA_X + 3).contains(&i) => Prior::zero_mean(unit.accel_bias),
-                _ => Prior::fixed(0.0),
+                i => model
+                    .coefficient_sigma(i)
+                    .map_or(Prior::fixed(0.0), Prior::zero_mean),
             })
             .collect();
         for (name, p) in coefficients {
@@ -165,6 +171,22 @@ impl StrapdownSimulator {
                     ),
                 ));
             }
+            if let Some(c) = model
+                .effects()
+                .iter()
+                .flat_map(|e| e.coefficients.iter())
+                .find(|c| c.name == name)
+            {
+                if !(c.bound.contains(p.mean) && c.bound.contains(p.sigma)) {
+                    return Err(cfg_err(
+                        &key,
+                        format!(
+                            "mean {} sigma {}: beyond what a real instrument gives ({})",
+                            p.mean, p.sigma, c.bound.reason
+                        ),
+                    ));
+                }
+            }
             priors[i] = *p;
         }
         let h = 1.0 / imu_rate_hz;
@@ -188,6 +210,7 @@ impl StrapdownSimulator {
             priors,
             ideal,
             path,
+            per_measurement,
             imu_rate_hz,
             measurement_rate_hz,
         })
@@ -236,28 +259,51 @@ impl StrapdownSimulator {
     /// Simulates run `run` of study seed `seed`.
     pub fn run(&self, seed: u64, run: u64) -> SimulatedRun {
         let constants = self.coefficients(seed, run);
-        let bias = |i: usize| constants[i - NAV_DIM];
+        let layout = self.model.layout();
+        // The state's constant part, biases updated as they wander.
+        let mut x = vec![0.0; NAV_DIM];
+        x.extend_from_slice(&constants);
+        let mount = vehicle_axes(layout, &x);
         let h = 1.0 / self.imu_rate_hz;
         let sg = (self.noise.gyro_psd / h).sqrt();
         let sa = (self.noise.accel_psd / h).sqrt();
+        let wander = self.bias_laws(h);
         let mut rng = stream(seed, run, Purpose::ProcessNoise);
-        let inputs: Vec<InputSample> = self
-            .ideal
-            .iter()
-            .map(|(t, r)| {
-                let mut read = *r;
-                for a in 0..3 {
-                    let (ng, na): (f64, f64) =
-                        (rng.sample(StandardNormal), rng.sample(StandardNormal));
-                    read.w[a] += bias(BG_X + a) + sg * ng;
-                    read.f[a] += bias(BA_X + a) + sa * na;
+        let mut walk = stream(seed, run, Purpose::Other(BIAS_WALK));
+        let mut biases = Vec::with_capacity(self.path.len());
+        let mut inputs: Vec<InputSample> = Vec::with_capacity(self.ideal.len());
+        for (k, (t, ideal)) in self.ideal.iter().enumerate() {
+            if k % self.per_measurement == 0 {
+                biases.push(x[BG_X..BA_X + 3].to_vec());
+            }
+            let mut truth = *ideal;
+            if let Some(m) = &mount {
+                truth.w = rotate_back(m, truth.w);
+                truth.f = rotate_back(m, truth.f);
+            }
+            let mut read = if layout.has_reading_errors() {
+                reading_with_errors(layout, &truth, &x)
+            } else {
+                truth
+            };
+            for a in 0..3 {
+                let (ng, na): (f64, f64) = (rng.sample(StandardNormal), rng.sample(StandardNormal));
+                read.w[a] += x[BG_X + a] + sg * ng;
+                read.f[a] += x[BA_X + a] + sa * na;
+            }
+            inputs.push(InputSample {
+                t: *t,
+                f: input_of(&read),
+            });
+            // docs/model.md eq. (69), exact over the sample interval.
+            for (first, law) in [(BG_X, wander[0]), (BA_X, wander[1])] {
+                if let Some((decay, step_sigma)) = law {
+                    for b in &mut x[first..first + 3] {
+                        *b = decay * *b + step_sigma * walk.sample::<f64, _>(StandardNormal);
+                    }
                 }
-                InputSample {
-                    t: *t,
-                    f: input_of(&read),
-                }
-            })
-            .collect();
+            }
+        }
         let mut rng = stream(seed, run, Purpose::MeasurementNoise);
         let mut truth = Truth {
             names: self.model.state_names(),
@@ -265,11 +311,14 @@ impl StrapdownSimulator {
             states: Vec::with_capacity(self.path.len()),
         };
         let mut measurements = Vec::with_capacity(self.path.len());
+        let effects = &constants[6..];
+        let unit_state = |nav: &[f64; NAV_DIM], bias: &[f64]| {
+            self.unit_state(nav, mount.as_ref(), bias, effects)
+        };
         for (j, (t, nav)) in self.path.iter().enumerate() {
-            let mut x = nav.to_vec();
-            x.extend_from_slice(&constants);
+            let state = unit_state(nav, &biases[j]);
             truth.t.push(*t);
-            truth.states.push(x);
+            truth.states.push(state.clone());
             if j == 0 {
                 continue;
             }
@@ -286,15 +335,22 @@ impl StrapdownSimulator {
                 .filter(|_| !still)
                 .map(|s| [s * e[3], s * e[4]]);
             let zupt = still.then(|| [floor * e[3], floor * e[4]]);
+            let (odometer, position) = if layout.has_measurement_errors() {
+                let earlier =
+                    |t: f64| unit_state(&path_state(&self.trajectory.state(t)), &biases[j]);
+                self.read_aids(layout, *t, &state, earlier)
+            } else {
+                (speed, [nav[LAT], nav[LON]])
+            };
             measurements.push(Measurement {
                 t: *t,
                 velocity: None,
-                speed: Some(if still { 0.0 } else { speed + sig[0] * e[0] }),
+                speed: Some(if still { 0.0 } else { odometer + sig[0] * e[0] }),
                 nhc,
                 zupt,
                 position_deg: Some([
-                    (nav[LAT] + sig[2] * e[1]).to_degrees(),
-                    (nav[LON] + sig[3] * e[2]).to_degrees(),
+                    (position[0] + sig[2] * e[1]).to_degrees(),
+                    (position[1] + sig[3] * e[2]).to_degrees(),
                 ]),
             });
         }
@@ -305,7 +361,86 @@ impl StrapdownSimulator {
             inputs: Arc::new(inputs),
         }
     }
+
+    /// For each triad (gyro, accelerometer) whose biases wander: the decay over one sample
+    /// interval `h` and the sigma of the step's draw, `exp(-h/T)` and
+    /// `sigma sqrt(1 - exp(-2h/T))` (the discrete form of docs/model.md eq. (69)).
+    fn bias_laws(&self, h: f64) -> [Option<(f64, f64)>; 2] {
+        let layout = self.model.layout();
+        let steady = |first: usize| {
+            self.model
+                .noise_channels()
+                .iter()
+                .find(|c| c.state == first)
+                .map(|c| c.psd)
+        };
+        [(layout.gyro_decay, BG_X), (layout.accel_decay, BA_X)].map(|(decay, first)| {
+            let d = decay?;
+            // psd = 2 sigma^2 / T.
+            let sigma = (steady(first)? / (2.0 * d)).sqrt();
+            let phi = (-h * d).exp();
+            Some((phi, sigma * (1.0 - phi * phi).sqrt()))
+        })
+    }
+
+    /// The unit's full true state where the vehicle's navigation state is `nav`, its biases
+    /// `bias` and its effects' coefficients `effects`.
+    fn unit_state(
+        &self,
+        nav: &[f64; NAV_DIM],
+        mount: Option<&[[f64; 3]; 3]>,
+        bias: &[f64],
+        effects: &[f64],
+    ) -> Vec<f64> {
+        let mut state = self.unit_navigation(nav, mount).to_vec();
+        state.extend_from_slice(bias);
+        state.extend_from_slice(effects);
+        state
+    }
+
+    /// The unit's navigation state where the vehicle's is `nav`: the same but for the
+    /// attitude, turned by the mounting (`C_b^n = C_v^n A`, `A` the rows of
+    /// [`vehicle_axes`]).
+    fn unit_navigation(
+        &self,
+        nav: &[f64; NAV_DIM],
+        mount: Option<&[[f64; 3]; 3]>,
+    ) -> [f64; NAV_DIM] {
+        let Some(a) = mount else { return *nav };
+        let c_vn = body_to_nav([nav[ROLL], nav[PITCH], nav[HEADING]]);
+        let c_bn: [[f64; 3]; 3] = std::array::from_fn(|i| {
+            std::array::from_fn(|j| (0..3).map(|k| c_vn[i][k] * a[k][j]).sum())
+        });
+        let [roll, pitch, heading] = euler_of(&c_bn);
+        [roll, pitch, heading, nav[V_E], nav[V_N], nav[LAT], nav[LON]]
+    }
+
+    /// The odometer's and the GPS's error-free readings at `t` with the effects of `layout`:
+    /// the model's measurement of the true state, but for the latency, which the truth takes
+    /// exactly (the position `tau` seconds before, with the lever arm of that time) where the
+    /// model takes it to first order.
+    fn read_aids(
+        &self,
+        layout: &ErrorLayout,
+        t: f64,
+        state: &[f64],
+        earlier: impl Fn(f64) -> Vec<f64>,
+    ) -> (f64, [f64; 2]) {
+        let mut z = [0.0; MEAS_DIM];
+        measurement_with(layout, state, &mut z);
+        let speed = z[0];
+        if let Some(i) = layout.latency_index() {
+            let before = (t - state[i]).max(0.0);
+            let mut then = earlier(before);
+            then[i] = 0.0;
+            measurement_with(layout, &then, &mut z);
+        }
+        (speed, [z[1], z[2]])
+    }
 }
+
+/// The [`Purpose::Other`] stream of the biases' Gauss-Markov draws.
+const BIAS_WALK: u32 = 69;
 
 impl StrapdownSimulator {
     /// Run `run` as a dataset named `name`, with `[initial]` the way a recording states it:
@@ -354,7 +489,12 @@ impl StrapdownSimulator {
             provenance: Some(Provenance {
                 seed: Some(seed),
                 run: Some(run.run),
-                effects: Vec::new(),
+                effects: self
+                    .model
+                    .effects()
+                    .iter()
+                    .map(|e| e.name.to_string())
+                    .collect(),
                 note: Some(format!(
                     "navkf strapdown simulation: the truth is the path; IMU readings at {} Hz, \
                      odometer and GPS at {} Hz",

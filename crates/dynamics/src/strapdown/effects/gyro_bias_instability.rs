@@ -1,0 +1,23 @@
+//! `gyro-bias-instability`: the gyro biases `bgx, bgy, bgz` are no longer constants but
+//! first-order Gauss-Markov processes, `b' = -b / T_g + w_b`, of steady one-sigma `sigma_bg`
+//! (docs/model.md eq. (69)). It adds no coefficient; it changes the noise model, and its two
+//! parameters are set by name in an effect list (`T_g=1800, sigma_bg=5e-5`).
+//!
+//! Defaults: `T_g` one hour, as KF-GINS models its MEMS units' biases; `sigma_bg` the
+//! in-run bias stability of each class (0.003 deg/h navigation, 0.3 deg/h tactical, 10 deg/h
+//! MEMS; Groves, 2013, section 4.4.1, from memory).
+
+use super::{Instability, StrapdownEffect, Triad, DEG_PER_H};
+
+/// See the module documentation.
+pub const GYRO_BIAS_INSTABILITY: StrapdownEffect = StrapdownEffect {
+    name: "gyro-bias-instability",
+    description: "b_g' = -b_g / T_g + w, steady sigma sigma_bg (gyro bias instability)",
+    coefficients: &[],
+    instability: Some(Instability {
+        triad: Triad::Gyro,
+        time_s: 3600.0,
+        sigma: [0.003 * DEG_PER_H, 0.3 * DEG_PER_H, 10.0 * DEG_PER_H],
+        parameter_names: ["T_g", "sigma_bg"],
+    }),
+};

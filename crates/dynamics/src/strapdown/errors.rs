@@ -1,0 +1,245 @@
+//! The sensor errors the strapdown effects describe, evaluated once for every number type:
+//! where each effect's coefficient sits in the state ([`ErrorLayout`]), the readings the
+//! model corrects with them (docs/model.md eqs. (50), (51), (63)-(67)), the readings a unit
+//! with those errors gives (the simulator's direction), and the measurement with the
+//! odometer's scale and mounting, the antenna's lever arm and the fix's latency
+//! (docs/model.md eqs. (59), (60), (68), (70)).
+//!
+//! Places no effect fills are skipped, not multiplied by zero: a model without effects
+//! evaluates exactly the base model's operations, so its results do not change.
+
+use super::attitude::{body_to_nav, rotate, rotate_back};
+use super::effects::{Slot, StrapdownEffect, Triad};
+use super::rates::ImuReading;
+use super::state::*;
+use crate::real::Real;
+
+/// The most states a strapdown model holds: the base states and one coefficient in each
+/// place of [`Slot`] (9 + 9 gyro and accelerometer matrix entries, 3 g-sensitivities, the
+/// odometer's 3, the lever arm's 3, the latency).
+pub const MAX_DIM: usize = BASE_DIM + 28;
+
+/// Where each place of the sensor-error description reads its coefficient in the state, and
+/// which bias triads follow a Gauss-Markov law.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ErrorLayout {
+    gyro: [[Option<usize>; 3]; 3],
+    accel: [[Option<usize>; 3]; 3],
+    gyro_g: [Option<usize>; 3],
+    odometer_scale: Option<usize>,
+    odometer_yaw: Option<usize>,
+    odometer_pitch: Option<usize>,
+    lever_arm: [Option<usize>; 3],
+    latency: Option<usize>,
+    /// `1 / T` of the gyro biases' Gauss-Markov law, when they follow one.
+    pub gyro_decay: Option<f64>,
+    /// `1 / T` of the accelerometer biases' law.
+    pub accel_decay: Option<f64>,
+}
+
+impl ErrorLayout {
+    /// The layout of `effects`, their coefficients numbered from [`BASE_DIM`] in order;
+    /// `decay(triad)` gives `1 / T` of an instability's law. Two coefficients in one place
+    /// are refused (only a user's effect can ask for that).
+    pub fn new(effects: &[StrapdownEffect], decay: impl Fn(Triad) -> f64) -> Result<Self, String> {
+        let mut layout = ErrorLayout::default();
+        let mut index = BASE_DIM;
+        for effect in effects {
+            for c in effect.coefficients {
+                let place = match c.slot {
+                    Slot::Gyro(i, j) if i < 3 && j < 3 => &mut layout.gyro[i][j],
+                    Slot::Accel(i, j) if i < 3 && j < 3 => &mut layout.accel[i][j],
+                    Slot::GyroG(i) if i < 3 => &mut layout.gyro_g[i],
+                    Slot::OdometerScale => &mut layout.odometer_scale,
+                    Slot::OdometerYaw => &mut layout.odometer_yaw,
+                    Slot::OdometerPitch => &mut layout.odometer_pitch,
+                    Slot::LeverArm(i) if i < 3 => &mut layout.lever_arm[i],
+                    Slot::Latency => &mut layout.latency,
+                    other => return Err(format!("`{}`: no such place {other:?}", c.name)),
+                };
+                if place.is_some() {
+                    return Err(format!(
+                        "`{}` of `{}` acts where another coefficient already does ({:?})",
+                        c.name, effect.name, c.slot
+                    ));
+                }
+                *place = Some(index);
+                index += 1;
+            }
+            if let Some(law) = effect.instability {
+                let slot = match law.triad {
+                    Triad::Gyro => &mut layout.gyro_decay,
+                    Triad::Accel => &mut layout.accel_decay,
+                };
+                if slot.is_some() {
+                    return Err(format!("`{}`: that triad already wanders", effect.name));
+                }
+                *slot = Some(decay(law.triad));
+            }
+        }
+        Ok(layout)
+    }
+
+    /// Whether any coefficient changes the readings (then the rates take the corrected path).
+    pub fn has_reading_errors(&self) -> bool {
+        self.gyro.iter().flatten().any(Option::is_some)
+            || self.accel.iter().flatten().any(Option::is_some)
+            || self.gyro_g.iter().any(Option::is_some)
+    }
+
+    /// Whether any coefficient changes the measurement.
+    pub fn has_measurement_errors(&self) -> bool {
+        self.odometer_scale.is_some()
+            || self.odometer_yaw.is_some()
+            || self.odometer_pitch.is_some()
+            || self.lever_arm.iter().any(Option::is_some)
+            || self.latency.is_some()
+    }
+
+    /// Whether the biases have a derivative (a Gauss-Markov law).
+    pub fn biases_wander(&self) -> bool {
+        self.gyro_decay.is_some() || self.accel_decay.is_some()
+    }
+
+    /// Whether the vehicle's axes are turned from the unit's.
+    pub fn has_mounting(&self) -> bool {
+        self.odometer_yaw.is_some() || self.odometer_pitch.is_some()
+    }
+
+    /// The state index of the GPS latency's coefficient.
+    pub fn latency_index(&self) -> Option<usize> {
+        self.latency
+    }
+}
+
+fn at<T: Real>(x: &[T], i: Option<usize>) -> Option<T> {
+    i.map(|i| x[i])
+}
+
+/// `I + E` with the entries of `places` taken from `x`.
+fn one_plus<T: Real>(x: &[T], places: &[[Option<usize>; 3]; 3]) -> [[T; 3]; 3] {
+    std::array::from_fn(|i| {
+        std::array::from_fn(|j| {
+            let identity = T::splat(if i == j { 1.0 } else { 0.0 });
+            at(x, places[i][j]).map_or(identity, |e| identity + e)
+        })
+    })
+}
+
+/// `m^-1 b` for a 3x3 `m` near the identity (cofactors over the determinant).
+fn solve<T: Real>(m: &[[T; 3]; 3], b: [T; 3]) -> [T; 3] {
+    let cof = |r: usize, c: usize| {
+        let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
+        let (c1, c2) = ((c + 1) % 3, (c + 2) % 3);
+        m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1]
+    };
+    let adj: [[T; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| cof(j, i)));
+    let det = m[0][0] * adj[0][0] + m[0][1] * adj[1][0] + m[0][2] * adj[2][0];
+    let inv_det = T::splat(1.0) / det;
+    std::array::from_fn(|i| (adj[i][0] * b[0] + adj[i][1] * b[1] + adj[i][2] * b[2]) * inv_det)
+}
+
+/// The true body rate and specific force from `imu` and the state `x` (biases and effect
+/// coefficients): `f = (I + E_a)^-1 (f~ - b_a)`, `w = (I + E_g)^-1 (w~ - b_g - G f)`
+/// (docs/model.md eqs. (51), (63)-(67)). Without reading errors: the readings less the biases.
+#[inline(always)]
+pub fn corrected_reading<T: Real>(
+    layout: &ErrorLayout,
+    imu: &ImuReading,
+    x: &[T],
+) -> ([T; 3], [T; 3]) {
+    let mut w: [T; 3] = std::array::from_fn(|i| T::splat(imu.w[i]) - x[BG_X + i]);
+    let mut f: [T; 3] = std::array::from_fn(|i| T::splat(imu.f[i]) - x[BA_X + i]);
+    if layout.accel.iter().flatten().any(Option::is_some) {
+        f = solve(&one_plus(x, &layout.accel), f);
+    }
+    for (i, g) in layout.gyro_g.iter().enumerate() {
+        if let Some(g) = at(x, *g) {
+            w[i] -= g * f[i];
+        }
+    }
+    if layout.gyro.iter().flatten().any(Option::is_some) {
+        w = solve(&one_plus(x, &layout.gyro), w);
+    }
+    (w, f)
+}
+
+/// What a unit with the effects' errors of `x` reads when its true body rate and specific
+/// force are those of `truth`, biases and white noise aside: `(I + E_g) w + G f` and
+/// `(I + E_a) f`. With the biases added, [`corrected_reading`] is its inverse.
+pub fn reading_with_errors(layout: &ErrorLayout, truth: &ImuReading, x: &[f64]) -> ImuReading {
+    let (g, a) = (one_plus(x, &layout.gyro), one_plus(x, &layout.accel));
+    let mut read = ImuReading {
+        w: rotate(&g, truth.w),
+        f: rotate(&a, truth.f),
+    };
+    for i in 0..3 {
+        read.w[i] += at(x, layout.gyro_g[i]).map_or(0.0, |g| g * truth.f[i]);
+    }
+    read
+}
+
+/// The vehicle's forward, lateral and vertical axes in body axes (docs/model.md eq. (68)):
+/// the columns of the vehicle-to-body rotation. `None` when no mounting effect is on.
+#[inline(always)]
+pub fn vehicle_axes<T: Real>(layout: &ErrorLayout, x: &[T]) -> Option<[[T; 3]; 3]> {
+    if !layout.has_mounting() {
+        return None;
+    }
+    let zero = T::splat(0.0);
+    let (sy, cy) = at(x, layout.odometer_yaw).map_or((zero, T::splat(1.0)), T::sin_cos);
+    let (sp, cp) = at(x, layout.odometer_pitch).map_or((zero, T::splat(1.0)), T::sin_cos);
+    Some([
+        [cp * cy, cp * sy, sp],
+        [-sy, cy, zero],
+        [-(sp * cy), -(sp * sy), cp],
+    ])
+}
+
+/// The measurement with the effects of `layout` (docs/model.md eqs. (59)-(61), (68), (70)):
+/// the odometer reads `(1 + kod) u_o . v^b`, the constraint `u_l . v^b` and `u_u . v^b`, the
+/// GPS the antenna's position `p + C_b^n l`, `tau` seconds before its stamp.
+#[inline(always)]
+pub fn measurement_with<T: Real>(layout: &ErrorLayout, x: &[T], z: &mut [T]) {
+    if !layout.has_measurement_errors() {
+        return super::model::measurement(x, z);
+    }
+    let cbn = body_to_nav([x[ROLL], x[PITCH], x[HEADING]]);
+    let zero = T::splat(0.0);
+    let v_b = rotate_back(&cbn, [x[V_E], x[V_N], zero]);
+    let dot = |u: [T; 3]| u[0] * v_b[0] + u[1] * v_b[1] + u[2] * v_b[2];
+    let (forward, lateral, vertical) = match vehicle_axes(layout, x) {
+        Some([u_o, u_l, u_u]) => (dot(u_o), dot(u_l), dot(u_u)),
+        None => (v_b[0], v_b[1], v_b[2]),
+    };
+    z[0] = at(x, layout.odometer_scale).map_or(forward, |k| forward + k * forward);
+    z[3] = lateral;
+    z[4] = vertical;
+    let (mut lat, mut lon) = (x[LAT], x[LON]);
+    let lever = layout.lever_arm.map(|i| at(x, i).unwrap_or(zero));
+    let has_lever = layout.lever_arm.iter().any(Option::is_some);
+    if has_lever || layout.latency.is_some() {
+        let (sl, cl) = x[LAT].sin_cos();
+        let [inv_rm, inv_rn, inv_cos] = T::reciprocals(
+            crate::earth::meridian_radius(sl),
+            crate::earth::prime_vertical_radius(sl),
+            cl,
+        );
+        let (mut east, mut north) = (zero, zero);
+        if has_lever {
+            let l_n = rotate(&cbn, lever);
+            east += l_n[0];
+            north += l_n[1];
+        }
+        if let Some(tau) = at(x, layout.latency) {
+            east -= tau * x[V_E];
+            north -= tau * x[V_N];
+        }
+        lat += north * inv_rm;
+        lon += east * inv_rn * inv_cos;
+    }
+    z[1] = lat;
+    z[2] = lon;
+    z[5] = x[V_E];
+    z[6] = x[V_N];
+}

@@ -1,0 +1,481 @@
+//! The strapdown effects (`strapdown::effects`, docs/model.md eqs. (63)-(70)): each one's
+//! Jacobians against finite differences, the simulator's readings with each one hidden
+//! against the model that carries it (the model with the truth's coefficients follows the
+//! truth and predicts its measurements), the biases' Gauss-Markov law against its stated
+//! statistics, the batched propagation against one point at a time, and the effect lists'
+//! refusals.
+
+use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
+use navkf_dynamics::strapdown::effects::StrapdownRegistry;
+use navkf_dynamics::strapdown::model::{StrapdownModel, MEAS_DIM};
+use navkf_dynamics::strapdown::rates::input_of;
+use navkf_dynamics::strapdown::rates::ImuReading;
+use navkf_dynamics::strapdown::simulate::StrapdownSimulator;
+use navkf_dynamics::strapdown::state::*;
+use navkf_dynamics::strapdown::unit_class::UnitClass;
+use navkf_dynamics::system::propagate_generic;
+use navkf_dynamics::{
+    FamilyModel, InputWindow, NoiseConfig, SystemModel, Trajectory, TrajectoryConfig,
+};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// The default 2400-s vehicle test.
+fn drive() -> Arc<Trajectory> {
+    Arc::new(Trajectory::build(&TrajectoryConfig::default()).unwrap())
+}
+
+fn model_with(list: &str, noise: &NoiseConfig) -> StrapdownModel {
+    let list = StrapdownEffectList::parse_entries(&[list], &StrapdownRegistry::catalogue())
+        .unwrap_or_else(|(_, e)| panic!("{e}"));
+    StrapdownModel::base(noise)
+        .with_effects(&list, UnitClass::Mems, 1.0)
+        .unwrap()
+}
+
+/// A state far from level and at speed, its coefficients drawn at up to four typical sigmas.
+fn random_state(model: &StrapdownModel, rng: &mut ChaCha8Rng) -> Vec<f64> {
+    let mut x = vec![0.0; model.dim()];
+    x[ROLL] = rng.gen_range(-0.5..0.5);
+    x[PITCH] = rng.gen_range(-0.5..0.5);
+    x[HEADING] = rng.gen_range(-3.1..3.1);
+    x[V_E] = rng.gen_range(-40.0..40.0);
+    x[V_N] = rng.gen_range(-40.0..40.0);
+    x[LAT] = rng.gen_range(-1.3..1.3);
+    x[LON] = rng.gen_range(-3.1..3.1);
+    for (i, xi) in x.iter_mut().enumerate().skip(NAV_DIM) {
+        *xi = rng.gen_range(-4.0..4.0) * model.typical_sigma(i);
+    }
+    x
+}
+
+fn random_imu(rng: &mut ChaCha8Rng) -> ImuReading {
+    ImuReading {
+        w: std::array::from_fn(|_| rng.gen_range(-0.5..0.5)),
+        f: [
+            rng.gen_range(-3.0..3.0),
+            rng.gen_range(-3.0..3.0),
+            rng.gen_range(8.0..11.0),
+        ],
+    }
+}
+
+/// Central differences of `f` against its Jacobian `jac` (`rows x n`), each entry within a
+/// millionth of its size plus the rounding of the quotient (the row's largest term over the
+/// step).
+fn check_jacobian(
+    name: &str,
+    x: &[f64],
+    rows: usize,
+    jac: &[f64],
+    steps: &[f64],
+    f: impl Fn(&[f64]) -> Vec<f64>,
+    names: &[String],
+) {
+    let n = x.len();
+    let f0 = f(x);
+    for c in 0..n {
+        let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
+        xp[c] += steps[c];
+        xm[c] -= steps[c];
+        let (fp, fm) = (f(&xp), f(&xm));
+        for r in 0..rows {
+            let scale: f64 =
+                (0..n).map(|k| (jac[r * n + k] * x[k]).abs()).sum::<f64>() + f0[r].abs() + 10.0;
+            let fd = (fp[r] - fm[r]) / (xp[c] - xm[c]);
+            let a = jac[r * n + c];
+            let tol = 1e-6 * a.abs().max(fd.abs()) + 256.0 * f64::EPSILON * scale / steps[c];
+            assert!(
+                (a - fd).abs() <= tol,
+                "{name}: d(row {r})/d({}): dual {a:e}, differences {fd:e}",
+                names[c]
+            );
+        }
+    }
+}
+
+fn steps_for(model: &StrapdownModel) -> Vec<f64> {
+    let base = [
+        1e-6, 1e-6, 1e-6, 1e-4, 1e-4, 1e-7, 1e-7, 1e-8, 1e-8, 1e-8, 1e-5, 1e-5, 1e-5,
+    ];
+    (0..model.dim())
+        .map(|i| {
+            if i < BASE_DIM {
+                base[i]
+            } else {
+                1e-3 * model.typical_sigma(i)
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn every_effects_jacobians_match_central_differences() {
+    let registry = StrapdownRegistry::catalogue();
+    let noise = NoiseConfig::default();
+    let mut lists: Vec<String> = registry.names().iter().map(|n| n.to_string()).collect();
+    lists.push(registry.names().join(","));
+    let mut rng = ChaCha8Rng::seed_from_u64(63);
+    for list in &lists {
+        let model = model_with(list, &noise);
+        let names = model.state_names();
+        let (n, d) = (model.dim(), model.dynamic_dim());
+        let steps = steps_for(&model);
+        for _ in 0..10 {
+            let x = random_state(&model, &mut rng);
+            let u = input_of(&random_imu(&mut rng));
+            let mut jac = vec![f64::NAN; d * n];
+            model.rate_jacobian(&x, &u, &mut jac);
+            let rates = |x: &[f64]| {
+                let mut dx = vec![0.0; d];
+                model.rates(x, &u, &mut dx);
+                dx
+            };
+            check_jacobian(list, &x, d, &jac, &steps, rates, &names);
+            // The EKF's call: the same rates and Jacobian, rows padded.
+            let stride = n + 3;
+            let (mut dx, mut padded) = (vec![0.0; d], vec![f64::NAN; d * stride]);
+            model.rates_and_jacobian(&x, &u, &mut dx, &mut padded, stride);
+            assert_eq!(dx, rates(&x));
+            for r in 0..d {
+                assert_eq!(
+                    &padded[r * stride..r * stride + n],
+                    &jac[r * n..(r + 1) * n]
+                );
+                assert!(padded[r * stride + n..(r + 1) * stride]
+                    .iter()
+                    .all(|v| *v == 0.0));
+            }
+            let mut h = vec![f64::NAN; MEAS_DIM * n];
+            model.measurement_jacobian(&x, &mut h);
+            let measure = |x: &[f64]| {
+                let mut z = vec![0.0; MEAS_DIM];
+                model.measure(x, &mut z);
+                z
+            };
+            check_jacobian(list, &x, MEAS_DIM, &h, &steps, measure, &names);
+        }
+    }
+}
+
+/// An effect whose coefficients are all zero changes nothing: the model with it gives the
+/// base model's rates and measurement (to rounding: the corrected path solves with an
+/// identity).
+#[test]
+fn zero_coefficients_are_the_base_model() {
+    let noise = NoiseConfig::default();
+    let base = StrapdownModel::base(&noise);
+    let all = StrapdownRegistry::catalogue()
+        .names()
+        .into_iter()
+        .filter(|n| !n.ends_with("instability"))
+        .collect::<Vec<_>>()
+        .join(",");
+    let full = model_with(&all, &noise);
+    let mut rng = ChaCha8Rng::seed_from_u64(64);
+    for _ in 0..20 {
+        let mut x = random_state(&full, &mut rng);
+        x[NAV_DIM..].iter_mut().for_each(|v| *v *= 0.0);
+        x[BG_X] = 1e-4;
+        x[BA_X + 2] = 0.03;
+        let u = input_of(&random_imu(&mut rng));
+        let (mut a, mut b) = (vec![0.0; NAV_DIM], vec![0.0; NAV_DIM]);
+        full.rates(&x, &u, &mut a);
+        base.rates(&x[..BASE_DIM], &u, &mut b);
+        for i in 0..NAV_DIM {
+            assert!((a[i] - b[i]).abs() <= 1e-12 * b[i].abs().max(1e-9), "{i}");
+        }
+        let (mut za, mut zb) = ([0.0; MEAS_DIM], [0.0; MEAS_DIM]);
+        full.measure(&x, &mut za);
+        base.measure(&x[..BASE_DIM], &mut zb);
+        for i in 0..MEAS_DIM {
+            assert!(
+                (za[i] - zb[i]).abs() <= 1e-12 * zb[i].abs().max(1e-9),
+                "{i}"
+            );
+        }
+    }
+}
+
+/// A run's readings and measurements with effects hidden, against the model that knows
+/// them: driven by the readings from the truth's first state, with the truth's biases and
+/// coefficients, the model stays on the truth's path, and its measurement of the truth is
+/// what the sensors read. The readings carry no noise here (densities of 1e-30), so any
+/// error in the inverse of a reading error, the mounting's attitude or the lever arm shows.
+#[test]
+fn the_model_that_knows_the_hidden_effects_follows_the_simulated_run() {
+    let traj = drive();
+    let quiet = NoiseConfig {
+        gyro_psd: 1e-30,
+        accel_psd: 1e-30,
+        odometer_rel: 1e-9,
+        odometer_floor: 1e-6,
+        gps_m: 1e-3,
+        nhc_m_s: None,
+    };
+    let registry = StrapdownRegistry::catalogue();
+    let hidden: Vec<&str> = registry
+        .names()
+        .into_iter()
+        .filter(|n| !n.ends_with("instability"))
+        .collect();
+    let mut lists: Vec<String> = hidden.iter().map(|n| n.to_string()).collect();
+    lists.push(hidden.join(","));
+    for list in &lists {
+        let model = Arc::new(model_with(list, &quiet));
+        let sim = StrapdownSimulator::new(
+            model.clone(),
+            traj.clone(),
+            10.0,
+            1.0,
+            UnitClass::Mems.errors(),
+            &BTreeMap::new(),
+            quiet,
+        )
+        .unwrap();
+        let run = sim.run(11, 2);
+        let truth = &run.truth;
+        let mut x = truth.states[0].clone();
+        let mut scratch = vec![0.0; 4 * model.dynamic_dim() + model.dim()];
+        let mut worst_m: f64 = 0.0;
+        for (j, m) in run.measurements.iter().enumerate().take(900) {
+            let (t0, t1) = (truth.t[j], truth.t[j + 1]);
+            let mut window = InputWindow::with_capacity(12);
+            for s in run
+                .inputs
+                .iter()
+                .filter(|s| s.t >= t0 - 1e-9 && s.t <= t1 + 1e-9)
+            {
+                window.push_linear(s.t, s.f);
+            }
+            propagate_generic(model.as_ref(), &mut x, None, &window, &mut scratch);
+            let xt = &truth.states[j + 1];
+            let rm = navkf_dynamics::earth::meridian_radius(xt[LAT].sin());
+            let off = ((x[LAT] - xt[LAT]) * rm).hypot((x[LON] - xt[LON]) * rm * xt[LAT].cos());
+            worst_m = worst_m.max(off);
+            let turn = (x[HEADING] - xt[HEADING]).sin().abs();
+            assert!(turn < 2e-5, "{list}: heading off by {turn} rad at {t1} s");
+            // The sensors' readings are the model's measurement of the truth.
+            let mut z = [0.0; MEAS_DIM];
+            model.measure(xt, &mut z);
+            let speed = m.speed.unwrap();
+            assert!(
+                (speed - z[0]).abs() < 1e-5 || speed == 0.0,
+                "{list}: odometer {speed} against {} at {t1} s",
+                z[0]
+            );
+            let [lat, lon] = m.position_deg.unwrap();
+            let gps = ((lat.to_radians() - z[1]) * rm)
+                .hypot((lon.to_radians() - z[2]) * rm * xt[LAT].cos());
+            // The latency's first-order model against the truth's exact delay: centimetres.
+            assert!(gps < 0.05, "{list}: GPS {gps} m from the model's at {t1} s");
+        }
+        assert!(worst_m < 0.5, "{list}: {worst_m} m off the path");
+        // Something was hidden: the base model reads a different odometer, GPS or turn.
+        assert!(
+            truth.states[0][BASE_DIM..].iter().any(|c| *c != 0.0),
+            "{list}: no coefficient drawn"
+        );
+    }
+}
+
+/// The mounting turns the unit, not the vehicle: with the vehicle's forward axis 20 mrad left
+/// of the unit's x, the unit heads 20 mrad right of the track, and the base model's
+/// constraint sees the speed times the angle as sideslip.
+#[test]
+fn a_turned_mounting_turns_the_units_attitude() {
+    let traj = drive();
+    let noise = UnitClass::Mems.errors().noise(NoiseConfig::default());
+    let list = "a_y=0.02, a_p=0";
+    let fixed = StrapdownEffectList::parse_entries(&[list], &StrapdownRegistry::catalogue())
+        .unwrap()
+        .fixed;
+    let model = Arc::new(model_with(list, &noise));
+    let sim = StrapdownSimulator::new(
+        model,
+        traj.clone(),
+        10.0,
+        1.0,
+        UnitClass::Mems.errors(),
+        &fixed,
+        noise,
+    )
+    .unwrap();
+    let run = sim.run(1, 0);
+    let base = StrapdownModel::base(&noise);
+    for (t, x) in run.truth.t.iter().zip(&run.truth.states) {
+        let st = traj.state(*t);
+        if st.speed < 1.0 {
+            continue;
+        }
+        let d = (x[HEADING] - st.heading).sin();
+        assert!((d - 0.02f64.sin()).abs() < 1e-9, "{d} at {t}");
+        assert!(x[ROLL].abs() < 1e-12 && x[PITCH].abs() < 1e-12, "{x:?}");
+        let mut z = [0.0; MEAS_DIM];
+        base.measure(&x[..BASE_DIM], &mut z);
+        assert!(
+            (z[3] / st.speed - 0.02f64.sin()).abs() < 1e-6,
+            "{} {} {:?} {:?} {}",
+            z[3],
+            st.speed,
+            x,
+            st.v,
+            st.heading
+        );
+    }
+}
+
+/// The biases' Gauss-Markov law: over 20 runs of 2400 s, the one-second steps
+/// `b(t+1) - exp(-1/T) b(t)` have the variance `sigma^2 (1 - exp(-2/T))` (chi-square within
+/// 4 sigma), and the model's noise channel is `2 sigma^2 / T` on each bias with rate `-b/T`.
+#[test]
+fn wandering_biases_follow_their_stated_law() {
+    let traj = drive();
+    let (t_g, s_g, t_a, s_a) = (120.0, 3e-5, 600.0, 2e-3);
+    let noise = UnitClass::Mems.errors().noise(NoiseConfig::default());
+    let list = format!("T_g={t_g}, sigma_bg={s_g}, T_a={t_a}, sigma_ba={s_a}");
+    let model = Arc::new(model_with(&list, &noise));
+    assert_eq!((model.dim(), model.dynamic_dim()), (BASE_DIM, BASE_DIM));
+    let channel = |s: usize| {
+        model
+            .noise_channels()
+            .iter()
+            .find(|c| c.state == s)
+            .unwrap()
+            .psd
+    };
+    assert!((channel(BG_X + 1) - 2.0 * s_g * s_g / t_g).abs() < 1e-25);
+    assert!((channel(BA_X + 2) - 2.0 * s_a * s_a / t_a).abs() < 1e-18);
+    let mut dx = vec![0.0; BASE_DIM];
+    let mut x = vec![0.0; BASE_DIM];
+    x[BG_X] = 1e-4;
+    x[BA_X] = 1e-2;
+    model.rates(&x, &[0.0, 0.0, 0.0, 0.0, 0.0, 9.8], &mut dx);
+    assert!((dx[BG_X] + 1e-4 / t_g).abs() < 1e-18 && (dx[BA_X] + 1e-2 / t_a).abs() < 1e-15);
+    let sim = StrapdownSimulator::new(
+        model,
+        traj,
+        10.0,
+        1.0,
+        UnitClass::Mems.errors(),
+        &BTreeMap::new(),
+        noise,
+    )
+    .unwrap();
+    let (mut chi2, mut dof) = (0.0, 0.0);
+    for run in 0..20 {
+        let r = sim.run(5, run);
+        for pair in r.truth.states.windows(2) {
+            for (first, t, s) in [(BG_X, t_g, s_g), (BA_X, t_a, s_a)] {
+                let phi: f64 = (-1.0 / t).exp();
+                let var = s * s * (1.0 - phi * phi);
+                for i in first..first + 3 {
+                    chi2 += (pair[1][i] - phi * pair[0][i]).powi(2) / var;
+                    dof += 1.0;
+                }
+            }
+        }
+    }
+    assert!(
+        (chi2 - dof).abs() < 4.0 * (2.0 * dof).sqrt(),
+        "{chi2} against {dof}"
+    );
+}
+
+/// The batch of eight lands where each point lands alone, for the model with every effect.
+#[test]
+fn batched_propagation_with_effects_matches_one_point_at_a_time() {
+    let noise = NoiseConfig {
+        gyro_psd: 1e-10,
+        accel_psd: 1e-6,
+        ..NoiseConfig::default()
+    };
+    let model = model_with(&StrapdownRegistry::catalogue().names().join(","), &noise);
+    let n = model.dim();
+    let mut rng = ChaCha8Rng::seed_from_u64(65);
+    let mut w = InputWindow::with_capacity(11);
+    for k in 0..=10 {
+        w.push_linear(0.1 * k as f64, input_of(&random_imu(&mut rng)));
+    }
+    let count = 11;
+    let nw = model.noise_channels().len();
+    let points: Vec<f64> = (0..count)
+        .flat_map(|_| random_state(&model, &mut rng))
+        .collect();
+    let noise: Vec<f64> = (0..count * nw)
+        .map(|_| rng.gen_range(-1e-3..1e-3))
+        .collect();
+    let mut batch = points.clone();
+    let mut scratch = model.propagation_scratch(count);
+    model.propagate_points(&mut batch, Some(&noise), &w, &mut scratch);
+    let mut one = vec![0.0; 4 * model.dynamic_dim() + n];
+    for p in 0..count {
+        let mut x = points[p * n..(p + 1) * n].to_vec();
+        propagate_generic(
+            &model,
+            &mut x,
+            Some(&noise[p * nw..(p + 1) * nw]),
+            &w,
+            &mut one,
+        );
+        for i in 0..n {
+            let b = batch[p * n + i];
+            assert!(
+                (b - x[i]).abs() <= 1e-13 * x[i].abs().max(1e-6),
+                "point {p}, state {i}: batch {b:e}, alone {:e}",
+                x[i]
+            );
+        }
+        // The biases wander in both.
+        assert_ne!(x[BG_X], points[p * n + BG_X]);
+    }
+}
+
+#[test]
+fn effect_lists_refuse_what_they_cannot_mean() {
+    let r = StrapdownRegistry::catalogue();
+    let err = |s: &str| {
+        StrapdownEffectList::parse_entries(&[s], &r)
+            .unwrap_err()
+            .1
+            .to_string()
+    };
+    assert!(err("gyro-scal").contains("known effects") || err("gyro-scal").contains("effects:"));
+    assert!(err("gyro-scale, gyro-scale").contains("twice"));
+    assert!(err("s_gx=1e-3, s_gx=2e-3").contains("twice"));
+    assert!(err("gyro-bias-instability=3").contains("T_g"));
+    assert!(err("T_g").contains("needs a value"));
+    assert!(err("T_g=-5").contains("> 0"));
+    assert!(err("heading=0.1").contains("navigation state"));
+    assert!(err("kod=abc").contains("not a number"));
+    // A platform effect is not a strapdown one.
+    assert!(err("gyro-fz").contains("neither"));
+    // A fixed value no instrument has is refused by the simulator, with its key.
+    let traj = Arc::new(Trajectory::build(&TrajectoryConfig::default()).unwrap());
+    let noise = NoiseConfig::default();
+    let list = StrapdownEffectList::parse_entries(&["gyro-scale"], &r).unwrap();
+    let model = Arc::new(
+        StrapdownModel::base(&noise)
+            .with_effects(&list, UnitClass::Mems, 1.0)
+            .unwrap(),
+    );
+    let mut fixed = BTreeMap::new();
+    fixed.insert("s_gz".to_string(), navkf_dynamics::Prior::fixed(0.5));
+    let e = StrapdownSimulator::new(
+        model,
+        traj,
+        10.0,
+        1.0,
+        UnitClass::Mems.errors(),
+        &fixed,
+        noise,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("truth.coefficients.s_gz") && e.contains("real instrument"),
+        "{e}"
+    );
+}

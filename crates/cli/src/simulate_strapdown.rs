@@ -6,12 +6,13 @@
 //! and the dataset read back before it is put in place.
 
 use crate::simulated_dataset::readable;
+use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
+use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::model::StrapdownModel;
 use navkf_dynamics::strapdown::simulate::StrapdownSimulator;
 use navkf_dynamics::strapdown::unit_class::UnitClass;
 use navkf_dynamics::{NoiseConfig, Trajectory, TrajectoryConfig};
 use navkf_report::{FolderKind, ResultsDir};
-use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -41,14 +42,9 @@ pub struct Settings {
 }
 
 pub fn run(a: Settings) -> Result<(), Box<dyn std::error::Error>> {
-    if !a.effects.trim().is_empty() {
-        return Err(format!(
-            "--effects {}: no strapdown effect is catalogued yet; expected no --effects with \
-             --model strapdown",
-            a.effects
-        )
-        .into());
-    }
+    let effects =
+        StrapdownEffectList::parse_entries(&[&a.effects], &StrapdownRegistry::catalogue())
+            .map_err(|(_, e)| format!("--effects: {e}"))?;
     if a.attitude != "small-angle" {
         return Err(
             "--attitude: the platform's choice; the strapdown family's attitude \
@@ -92,12 +88,18 @@ pub fn run(a: Settings) -> Result<(), Box<dyn std::error::Error>> {
         nhc_m_s: Some(nhc),
         ..NoiseConfig::default()
     });
-    let model = Arc::new(StrapdownModel::base(&noise).with_unit(errors));
-    let sim = StrapdownSimulator::new(model, traj, imu_hz, 1.0, errors, &BTreeMap::new(), noise)
+    let model = Arc::new(
+        StrapdownModel::base(&noise)
+            .with_unit(errors)
+            .with_effects(&effects, unit, 1.0)
+            .map_err(|e| format!("--effects: {e}"))?,
+    );
+    let sim = StrapdownSimulator::new(model, traj, imu_hz, 1.0, errors, &effects.fixed, noise)
         .map_err(|e| {
             e.to_string()
                 .replace("truth.input_rate_hz", "--imu-rate")
                 .replace("trajectory.duration_s", "--duration")
+                .replace("truth.coefficients.", "--effects ")
         })?;
     let staged = ResultsDir::begin_kind(&a.out, FolderKind::Dataset, &[])?;
     let run = sim.run(a.seed, a.run);
@@ -109,8 +111,13 @@ pub fn run(a: Settings) -> Result<(), Box<dyn std::error::Error>> {
     ds.write(staged.path())?;
     readable(staged.path(), &a.out, "")?;
     staged.commit()?;
+    let hidden = if effects.effects.is_empty() {
+        String::new()
+    } else {
+        format!(", hidden: {}", effects.names().join(", "))
+    };
     eprintln!(
-        "wrote {} (strapdown, {} unit, IMU at {imu_hz} Hz)",
+        "wrote {} (strapdown, {} unit, IMU at {imu_hz} Hz{hidden})",
         a.out.display(),
         unit.name()
     );

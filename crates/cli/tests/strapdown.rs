@@ -99,7 +99,7 @@ fn strapdown_settings_are_refused_where_they_mean_nothing() {
     ]);
     assert!(!o.status.success());
     assert!(
-        text(&o.stderr).contains("no strapdown effect"),
+        text(&o.stderr).contains("--effects") && text(&o.stderr).contains("gyro-scale"),
         "{}",
         text(&o.stderr)
     );

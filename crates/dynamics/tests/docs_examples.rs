@@ -170,6 +170,30 @@ fn the_glossary_has_the_strapdown_states_with_the_mems_sizes() {
     }
 }
 
+/// The glossary's strapdown effects: a row for each effect and one for each coefficient, with
+/// its unit and MEMS size, in its own section (some names are the platform's too).
+#[test]
+fn the_glossary_has_every_strapdown_effect_and_coefficient() {
+    use navkf_dynamics::strapdown::effects::StrapdownRegistry;
+    use navkf_dynamics::strapdown::unit_class::UnitClass;
+    let md = doc("glossary.md");
+    let start = md
+        .find("\n## Strapdown effects\n")
+        .expect("a section `## Strapdown effects`");
+    let rest = &md[start + 1..];
+    let section = &rest[..rest[3..].find("\n## ").map_or(rest.len(), |e| e + 3)];
+    let registry = StrapdownRegistry::catalogue();
+    for name in registry.names() {
+        assert!(
+            row(section, name).is_some(),
+            "glossary: no row for `{name}`"
+        );
+        for c in registry.get(name).unwrap().coefficients {
+            check_row(section, c.name, c.unit, Some(c.sigma_for(UnitClass::Mems)));
+        }
+    }
+}
+
 #[test]
 fn the_glossary_has_every_state_coefficient_and_effect() {
     let md = doc("glossary.md");

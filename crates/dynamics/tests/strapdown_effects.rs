@@ -12,6 +12,7 @@ use navkf_dynamics::strapdown::rates::input_of;
 use navkf_dynamics::strapdown::rates::ImuReading;
 use navkf_dynamics::strapdown::simulate::StrapdownSimulator;
 use navkf_dynamics::strapdown::state::*;
+use navkf_dynamics::strapdown::tangent::rate_jacobian_dual;
 use navkf_dynamics::strapdown::unit_class::UnitClass;
 use navkf_dynamics::system::propagate_generic;
 use navkf_dynamics::{
@@ -125,7 +126,8 @@ fn every_effects_jacobians_match_central_differences() {
         let steps = steps_for(&model);
         for _ in 0..10 {
             let x = random_state(&model, &mut rng);
-            let u = input_of(&random_imu(&mut rng));
+            let imu = random_imu(&mut rng);
+            let u = input_of(&imu);
             let mut jac = vec![f64::NAN; d * n];
             model.rate_jacobian(&x, &u, &mut jac);
             let rates = |x: &[f64]| {
@@ -134,6 +136,20 @@ fn every_effects_jacobians_match_central_differences() {
                 dx
             };
             check_jacobian(list, &x, d, &jac, &steps, rates, &names);
+            // The chain rule's matrix is the all-dual one to rounding.
+            let mut dual = vec![f64::NAN; d * n];
+            rate_jacobian_dual(model.layout(), d, &x, &imu, &mut dual, n);
+            for r in 0..d {
+                let row = &jac[r * n..(r + 1) * n];
+                let size = row.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                for (c, (a, b)) in row.iter().zip(&dual[r * n..]).enumerate() {
+                    assert!(
+                        (a - b).abs() <= 1e-12 * size,
+                        "{list}: d(row {r})/d({}): chain rule {a:e}, dual {b:e}",
+                        names[c]
+                    );
+                }
+            }
             // The EKF's call: the same rates and Jacobian, rows padded.
             let stride = n + 3;
             let (mut dx, mut padded) = (vec![0.0; d], vec![f64::NAN; d * stride]);

@@ -77,8 +77,8 @@ fn what_only_the_platform_reads_is_refused_by_key() {
         "truth.effects",
     );
     refused(
-        &after("[filter]", "effects = [\"odometer-scale\"]"),
-        "filter.effects",
+        &after("[filter]", "effects = [\"odometer-scale\", \"kod=abc\"]"),
+        "filter.effects[1]",
     );
     refused(
         &after("[filter]", "attitude = \"exact\""),

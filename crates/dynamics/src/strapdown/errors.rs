@@ -126,8 +126,8 @@ fn one_plus<T: Real>(x: &[T], places: &[[Option<usize>; 3]; 3]) -> [[T; 3]; 3] {
     })
 }
 
-/// `m^-1 b` for a 3x3 `m` near the identity (cofactors over the determinant).
-fn solve<T: Real>(m: &[[T; 3]; 3], b: [T; 3]) -> [T; 3] {
+/// `m^-1` for a 3x3 `m` near the identity (cofactors over the determinant).
+fn inverse<T: Real>(m: &[[T; 3]; 3]) -> [[T; 3]; 3] {
     let cof = |r: usize, c: usize| {
         let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
         let (c1, c2) = ((c + 1) % 3, (c + 2) % 3);
@@ -136,7 +136,7 @@ fn solve<T: Real>(m: &[[T; 3]; 3], b: [T; 3]) -> [T; 3] {
     let adj: [[T; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| cof(j, i)));
     let det = m[0][0] * adj[0][0] + m[0][1] * adj[1][0] + m[0][2] * adj[2][0];
     let inv_det = T::splat(1.0) / det;
-    std::array::from_fn(|i| (adj[i][0] * b[0] + adj[i][1] * b[1] + adj[i][2] * b[2]) * inv_det)
+    adj.map(|row| row.map(|a| a * inv_det))
 }
 
 /// The true body rate and specific force from `imu` and the state `x` (biases and effect
@@ -151,7 +151,7 @@ pub fn corrected_reading<T: Real>(
     let mut w: [T; 3] = std::array::from_fn(|i| T::splat(imu.w[i]) - x[BG_X + i]);
     let mut f: [T; 3] = std::array::from_fn(|i| T::splat(imu.f[i]) - x[BA_X + i]);
     if layout.accel.iter().flatten().any(Option::is_some) {
-        f = solve(&one_plus(x, &layout.accel), f);
+        f = rotate(&inverse(&one_plus(x, &layout.accel)), f);
     }
     for (i, g) in layout.gyro_g.iter().enumerate() {
         if let Some(g) = at(x, *g) {
@@ -159,7 +159,49 @@ pub fn corrected_reading<T: Real>(
         }
     }
     if layout.gyro.iter().flatten().any(Option::is_some) {
-        w = solve(&one_plus(x, &layout.gyro), w);
+        w = rotate(&inverse(&one_plus(x, &layout.gyro)), w);
+    }
+    (w, f)
+}
+
+/// [`corrected_reading`] on `f64` with its partial derivatives: it returns `(w, f)` and calls
+/// `column(i, dw/dx_i, df/dx_i)` for each state `i` they depend on (the six biases and the
+/// reading errors' coefficients). With `A = I + E_a`, `B = I + E_g`: `df = -A^-1 e_i` for
+/// `ba_i` and `-A^-1 e_i f_j` for `E_a[i][j]`; `dw = -B^-1 e_i` for `bg_i`, `-B^-1 e_i w_j`
+/// for `E_g[i][j]`, `-B^-1 e_i f_i` for `g_i`, and `-B^-1 G df` through `f`.
+pub fn corrected_reading_partials(
+    layout: &ErrorLayout,
+    imu: &ImuReading,
+    x: &[f64],
+    mut column: impl FnMut(usize, [f64; 3], [f64; 3]),
+) -> ([f64; 3], [f64; 3]) {
+    let (w, f) = corrected_reading(layout, imu, x);
+    let a_inv = inverse(&one_plus(x, &layout.accel));
+    let b_inv = inverse(&one_plus(x, &layout.gyro));
+    let g: [f64; 3] = std::array::from_fn(|i| at(x, layout.gyro_g[i]).unwrap_or(0.0));
+    let minus_col =
+        |m: &[[f64; 3]; 3], i: usize, s: f64| [-m[0][i] * s, -m[1][i] * s, -m[2][i] * s];
+    // A change of f moves w by -B^-1 G df.
+    let through_f =
+        |df: [f64; 3]| rotate(&b_inv, [g[0] * df[0], g[1] * df[1], g[2] * df[2]]).map(|v| -v);
+    for i in 0..3 {
+        column(BG_X + i, minus_col(&b_inv, i, 1.0), [0.0; 3]);
+        let df = minus_col(&a_inv, i, 1.0);
+        column(BA_X + i, through_f(df), df);
+    }
+    for i in 0..3 {
+        for j in 0..3 {
+            if let Some(c) = layout.accel[i][j] {
+                let df = minus_col(&a_inv, i, f[j]);
+                column(c, through_f(df), df);
+            }
+            if let Some(c) = layout.gyro[i][j] {
+                column(c, minus_col(&b_inv, i, w[j]), [0.0; 3]);
+            }
+        }
+        if let Some(c) = layout.gyro_g[i] {
+            column(c, minus_col(&b_inv, i, f[i]), [0.0; 3]);
+        }
     }
     (w, f)
 }

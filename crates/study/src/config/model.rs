@@ -2,6 +2,8 @@
 //! the other tables that family does not read, refused by name rather than ignored.
 
 use super::StudyConfig;
+use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
+use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::unit_class::UnitClass;
 use navkf_dynamics::{Attitude, ModelKind, NoiseConfig};
 use serde::{Deserialize, Serialize};
@@ -68,12 +70,8 @@ pub(super) fn check_family_keys(config: &StudyConfig) -> Result<(), String> {
                 ("truth.effects", &config.truth.effects),
                 ("filter.effects", &config.filter.effects),
             ] {
-                if !effects.is_empty() {
-                    return refuse(
-                        key,
-                        "no strapdown effect is catalogued yet; expected an empty list",
-                    );
-                }
+                StrapdownEffectList::parse_entries(effects, &StrapdownRegistry::catalogue())
+                    .map_err(|(i, e)| format!("{key}[{i}]: {e} (model.kind = \"strapdown\")"))?;
             }
             let attitudes = [
                 ("truth.attitude", config.truth.attitude),

@@ -8,6 +8,8 @@ use crate::error::StudyError;
 use navkf_dynamics::effect_spec::EffectSpec;
 use navkf_dynamics::prior::typical_sigma;
 use navkf_dynamics::state::NAV_DIM;
+use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
+use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::model::StrapdownModel;
 use navkf_dynamics::strapdown::simulate::StrapdownSimulator;
 use navkf_dynamics::{
@@ -110,12 +112,14 @@ fn platform(config: &StudyConfig, trajectory: Arc<Trajectory>) -> Result<FamilyP
     })
 }
 
-/// A strapdown study: the unit class sets the biases' sizes (scaled by
-/// `truth.coefficient_scale`) and the reading noise's densities; `[noise]` the odometer's,
-/// the GPS's and the constraint's sigmas. The configuration's checks
+/// A strapdown study: the unit class sets the biases' and the effects' typical sizes (scaled
+/// by `truth.coefficient_scale`) and the reading noise's densities; `[noise]` the odometer's,
+/// the GPS's and the constraint's sigmas; `truth.effects` and `filter.effects` name strapdown
+/// effects ([`StrapdownEffectList`]). The configuration's checks
 /// ([`StudyConfig::validate`]) have refused what this family does not read.
 fn strapdown(config: &StudyConfig, trajectory: Arc<Trajectory>) -> Result<FamilyParts, StudyError> {
-    let unit = config.model.unit_class().errors();
+    let class = config.model.unit_class();
+    let unit = class.errors();
     let scale = config.truth.coefficient_scale;
     let drawn = navkf_dynamics::strapdown::unit_class::UnitErrors {
         gyro_bias: unit.gyro_bias * scale,
@@ -123,18 +127,33 @@ fn strapdown(config: &StudyConfig, trajectory: Arc<Trajectory>) -> Result<Family
         ..unit
     };
     let noise = config.truth_noise();
-    let truth_model = Arc::new(StrapdownModel::base(&noise).with_unit(drawn));
+    let list = |key: &str, entries: &[String]| {
+        StrapdownEffectList::parse_entries(entries, &StrapdownRegistry::catalogue())
+            .map_err(|(i, e)| StudyError::Other(format!("{key}[{i}]: {e}")))
+    };
+    let model = |list: &StrapdownEffectList, noise: &NoiseConfig| {
+        StrapdownModel::base(noise)
+            .with_unit(drawn)
+            .with_effects(list, class, scale)
+    };
+    let truth_list = list("truth.effects", &config.truth.effects)?;
+    let truth_model = Arc::new(model(&truth_list, &noise)?);
+    let mut coefficients = truth_list.fixed.clone();
+    for (k, v) in &config.truth.coefficients {
+        coefficients.insert(k.clone(), *v);
+    }
     let sim = StrapdownSimulator::new(
         truth_model,
         trajectory,
         config.truth.input_rate_hz,
         config.truth.measurement_rate_hz,
         drawn,
-        &config.truth.coefficients,
+        &coefficients,
         noise,
     )?;
+    let filter_list = list("filter.effects", &config.filter.effects)?;
     let filter_model: Arc<dyn FamilyModel> =
-        Arc::new(StrapdownModel::base(&filter_noise(config, noise)).with_unit(drawn));
+        Arc::new(model(&filter_list, &filter_noise(config, noise))?);
     let same = filter_model.clone();
     Ok(FamilyParts {
         sim: Box::new(sim),

@@ -35,11 +35,19 @@ impl ConfigFile {
 }
 
 /// The coefficient names `[prior.coefficients]` and `truth.csv` may use in a strapdown
-/// dataset: the biases.
+/// dataset: the biases and the strapdown catalogue's coefficients.
 pub(super) fn strapdown_coefficients() -> Vec<String> {
+    let catalogue = crate::strapdown::effects::StrapdownRegistry::catalogue();
+    let effects = catalogue
+        .names()
+        .into_iter()
+        .filter_map(|n| catalogue.get(n).ok().map(|e| e.coefficient_names()))
+        .flatten();
     crate::strapdown::state::STATE_NAMES[crate::strapdown::state::NAV_DIM..]
         .iter()
-        .map(|s| s.to_string())
+        .copied()
+        .chain(effects)
+        .map(str::to_string)
         .collect()
 }
 

@@ -74,6 +74,7 @@ impl Dataset {
         } else {
             ConfigFile::default()
         };
+        const NAV_DIM_STRAPDOWN: usize = crate::strapdown::state::NAV_DIM;
         let kind = config.kind();
         let (inputs, layout, state_names) = match kind {
             ModelKind::Platform => {
@@ -86,10 +87,9 @@ impl Dataset {
                 )
             }
             ModelKind::Strapdown => {
-                let names = crate::strapdown::state::STATE_NAMES
-                    .iter()
-                    .map(|s| s.to_string())
-                    .collect();
+                let navigation = &crate::strapdown::state::STATE_NAMES[..NAV_DIM_STRAPDOWN];
+                let mut names: Vec<String> = navigation.iter().map(|s| s.to_string()).collect();
+                names.extend(config::strapdown_coefficients());
                 (read_imu(&dir.join(IMU_FILE))?, Layout::Strapdown, names)
             }
         };

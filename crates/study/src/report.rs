@@ -237,10 +237,11 @@ fn settings(s: &Summary) -> String {
                 let unit = c.model.unit_class();
                 let e = unit.errors();
                 format!(
-                    "truth: a strapdown {} unit (biases {} deg/h and {} mg one sigma, drawn at {} x) on the path itself; IMU read at {} Hz, measurements {} Hz",
+                    "truth: a strapdown {} unit (biases {} deg/h and {} mg one sigma, effects {}, drawn at {} x their typical sigma) on the path itself; IMU read at {} Hz, measurements {} Hz",
                     unit.name(),
                     rounded(e.gyro_bias.to_degrees() * 3600.0),
                     rounded(e.accel_bias / 9.80665e-3),
+                    list(&c.truth.effects),
                     c.truth.coefficient_scale,
                     c.truth.input_rate_hz,
                     c.truth.measurement_rate_hz

@@ -58,9 +58,15 @@ fn the_strapdown_plan_agrees_with_a_monte_carlo_and_names_what_a_level_drive_hid
     // gyros' scales (no rotation about them) nor the antenna's height (never off level).
     let identified = p.identified();
     for name in ["s_gz", "kod", "a_y", "tau", "bgx", "bgy"] {
-        assert!(identified.contains(&name), "{name} not identified: {identified:?}");
+        assert!(
+            identified.contains(&name),
+            "{name} not identified: {identified:?}"
+        );
     }
     for name in ["s_gx", "s_gy", "l_z", "baz"] {
-        assert!(!identified.contains(&name), "{name} identified: {identified:?}");
+        assert!(
+            !identified.contains(&name),
+            "{name} identified: {identified:?}"
+        );
     }
 }

@@ -35,8 +35,8 @@ fn the_strapdown_plan_agrees_with_a_monte_carlo_and_names_what_a_level_drive_hid
     let ekf = &s.filters["ekf"];
     assert_eq!(ekf.diverged, 0);
     // The RMS over N runs has a standard error of RMS / sqrt(2 N). baz is left out: the
-    // filter's estimate of it drifts (docs/model.md, "What the horizontal model cannot see:
-    // the vertical accelerometer bias"), which no bound predicts.
+    // filter's estimate of it drifts, which no bound predicts; see
+    // docs/model.md, "What the horizontal model cannot see: the vertical accelerometer bias".
     let mut z2 = 0.0;
     let mut count = 0.0;
     for c in p.coefficients.iter().filter(|c| c.name != "baz") {

@@ -7,8 +7,9 @@
 //! up to the reciprocals a batch takes with one division ([`crate::real::Real::reciprocals`]).
 //! Nothing is allocated: a block lives on the stack.
 
+use super::effect_rates::rates_with_effects;
 use super::errors::{ErrorLayout, MAX_DIM};
-use super::rates::{imu_of, nav_rates, rates_with_effects, ImuReading};
+use super::rates::{imu_of, nav_rates, ImuReading};
 use super::state::{BASE_DIM, NAV_DIM};
 use crate::effect::NoiseChannel;
 use crate::integrate::{rk4_step, InputWindow, RK4};

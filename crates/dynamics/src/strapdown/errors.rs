@@ -244,7 +244,7 @@ pub fn vehicle_axes<T: Real>(layout: &ErrorLayout, x: &[T]) -> Option<[[T; 3]; 3
 #[inline(always)]
 pub fn measurement_with<T: Real>(layout: &ErrorLayout, x: &[T], z: &mut [T]) {
     if !layout.has_measurement_errors() {
-        return super::model::measurement(x, z);
+        return super::measurement::measurement(x, z);
     }
     let cbn = body_to_nav([x[ROLL], x[PITCH], x[HEADING]]);
     let zero = T::splat(0.0);

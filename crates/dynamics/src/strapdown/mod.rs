@@ -11,7 +11,8 @@
 //!   coefficients act, and [`effect_list`] the lists users write;
 //! - [`errors`]: the sensor errors those places describe, evaluated once for every number
 //!   type (corrected readings, the readings of a unit with errors, the measurement);
-//! - [`model`]: the base model as a [`crate::SystemModel`], with its measurement;
+//! - [`model`]: the model as a [`crate::SystemModel`]; [`measurement`] its measurement
+//!   without effects, [`effect_rates`] its rates with them;
 //! - [`rates`]: the state equations, written once over [`crate::real::Real`], and their
 //!   Jacobian from the same source on dual numbers ([`crate::dual`]);
 //! - [`sensors`]: odometer speed, GPS fix and the non-holonomic constraint as a filter's
@@ -23,10 +24,12 @@
 pub mod attitude;
 pub mod batch;
 pub mod effect_list;
+pub mod effect_rates;
 pub mod effects;
 pub mod errors;
 pub mod family;
 pub mod jacobian;
+pub mod measurement;
 pub mod model;
 pub mod rates;
 pub mod sensors;

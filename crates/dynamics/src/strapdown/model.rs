@@ -21,12 +21,13 @@
 //! dual-number one by the tests.
 
 use super::attitude::angle_trig;
-use super::attitude::{body_to_nav, rotate_back};
 use super::effect_list::StrapdownEffectList;
+use super::effect_rates::rates_with_effects;
 use super::effects::{StrapdownEffect, Triad};
 use super::errors::{measurement_with, ErrorLayout};
 use super::jacobian::{nav_rate_jacobian_analytic, nav_rate_jacobian_with};
-use super::rates::{imu_of, nav_rates, nav_rates_with, rates_with_effects};
+pub use super::measurement::{measurement, MEASUREMENT_NAMES, MEAS_DIM};
+use super::rates::{imu_of, nav_rates, nav_rates_with};
 use super::state::*;
 use super::tangent;
 use super::unit_class::{UnitClass, UnitErrors};
@@ -36,23 +37,7 @@ use crate::error::DynamicsError;
 use crate::integrate::{InputWindow, PropagationScratch};
 use crate::kinematics::Input;
 use crate::noise::NoiseConfig;
-use crate::real::Real;
 use crate::system::SystemModel;
-
-/// Rows of the measurement: odometer speed, GPS latitude and longitude, the two
-/// non-holonomic pseudo-measurements (lateral and vertical body velocity, zero) and the
-/// zero-velocity update's two (East and North velocity, zero at a standstill).
-pub const MEASUREMENT_NAMES: [&str; 7] = [
-    "speed",
-    "L",
-    "lambda",
-    "nhc_lateral",
-    "nhc_vertical",
-    "zupt_east",
-    "zupt_north",
-];
-/// Measurement dimension.
-pub const MEAS_DIM: usize = 7;
 
 /// The strapdown model (module documentation): the base states and the coefficients of
 /// its effects ([`super::effects`]).
@@ -158,22 +143,6 @@ impl StrapdownModel {
     fn plain(&self) -> bool {
         self.effects.is_empty()
     }
-}
-
-/// The measurement, docs/model.md eqs. (59)-(61): the body-frame velocity's forward
-/// component (the odometer), the position (the GPS), the lateral and vertical components
-/// (zero for a wheeled vehicle), and the navigation-frame velocity (zero at a standstill).
-#[inline(always)]
-pub fn measurement<T: Real>(x: &[T], z: &mut [T]) {
-    let cbn = body_to_nav([x[ROLL], x[PITCH], x[HEADING]]);
-    let v_b = rotate_back(&cbn, [x[V_E], x[V_N], T::splat(0.0)]);
-    z[0] = v_b[0];
-    z[1] = x[LAT];
-    z[2] = x[LON];
-    z[3] = v_b[1];
-    z[4] = v_b[2];
-    z[5] = x[V_E];
-    z[6] = x[V_N];
 }
 
 impl SystemModel for StrapdownModel {

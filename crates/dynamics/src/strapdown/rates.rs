@@ -4,7 +4,6 @@
 //! one the EKF runs ([`super::jacobian`]).
 
 use super::attitude::{angle_trig, body_to_nav_of, euler_rates_of, rotate, rotate_back};
-use super::errors::{corrected_reading, ErrorLayout};
 use super::state::*;
 use crate::dual::Dual;
 use crate::earth::{meridian_radius, prime_vertical_radius, WIE};
@@ -106,23 +105,5 @@ pub fn nav_rate_jacobian(x: &[f64], imu: &ImuReading, jac: &mut [f64]) {
     nav_rates(&xd, imu, &mut dx);
     for (r, row) in dx.iter().enumerate() {
         jac[r * BASE_DIM..(r + 1) * BASE_DIM].copy_from_slice(&row.d);
-    }
-}
-
-/// The derivatives of the dynamic states of a model with effects: the navigation states under the readings corrected by the biases
-/// and the effects' coefficients, then, when a triad's biases follow a Gauss-Markov law,
-/// their decay `-b / T` (`dx` holds [`NAV_DIM`] values, or [`BASE_DIM`] then);
-/// docs/model.md eqs. (51)-(58), (63)-(69).
-#[inline(always)]
-pub fn rates_with_effects<T: Real>(layout: &ErrorLayout, x: &[T], imu: &ImuReading, dx: &mut [T]) {
-    let trig = angle_trig([x[ROLL], x[PITCH], x[HEADING]]);
-    let (w, f) = corrected_reading(layout, imu, x);
-    nav_rates_corrected(x, w, f, &trig, x[LAT].sin_cos(), dx);
-    if layout.biases_wander() {
-        for (first, decay) in [(BG_X, layout.gyro_decay), (BA_X, layout.accel_decay)] {
-            for i in first..first + 3 {
-                dx[i] = decay.map_or(T::splat(0.0), |d| -(x[i] * d));
-            }
-        }
     }
 }

@@ -8,12 +8,13 @@
 //! the chain rule; [`rate_jacobian_dual`] is the whole matrix on dual numbers, its check. The
 //! tests hold both to finite differences.
 
+use super::effect_rates::rates_with_effects;
 use super::errors::{
     corrected_reading, corrected_reading_partials, measurement_with, ErrorLayout, MAX_DIM,
 };
 use super::jacobian::nav_rate_jacobian_analytic;
-use super::model::MEAS_DIM;
-use super::rates::{rates_with_effects, ImuReading};
+use super::measurement::MEAS_DIM;
+use super::rates::ImuReading;
 use super::state::{BASE_DIM, BA_X, BG_X, NAV_DIM};
 use crate::dual::Dual;
 

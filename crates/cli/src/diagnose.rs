@@ -86,7 +86,6 @@ fn parse_priors(list: &str) -> Result<PlatformPrior, String> {
 }
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
-    let registry = Registry::catalogue();
     let with: Vec<String> = a
         .with
         .split(',')
@@ -95,7 +94,6 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         .map(String::from)
         .collect();
     for (i, w) in with.iter().enumerate() {
-        registry.build(w)?;
         if with[..i].contains(w) {
             return Err(format!("--with: `{w}` is given twice").into());
         }
@@ -113,21 +111,36 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let mut flags = parse_priors(&a.prior)?;
     flags.level_rad = a.level_sigma;
     flags.azimuth_rad = a.azimuth_sigma;
-    let known: Vec<String> = navkf_dynamics::state::BASE_NAMES[navkf_dynamics::state::NAV_DIM..]
-        .iter()
-        .map(|s| s.to_string())
-        .chain(registry.names().iter().flat_map(|e| {
-            registry
-                .build(e)
-                .map(|e| {
-                    e.coefficient_names()
-                        .iter()
-                        .map(|s| s.to_string())
-                        .collect::<Vec<_>>()
-                })
-                .unwrap_or_default()
-        }))
-        .collect();
+    // A large recording takes seconds to read and minutes to diagnose: a spinner with the
+    // elapsed time says it is working (drawn only on a terminal).
+    let spinner = navkf_report::progress::spinner(format!("reading {}", a.dataset.display()));
+    let ds = Dataset::read_with(&a.dataset, &Registry::catalogue())?;
+    if !ds.model.is_platform() {
+        // The library diagnoses the family (navkf_diagnose::catalogue::strapdown); the command
+        // waits until its error rates are measured.
+        return Err(format!(
+            "{}: a strapdown dataset; the diagnosis judges the platform family only so far (its \
+             strapdown catalogue is built, its error rates are not yet measured). `navkf \
+             inspect` reads it, and a strapdown study (studies/strapdown.toml) runs the filters \
+             on the family",
+            ds.name
+        )
+        .into());
+    }
+    // The settings that depend on the dataset's family, checked before anything is fitted.
+    let catalogue = navkf_diagnose::catalogue::of(&ds);
+    let effects = catalogue.effect_names();
+    for w in &with {
+        if !effects.contains(w) {
+            return Err(format!(
+                "--with: unknown {} effect `{w}`; known effects: {}",
+                ds.model.name(),
+                effects.join(", ")
+            )
+            .into());
+        }
+    }
+    let known = navkf_diagnose::catalogue::coefficient_names(&*catalogue);
     flags.validate(&known).map_err(|(key, message)| {
         let flag = match key.as_str() {
             "prior.level_rad" => "--level-sigma".to_string(),
@@ -136,25 +149,44 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         };
         format!("{flag}: {message}")
     })?;
+    let strapdown = !ds.model.is_platform();
+    if strapdown && attitude != navkf_dynamics::Attitude::SmallAngle {
+        return Err(
+            "--attitude: the platform's choice; the strapdown family's attitude equations are \
+             exact Euler angles, expected no --attitude"
+                .into(),
+        );
+    }
+    // The tilt priors, flags first, then the dataset's own where no flag overrides them: the
+    // platform's within what its attitude equations hold, a strapdown heading up to half a
+    // turn.
+    let check_tilt = |what: &str, v: f64| -> Result<(), String> {
+        if strapdown {
+            if v.is_finite() && v > 0.0 && v <= std::f64::consts::PI {
+                Ok(())
+            } else {
+                Err(format!("{what} {v}: expected a one-sigma in (0, pi] rad"))
+            }
+        } else {
+            attitude
+                .check_tilt_sigma(what, v)
+                .map_err(|e| e.to_string())
+        }
+    };
     for (flag, v) in [
         ("--level-sigma", a.level_sigma),
         ("--azimuth-sigma", a.azimuth_sigma),
     ] {
         if let Some(v) = v {
-            attitude.check_tilt_sigma(flag, v)?;
+            check_tilt(flag, v)?;
         }
     }
-    // A large recording takes seconds to read and minutes to diagnose: a spinner with the
-    // elapsed time says it is working (drawn only on a terminal).
-    let spinner = navkf_report::progress::spinner(format!("reading {}", a.dataset.display()));
-    let ds = Dataset::read_with(&a.dataset, &registry)?;
-    // The dataset's own tilt priors, where no flag overrides them.
     for (key, stated, flag) in [
         ("level_rad", ds.prior.level_rad, a.level_sigma),
         ("azimuth_rad", ds.prior.azimuth_rad, a.azimuth_sigma),
     ] {
         if let (Some(v), None) = (stated, flag) {
-            attitude.check_tilt_sigma(&format!("{CONFIG_FILE} [prior] {key} ="), v)?;
+            check_tilt(&format!("{CONFIG_FILE} [prior] {key} ="), v)?;
         }
     }
     let opts = Options {
@@ -189,7 +221,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         ds.inputs.len(),
         ds.measurements.len()
     ));
-    let diagnosed = diagnose(&ds, &registry, &opts);
+    let diagnosed = diagnose(&ds, &*catalogue, &opts);
     drop(spinner);
     let (d, fits) = diagnosed?;
     let figures = navkf_diagnose::plots::draw(&d, &fits, staged.path());

@@ -60,6 +60,12 @@ impl Round {
 pub struct Diagnosis {
     /// Dataset name.
     pub dataset: String,
+    /// The model family judged (the platform unless said).
+    #[serde(
+        default,
+        skip_serializing_if = "navkf_dynamics::ModelKind::is_platform"
+    )]
+    pub family: navkf_dynamics::ModelKind,
     /// The attitude equations of every fit's model.
     #[serde(default)]
     pub attitude: navkf_dynamics::Attitude,

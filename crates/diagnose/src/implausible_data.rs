@@ -13,16 +13,17 @@
 //! succeeds (exit 0) and prints the verdict; only data that cannot start a filter at all (no
 //! row with both sensors, too few updates) are an error.
 
+use crate::catalogue::first_full_measurement;
+use crate::catalogue::Catalogue;
 use crate::diagnosis::{Diagnosis, Fits};
 use crate::error::DiagnoseError;
-use crate::fit::pass::{first_full_measurement, fit};
+use crate::fit::pass::fit;
 use crate::fit::setup::FitSetup;
 use crate::options::Options;
 use crate::priors;
 use crate::summary::summarize_fit;
 use crate::verdict::Verdict;
 use navkf_dynamics::dataset::{Dataset, Implausibility};
-use navkf_dynamics::Registry;
 use std::collections::BTreeMap;
 
 /// The diagnosis of data that cannot be what they claim (module documentation): verdict
@@ -31,17 +32,14 @@ use std::collections::BTreeMap;
 /// table.
 pub fn implausible_diagnosis(
     ds: &Dataset,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     opts: &Options,
     found: Vec<Implausibility>,
 ) -> Result<(Diagnosis, Fits), DiagnoseError> {
-    let (_, _, start) = first_full_measurement(ds)?;
-    let (mut start_priors, prior_entries) = priors::resolve(ds, &opts.prior, start[0]);
+    let (_, start) = first_full_measurement(ds)?;
+    let (mut start_priors, prior_entries) = priors::resolve(ds, &opts.prior, start[0], catalogue);
     for e in &opts.with {
-        let effect = registry.build(e)?;
-        start_priors
-            .open
-            .extend(effect.coefficient_names().iter().map(|c| c.to_string()));
+        start_priors.open.extend(catalogue.effect(e)?.coefficients);
     }
     let setup = FitSetup {
         effects: opts.with.clone(),
@@ -49,9 +47,10 @@ pub fn implausible_diagnosis(
         noise: ds.noise,
         priors: start_priors,
     };
-    let model = fit(ds, &setup, registry, &opts.filter)?;
+    let model = fit(ds, &setup, catalogue, &opts.filter)?;
     let mut d = Diagnosis {
         dataset: ds.name.clone(),
+        family: catalogue.kind(),
         attitude: opts.filter.attitude,
         verdict: Verdict::ImplausibleData,
         best: None,

@@ -18,6 +18,7 @@
 //! - the diagnosis measured on simulated data: [`diagnosis_study`].
 
 pub mod candidates;
+pub mod catalogue;
 pub mod consistency;
 pub mod diagnosis;
 pub mod diagnosis_study;

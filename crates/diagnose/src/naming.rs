@@ -22,12 +22,11 @@
 use crate::candidates::evidence::{
     Candidate, CandidateKind, Evaluated, Named, Outcome, DECISIVE_BIC,
 };
+use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use crate::fit::density::{fit_density, DensityFit};
 use crate::fit::pass::Fit;
-use crate::rivals::AccelBiasWalk;
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::Registry;
 use navkf_filters::FilterSpec;
 
 /// What the naming step of a round decided.
@@ -49,7 +48,7 @@ pub fn name(
     ds: &Dataset,
     model: &Fit,
     mut ranked: Vec<Evaluated>,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     filter: &FilterSpec,
 ) -> Result<Naming, DiagnoseError> {
     let mut candidates: Vec<Candidate> = ranked.iter().map(|e| e.candidate.clone()).collect();
@@ -58,7 +57,7 @@ pub fn name(
     let (choice, mut notes) = loop {
         let (choice, notes) = select(&mut candidates, &not_specific);
         if let Some(i) = choice.filter(|&i| candidates[i].kind == CandidateKind::NoiseOnly) {
-            if let Some(note) = rival_note(ds, model, &ranked[i], registry, filter)? {
+            if let Some(note) = rival_note(ds, model, &ranked[i], catalogue, filter)? {
                 not_specific.push(i);
                 rival_notes.push(note);
                 continue;
@@ -86,23 +85,17 @@ fn rival_note(
     ds: &Dataset,
     model: &Fit,
     chosen: &Evaluated,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     filter: &FilterSpec,
 ) -> Result<Option<String>, DiagnoseError> {
-    let mut with_rival = registry.clone();
-    with_rival.register(|| Box::new(AccelBiasWalk::default()));
+    let Some((with_rival, rival_name, rival_density)) = catalogue.with_rival() else {
+        return Ok(None);
+    };
     let DensityFit {
         fit: rival,
         density: q,
         ..
-    } = fit_density(
-        ds,
-        model,
-        AccelBiasWalk::NAME,
-        AccelBiasWalk::DEFAULT_PSD,
-        &with_rival,
-        filter,
-    )?;
+    } = fit_density(ds, model, rival_name, rival_density, &*with_rival, filter)?;
     // Same priors, one density each: the marginal likelihoods compare directly.
     let gain = 2.0 * (chosen.fit.loglik - rival.loglik);
     if rival.failure.is_none() && gain < DECISIVE_BIC {

@@ -11,9 +11,10 @@
 //!
 //! The data themselves are checked before anything is fitted: [`crate::implausible_data`].
 
+use crate::catalogue::EffectInfo;
 use crate::summary::Coefficient;
 use navkf_dynamics::sensor_classes::noise_out_of_bounds;
-use navkf_dynamics::{DynEffect, NoiseConfig};
+use navkf_dynamics::NoiseConfig;
 use serde::{Deserialize, Serialize};
 
 /// A fitted value beyond what any real sensor has: why a candidate was not named.
@@ -50,14 +51,11 @@ impl std::fmt::Display for BeyondBound {
 }
 
 /// The candidate's own `coefficients` that lie beyond the bounds `effect` declares.
-pub fn coefficients_beyond(
-    effect: &dyn DynEffect,
-    coefficients: &[Coefficient],
-) -> Vec<BeyondBound> {
+pub fn coefficients_beyond(effect: &EffectInfo, coefficients: &[Coefficient]) -> Vec<BeyondBound> {
     effect
-        .coefficient_names()
+        .coefficients
         .iter()
-        .zip(effect.coefficient_bounds())
+        .zip(&effect.bounds)
         .filter_map(|(name, bound)| {
             let c = coefficients.iter().find(|c| c.name == *name)?;
             (!bound.contains(c.estimate)).then(|| BeyondBound {

@@ -10,10 +10,9 @@
 //! diagnosis started from ([`Priors::restarted`]) and which coefficients are the question
 //! ([`Priors::open`]), which is what the widening's caps are counted from.
 
+use crate::catalogue::Catalogue;
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::prior::base_coefficient_sigma;
-use navkf_dynamics::prior::{default_azimuth_rad, default_level_rad, PlatformPrior, PriorSource};
-use navkf_dynamics::state::{BASE_DIM, BASE_NAMES, NAV_DIM};
+use navkf_dynamics::prior::{PlatformPrior, PriorSource};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -67,7 +66,12 @@ pub struct PriorEntry {
 /// The starting priors for `ds`: `flags` over the dataset's `[prior]` table over the defaults
 /// (the azimuth's at the dataset's first latitude). Returns them with the report's table: the
 /// tilt, the 13 base coefficients and every stated effect coefficient.
-pub fn resolve(ds: &Dataset, flags: &PlatformPrior, start_lat: f64) -> (Priors, Vec<PriorEntry>) {
+pub fn resolve(
+    ds: &Dataset,
+    flags: &PlatformPrior,
+    start_lat: f64,
+    catalogue: &dyn Catalogue,
+) -> (Priors, Vec<PriorEntry>) {
     let stated = ds.prior.overridden_by(flags);
     let source = |from_flag: bool| {
         if from_flag {
@@ -90,33 +94,30 @@ pub fn resolve(ds: &Dataset, flags: &PlatformPrior, start_lat: f64) -> (Priors, 
         });
         sigma
     };
-    let level_rad = tilt(
-        "level_rad",
-        stated.level_rad,
-        flags.level_rad,
-        default_level_rad(),
-    );
+    let [level_name, azimuth_name] = catalogue.tilt_names();
+    let [level_default, azimuth_default] = catalogue.default_tilt(ds, start_lat);
+    let level_rad = tilt(level_name, stated.level_rad, flags.level_rad, level_default);
     let azimuth_rad = tilt(
-        "azimuth_rad",
+        azimuth_name,
         stated.azimuth_rad,
         flags.azimuth_rad,
-        default_azimuth_rad(start_lat),
+        azimuth_default,
     );
-    for (i, name) in BASE_NAMES.iter().enumerate().take(BASE_DIM).skip(NAV_DIM) {
-        let default = base_coefficient_sigma(i);
-        let (sigma, src) = match stated.coefficients.get(*name) {
-            Some(&v) => (v, source(flags.coefficients.contains_key(*name))),
-            None => (default, PriorSource::Default),
+    let base = catalogue.base_coefficients();
+    for (name, default) in &base {
+        let (sigma, src) = match stated.coefficients.get(name) {
+            Some(&v) => (v, source(flags.coefficients.contains_key(name))),
+            None => (*default, PriorSource::Default),
         };
         entries.push(PriorEntry {
             name: name.to_string(),
             sigma,
-            default,
+            default: *default,
             source: src,
         });
     }
     for (name, &v) in &stated.coefficients {
-        if !BASE_NAMES.contains(&name.as_str()) {
+        if !base.iter().any(|(b, _)| b == name) {
             entries.push(PriorEntry {
                 name: name.clone(),
                 sigma: v,

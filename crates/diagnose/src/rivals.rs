@@ -24,7 +24,7 @@ pub struct AccelBiasWalk {
 }
 
 impl AccelBiasWalk {
-    /// The registry name.
+    /// The catalogue name.
     pub const NAME: &'static str = "accel-bias-walk";
     /// Typical density: the bias wanders by `sqrt(q T)` = 1e-4 m/s^2 (10 micro-g) over a
     /// 2400 s test.

@@ -49,10 +49,11 @@
 
 use crate::candidates::evidence::{Model, Named};
 use crate::candidates::rank::{rank, Confounded};
+use crate::catalogue::first_full_measurement;
+use crate::catalogue::Catalogue;
 use crate::consistency::BLOCK;
 use crate::diagnosis::{Diagnosis, Fits, Round, RoundKind};
 use crate::error::DiagnoseError;
-use crate::fit::pass::first_full_measurement;
 use crate::fit::setup::FitSetup;
 use crate::fit::widening::{fit_adaptive, refit_from_starting_priors, widened_since};
 use crate::implausible_data::implausible_diagnosis;
@@ -65,7 +66,6 @@ use crate::summary::summarize_fit;
 use crate::under_test::fit_under_test;
 use crate::verdict::{judge, Verdict};
 use navkf_dynamics::dataset::{Dataset, MEASUREMENTS_FILE};
-use navkf_dynamics::Registry;
 
 /// Fewest measurement rows a diagnosis judges: two blocks of the drift test.
 pub const MIN_UPDATES: usize = 2 * BLOCK;
@@ -74,18 +74,18 @@ pub const MIN_UPDATES: usize = 2 * BLOCK;
 /// the final model and, when it has effects, of the base model (for the figures).
 pub fn diagnose(
     ds: &Dataset,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     opts: &Options,
 ) -> Result<(Diagnosis, Fits), DiagnoseError> {
     // 0. Can the data be judged?
-    judgeable(ds, opts)?;
-    let (_, _, start) = first_full_measurement(ds)?;
+    judgeable(ds, catalogue, opts)?;
+    let (_, start) = first_full_measurement(ds)?;
     let implausible = ds.implausibilities();
     if !implausible.is_empty() {
-        return implausible_diagnosis(ds, registry, opts, implausible);
+        return implausible_diagnosis(ds, catalogue, opts, implausible);
     }
     // 1. The model under test.
-    let under_test = fit_under_test(ds, registry, opts, start[0])?;
+    let under_test = fit_under_test(ds, catalogue, opts, start[0])?;
     let mut model = under_test.fit;
     let mut rounds: Vec<Round> = under_test.manual_round.into_iter().collect();
     // 2. Rounds.
@@ -101,7 +101,7 @@ pub fn diagnose(
                 ds,
                 &model,
                 noise_theta,
-                registry,
+                catalogue,
                 &opts.filter,
             )?)
         } else {
@@ -117,11 +117,11 @@ pub fn diagnose(
             &as_it_stands,
             check.as_ref(),
             &confounded,
-            registry,
+            catalogue,
             opts,
         )?;
         // 2.3 Name.
-        let naming = name(ds, &model, ranked, registry, &opts.filter)?;
+        let naming = name(ds, &model, ranked, catalogue, &opts.filter)?;
         confounded.remember(&naming.candidates);
         rounds.push(Round {
             kind: RoundKind::Automatic,
@@ -143,10 +143,10 @@ pub fn diagnose(
         // Back to the starting priors: a prior the data pulled wide only because the effect
         // was missing (or the noise mis-stated) must not stay wide in the model that now has
         // it.
-        model = refit_from_starting_priors(ds, with_it, registry, &opts.filter)?;
+        model = refit_from_starting_priors(ds, with_it, catalogue, &opts.filter)?;
     }
     // 3. Check for stand-ins.
-    let stand_ins = withdraw_stand_ins(ds, model, named, registry, &opts.filter)?;
+    let stand_ins = withdraw_stand_ins(ds, model, named, catalogue, &opts.filter)?;
     let model = stand_ins.model;
     // 4. Verdict.
     let summary = summarize_fit(ds, &model, opts);
@@ -161,7 +161,7 @@ pub fn diagnose(
             noise: model.setup.noise,
             ..under_test.base
         };
-        Some(fit_adaptive(ds, &setup, registry, &opts.filter)?.0)
+        Some(fit_adaptive(ds, &setup, catalogue, &opts.filter)?.0)
     };
     let kept: Vec<String> = stand_ins.kept.iter().map(Named::to_string).collect();
     // An effect that leaves the model inconsistent is suggested, not named (crate::verdict).
@@ -172,6 +172,7 @@ pub fn diagnose(
     };
     let mut d = Diagnosis {
         dataset: ds.name.clone(),
+        family: catalogue.kind(),
         attitude: opts.filter.attitude,
         verdict,
         best: effects.first().cloned(),
@@ -196,14 +197,14 @@ pub fn diagnose(
 }
 
 /// Refuses a dataset too short to judge, and options under which nothing is tested.
-fn judgeable(ds: &Dataset, opts: &Options) -> Result<(), DiagnoseError> {
-    if !ds.model.is_platform() {
+fn judgeable(ds: &Dataset, catalogue: &dyn Catalogue, opts: &Options) -> Result<(), DiagnoseError> {
+    if ds.model != catalogue.kind() {
         return Err(DiagnoseError::Data(format!(
-            "{}: a {} dataset; the diagnosis judges the platform family only so far (its \
-             noise fit, rounds and catalogue are the platform's). `navkf inspect` reads it, \
-             and a strapdown study (studies/strapdown.toml) runs the filters on the family",
+            "{}: a {} dataset judged with the {} family's catalogue; expected the catalogue of \
+             its own family (crate::catalogue::of)",
             ds.name,
-            ds.model.name()
+            ds.model.name(),
+            catalogue.kind().name()
         )));
     }
     let updates = ds.measurements.len();

@@ -21,13 +21,13 @@
 //! Effects added with `--with` are the user's statement, not a finding: they are not tested.
 
 use crate::candidates::evidence::Named;
+use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use crate::fit::density::{fit_density, DensityFit};
 use crate::fit::pass::{fit, Fit};
 use crate::fit::setup::FitSetup;
 use crate::fit::widening::fit_adaptive;
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::Registry;
 use navkf_filters::FilterSpec;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -76,7 +76,7 @@ pub fn withdraw_stand_ins(
     ds: &Dataset,
     model: Fit,
     named: Vec<Named>,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     filter: &FilterSpec,
 ) -> Result<StandIns, DiagnoseError> {
     let mut withdrawn = Vec::new();
@@ -84,15 +84,10 @@ pub fn withdraw_stand_ins(
     for n in &named {
         let c = match n {
             Named::Effect(e) => {
-                let coefs: Vec<String> = registry
-                    .build(e)?
-                    .coefficient_names()
-                    .iter()
-                    .map(|s| s.to_string())
-                    .collect();
-                constancy(ds, &model.setup, &coefs, registry, filter)?
+                let coefs = catalogue.effect(e)?.coefficients;
+                constancy(ds, &model.setup, &coefs, catalogue, filter)?
             }
-            Named::NoiseTerm(e) => density_constancy(ds, &model.setup, e, registry, filter)?,
+            Named::NoiseTerm(e) => density_constancy(ds, &model.setup, e, catalogue, filter)?,
             // The noise levels are not in the model's effects; nothing to withdraw.
             Named::NoiseLevels { .. } => continue,
         };
@@ -112,7 +107,7 @@ pub fn withdraw_stand_ins(
         kept.retain(|n| !is_withdrawn(&n.to_string()));
         let mut setup = model.setup.clone();
         setup.effects.retain(|e| !is_withdrawn(e));
-        model = fit_adaptive(ds, &setup, registry, filter)?.0;
+        model = fit_adaptive(ds, &setup, catalogue, filter)?.0;
     }
     Ok(StandIns {
         model,
@@ -129,13 +124,13 @@ pub fn constancy(
     ds: &Dataset,
     setup: &FitSetup,
     names: &[String],
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     filter: &FilterSpec,
 ) -> Result<Option<Constancy>, DiagnoseError> {
     let halves = split_in_halves(ds);
     let fits = halves
         .par_iter()
-        .map(|h| fit_adaptive(h, setup, registry, filter).map(|f| f.0))
+        .map(|h| fit_adaptive(h, setup, catalogue, filter).map(|f| f.0))
         .collect::<Result<Vec<Fit>, _>>()?;
     let mut rows = Vec::new();
     for name in names {
@@ -186,14 +181,10 @@ pub fn density_constancy(
     ds: &Dataset,
     setup: &FitSetup,
     name: &str,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     filter: &FilterSpec,
 ) -> Result<Option<Constancy>, DiagnoseError> {
-    let typical = registry
-        .build(name)?
-        .process_noise()
-        .first()
-        .map_or(f64::NAN, |c| c.psd);
+    let typical = catalogue.effect(name)?.noise_density.unwrap_or(f64::NAN);
     let mut without = setup.clone();
     without.effects.retain(|e| e != name);
     without.parameters.remove(name);
@@ -201,8 +192,8 @@ pub fn density_constancy(
     let fits = halves
         .par_iter()
         .map(|h| {
-            let base = fit(h, &without, registry, filter)?;
-            fit_density(h, &base, name, typical, registry, filter)
+            let base = fit(h, &without, catalogue, filter)?;
+            fit_density(h, &base, name, typical, catalogue, filter)
         })
         .collect::<Result<Vec<DensityFit>, _>>()?;
     let [a, b] = &fits[..] else {

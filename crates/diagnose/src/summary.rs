@@ -14,7 +14,6 @@ use crate::consistency::{self, nis_windows, phase_name, whiteness, NisStat, NisW
 use crate::fit::pass::Fit;
 use crate::options::Options;
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::state::{MEASUREMENT_NAMES, MEAS_DIM, NAV_DIM};
 use navkf_dynamics::NoiseConfig;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -84,10 +83,11 @@ pub fn summarize_fit(ds: &Dataset, fit: &Fit, opts: &Options) -> FitSummary {
     };
     let width = ((opts.window_s / dt).round() as usize).max(10);
     let windows = nis_windows(&fit.t, &fit.nis, &fit.dims, width);
-    let whites: Vec<Whiteness> = MEASUREMENT_NAMES
+    let whites: Vec<Whiteness> = fit
+        .channels
         .iter()
         .enumerate()
-        .map(|(c, name)| {
+        .map(|(c, channel)| {
             let e: Vec<f64> = fit
                 .z
                 .iter()
@@ -97,10 +97,10 @@ pub fn summarize_fit(ds: &Dataset, fit: &Fit, opts: &Options) -> FitSummary {
                 .map(|((z, zh), s)| (z[c] - zh[c]) / s[c])
                 .collect();
             whiteness(
-                name,
+                channel.name,
                 &e,
                 opts.lags,
-                WHITENESS_ALPHA / (consistency::TESTS_PER_CHANNEL * MEAS_DIM) as f64,
+                WHITENESS_ALPHA / (consistency::TESTS_PER_CHANNEL * fit.channels.len()) as f64,
             )
         })
         .collect();
@@ -120,7 +120,7 @@ pub fn summarize_fit(ds: &Dataset, fit: &Fit, opts: &Options) -> FitSummary {
         .truth
         .as_ref()
         .and_then(|t| t.states.last().map(|s| (t, s)));
-    let coefficients = (NAV_DIM..n)
+    let coefficients = (fit.nav_dim..n)
         .map(|i| Coefficient {
             name: fit.names[i].clone(),
             estimate: fit.x[i],

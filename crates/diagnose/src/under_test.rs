@@ -8,6 +8,7 @@
 //! what they gain over the base model, weighed like a candidate.
 
 use crate::candidates::evidence::{Candidate, CandidateKind, Outcome};
+use crate::catalogue::Catalogue;
 use crate::diagnosis::{Round, RoundKind};
 use crate::error::DiagnoseError;
 use crate::fit::pass::Fit;
@@ -17,7 +18,6 @@ use crate::options::Options;
 use crate::priors::{self, PriorEntry, Priors};
 use crate::summary::summarize_fit;
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::Registry;
 use std::collections::BTreeMap;
 
 /// The model under test, fitted, and where the diagnosis started.
@@ -42,11 +42,11 @@ pub struct UnderTest {
 /// is at latitude `start_lat` (rad).
 pub fn fit_under_test(
     ds: &Dataset,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     opts: &Options,
     start_lat: f64,
 ) -> Result<UnderTest, DiagnoseError> {
-    let (start, prior_entries) = priors::resolve(ds, &opts.prior, start_lat);
+    let (start, prior_entries) = priors::resolve(ds, &opts.prior, start_lat, catalogue);
     let base = FitSetup {
         effects: Vec::new(),
         parameters: BTreeMap::new(),
@@ -58,14 +58,13 @@ pub fn fit_under_test(
         ..base.clone()
     };
     for e in &opts.with {
-        let effect = registry.build(e)?;
         under_test
             .priors
             .open
-            .extend(effect.coefficient_names().iter().map(|c| c.to_string()));
+            .extend(catalogue.effect(e)?.coefficients);
     }
-    let (fit, _) = fit_adaptive(ds, &under_test, registry, &opts.filter)?;
-    let (fit, tilt_widened) = widen_tilt(ds, fit, registry, &opts.filter)?;
+    let (fit, _) = fit_adaptive(ds, &under_test, catalogue, &opts.filter)?;
+    let (fit, tilt_widened) = widen_tilt(ds, fit, catalogue, &opts.filter)?;
     let base = FitSetup {
         priors: Priors {
             coefficients: base.priors.coefficients.clone(),
@@ -76,7 +75,7 @@ pub fn fit_under_test(
     let manual_round = if opts.with.is_empty() {
         None
     } else {
-        let (b, _) = fit_adaptive(ds, &base, registry, &opts.filter)?;
+        let (b, _) = fit_adaptive(ds, &base, catalogue, &opts.filter)?;
         Some(manual_round(ds, &b, &fit, opts))
     };
     Ok(UnderTest {

@@ -5,6 +5,7 @@
 
 use super::evidence::INDISTINGUISHABLE;
 use super::evidence::{Candidate, CandidateKind, Confusion, Evaluated, Model, Named, Outcome};
+use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use crate::fit::density::fit_density;
 use crate::fit::pass::{marginal_states, Fit};
@@ -12,8 +13,6 @@ use crate::fit::widening::fit_adaptive;
 use crate::options::Options;
 use crate::summary::{summarize_fit, Coefficient};
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::state::NAV_DIM;
-use navkf_dynamics::Registry;
 
 /// Evaluates one effect; `None` for an effect with neither coefficients nor noise (nothing
 /// to fit).
@@ -21,12 +20,11 @@ pub fn evaluate(
     ds: &Dataset,
     model: &Model<'_>,
     name: &str,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     opts: &Options,
 ) -> Result<Option<Evaluated>, DiagnoseError> {
-    let effect = registry.build(name)?;
-    let k_coef = effect.coefficient_names().len();
-    let noise = effect.process_noise();
+    let effect = catalogue.effect(name)?;
+    let k_coef = effect.coefficients.len();
     let (fit, widened, density, kind) = if k_coef > 0 {
         // From the starting priors: a base coefficient the model had to widen to soak up the
         // misfit this candidate explains must not keep the candidate from explaining it.
@@ -35,11 +33,11 @@ pub fn evaluate(
         setup
             .priors
             .open
-            .extend(effect.coefficient_names().iter().map(|c| c.to_string()));
-        let (f, w) = fit_adaptive(ds, &setup, registry, &opts.filter)?;
+            .extend(effect.coefficients.iter().cloned());
+        let (f, w) = fit_adaptive(ds, &setup, catalogue, &opts.filter)?;
         (f, w, None, CandidateKind::Structured)
-    } else if let Some(typical) = noise.first().map(|c| c.psd) {
-        let d = fit_density(ds, model.fit, name, typical, registry, &opts.filter)?;
+    } else if let Some(typical) = effect.noise_density {
+        let d = fit_density(ds, model.fit, name, typical, catalogue, &opts.filter)?;
         (d.fit, Vec::new(), Some(d.density), CandidateKind::NoiseOnly)
     } else {
         return Ok(None);
@@ -63,7 +61,7 @@ pub fn evaluate(
         .filter(|c| !model.fit.names.contains(&c.name))
         .cloned()
         .collect();
-    let beyond = crate::physical::coefficients_beyond(&*effect, &own);
+    let beyond = crate::physical::coefficients_beyond(&effect, &own);
     let candidate = Candidate {
         effect: name.to_string(),
         kind,
@@ -109,7 +107,7 @@ fn confusion(f: &Fit, n_model: usize) -> Vec<Confusion> {
     let n = f.names.len();
     // States driven by noise (the drifts under `gyro-bias-walk`) stay in, with their
     // posterior as it is: a walking drift still cannot be told from a constant g-sensitive one.
-    let idx: Vec<usize> = (NAV_DIM..n).collect();
+    let idx: Vec<usize> = (f.nav_dim..n).collect();
     let m = idx.len();
     let p = nalgebra::DMatrix::from_fn(m, m, |a, b| f.p[idx[a] + idx[b] * n]);
     let Some(p_inv) = p.clone().cholesky().map(|c| c.inverse()) else {

@@ -6,13 +6,13 @@
 //! noise: the right structural model has the larger likelihood.
 
 use super::evidence::{Candidate, CandidateKind, Evaluated, Model, Named, Outcome, NOISE_LEVELS};
+use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use crate::fit::widening::fit_adaptive;
 use crate::noise::levels::{NoiseFit, SOURCES};
 use crate::options::Options;
 use crate::summary::summarize_fit;
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::Registry;
 
 /// The candidate "noise levels": `model` refitted with the levels `check` found (from the
 /// starting priors), weighed like an effect with one parameter per source it changed.
@@ -20,13 +20,13 @@ pub fn noise_levels(
     ds: &Dataset,
     model: &Model<'_>,
     check: &NoiseFit,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     opts: &Options,
 ) -> Result<Evaluated, DiagnoseError> {
     let mut setup = model.fit.setup.clone();
     setup.noise = check.used;
     setup.priors = setup.priors.restarted();
-    let (fit, widened) = fit_adaptive(ds, &setup, registry, &opts.filter)?;
+    let (fit, widened) = fit_adaptive(ds, &setup, catalogue, &opts.filter)?;
     let s = summarize_fit(ds, &fit, opts);
     let keep: Vec<String> = fit
         .names

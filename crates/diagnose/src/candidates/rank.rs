@@ -6,14 +6,14 @@
 use super::effect::evaluate;
 use super::evidence::{Candidate, Confusion, Evaluated, Model, DECISIVE_BIC};
 use super::noise_levels::noise_levels;
+use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use crate::noise::levels::NoiseFit;
 use crate::options::Options;
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::Registry;
 use rayon::prelude::*;
 
-/// Every candidate of a round weighed against `model`: each registry effect not in it, ranked
+/// Every candidate of a round weighed against `model`: each catalogue effect not in it, ranked
 /// by BIC gain, with those found confounded earlier marked so again; then, when the noise
 /// `check` refitted levels other than the model's, the candidate "noise levels".
 pub fn rank(
@@ -21,32 +21,32 @@ pub fn rank(
     model: &Model<'_>,
     check: Option<&NoiseFit>,
     confounded: &Confounded,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     opts: &Options,
 ) -> Result<Vec<Evaluated>, DiagnoseError> {
-    let mut ranked = evaluate_all(ds, model, registry, opts)?;
+    let mut ranked = evaluate_all(ds, model, catalogue, opts)?;
     confounded.mark(&mut ranked);
     if let Some(c) = check.filter(|c| c.refitted && c.used != model.fit.setup.noise) {
-        ranked.push(noise_levels(ds, model, c, registry, opts)?);
+        ranked.push(noise_levels(ds, model, c, catalogue, opts)?);
     }
     Ok(ranked)
 }
 
-/// Evaluates every registry effect not in `model`, in parallel, ranked by BIC gain.
+/// Evaluates every catalogue effect not in `model`, in parallel, ranked by BIC gain.
 pub fn evaluate_all(
     ds: &Dataset,
     model: &Model<'_>,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     opts: &Options,
 ) -> Result<Vec<Evaluated>, DiagnoseError> {
-    let names: Vec<String> = registry
-        .names()
+    let names: Vec<String> = catalogue
+        .effect_names()
         .into_iter()
         .filter(|e| !model.fit.effects.contains(e))
         .collect();
     let mut out = names
         .par_iter()
-        .map(|name| evaluate(ds, model, name, registry, opts))
+        .map(|name| evaluate(ds, model, name, catalogue, opts))
         .collect::<Result<Vec<Option<Evaluated>>, _>>()?
         .into_iter()
         .flatten()

@@ -286,7 +286,7 @@ pub fn simulate(
     trajectory: &Arc<Trajectory>,
     p: &Planned,
 ) -> Result<Dataset, DiagnoseError> {
-    let registry = Registry::catalogue();
+    let catalogue = Registry::catalogue();
     let noise = config.noise;
     let mut effects: Vec<Box<dyn navkf_dynamics::DynEffect>> = Vec::new();
     let mut coefficients = BTreeMap::new();
@@ -296,7 +296,7 @@ pub fn simulate(
     for h in &p.hidden {
         match h {
             Hidden::Effect { name, values, .. } => {
-                let mut e = registry.build(name)?;
+                let mut e = catalogue.build(name)?;
                 if e.coefficient_names().is_empty() {
                     if let Some(&q) = values.get("density") {
                         e.set_parameter(q).map_err(DiagnoseError::Content)?;

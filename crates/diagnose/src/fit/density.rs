@@ -9,9 +9,9 @@
 //! ([`super::pass::marginal_states`]), as every comparison of the diagnosis is.
 
 use super::pass::{fit, marginal_states, Fit};
+use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::Registry;
 use navkf_filters::FilterSpec;
 use rayon::prelude::*;
 
@@ -27,7 +27,7 @@ pub fn fit_density(
     model: &Fit,
     name: &str,
     typical: f64,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     filter: &FilterSpec,
 ) -> Result<DensityFit, DiagnoseError> {
     // (decade, profile log-likelihood, fit)
@@ -35,7 +35,7 @@ pub fn fit_density(
         let setup = model
             .setup
             .with_effect(name, Some(typical * 10f64.powf(decade)));
-        let f = fit(ds, &setup, registry, filter)?;
+        let f = fit(ds, &setup, catalogue, filter)?;
         let v = if f.failure.is_some() {
             f64::NEG_INFINITY
         } else {

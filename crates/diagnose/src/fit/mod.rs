@@ -17,6 +17,6 @@ pub mod setup;
 pub mod widening;
 
 pub use density::{fit_density, DensityFit};
-pub use pass::{first_full_measurement, fit, marginal_states, CoefficientTrack, Fit};
+pub use pass::{fit, marginal_states, CoefficientTrack, Fit};
 pub use setup::FitSetup;
 pub use widening::{fit_adaptive, widen_tilt, Widening};

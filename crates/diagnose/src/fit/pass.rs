@@ -20,16 +20,12 @@
 //! `gyro-bias-walk`) are not constants; they stay marginalised.
 
 use super::setup::FitSetup;
-use crate::consistency::classify;
+use crate::catalogue::{Catalogue, Channel, MAX_CHANNELS, PINNED_SIGMA};
 use crate::error::DiagnoseError;
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::prior::typical_sigma;
-use navkf_dynamics::state::*;
 use navkf_dynamics::trajectory::Phase;
-use navkf_dynamics::{Registry, SystemModel};
 use navkf_filters::FilterSpec;
 use navkf_filters::{Filter, RunFailure, Runner};
-use std::sync::Arc;
 
 /// Estimates and variances of the coefficients after every update, for the constancy test.
 #[derive(Debug, Clone, Default)]
@@ -70,16 +66,23 @@ pub struct Fit {
     pub effects: Vec<String>,
     /// State names.
     pub names: Vec<String>,
+    /// Navigation states (the first ones); the rest are coefficients.
+    pub nav_dim: usize,
+    /// The measurement channels (the family's), in the order of `z`.
+    pub channels: &'static [Channel],
+    /// The names the tilt priors are reported by (level, then azimuth or heading).
+    pub tilt_names: [&'static str; 2],
     /// Whether each state is driven by process noise (not a constant).
     pub noisy: Vec<bool>,
     /// Update times.
     pub t: Vec<f64>,
-    /// Measured values `[v_e, v_n, L, lambda]` (NaN where absent).
-    pub z: Vec<[f64; MEAS_DIM]>,
+    /// Measured values of each channel of [`Fit::channels`] (NaN where absent and beyond
+    /// the family's channels).
+    pub z: Vec<[f64; MAX_CHANNELS]>,
     /// Predicted measurement (NaN where absent).
-    pub z_hat: Vec<[f64; MEAS_DIM]>,
+    pub z_hat: Vec<[f64; MAX_CHANNELS]>,
     /// Predicted one-sigma of each innovation (NaN where absent).
-    pub s_sigma: Vec<[f64; MEAS_DIM]>,
+    pub s_sigma: Vec<[f64; MAX_CHANNELS]>,
     /// NIS per update.
     pub nis: Vec<f64>,
     /// Dimension of each update.
@@ -114,7 +117,7 @@ impl Fit {
     /// Falls back to the diagonal of the covariance if its block is not positive definite.
     pub fn profile_loglik(&self, keep_marginal: &[String]) -> f64 {
         let n = self.names.len();
-        let idx: Vec<usize> = (NAV_DIM..n)
+        let idx: Vec<usize> = (self.nav_dim..n)
             .filter(|&i| !self.noisy[i] && !keep_marginal.contains(&self.names[i]))
             .collect();
         let m = idx.len();
@@ -146,39 +149,45 @@ impl Fit {
     }
 }
 
-/// Fits `setup` to `ds` with `filter`. `Err` only when the model cannot be built or the
-/// dataset cannot start a filter; a filter failure during the pass is kept in
-/// [`Fit::failure`].
+/// Fits `setup` to `ds` with `filter`, the model and its sensors those of `catalogue`'s
+/// family. `Err` only when the model cannot be built or the dataset cannot start a filter; a
+/// filter failure during the pass is kept in [`Fit::failure`].
 pub fn fit(
     ds: &Dataset,
     setup: &FitSetup,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     filter: &FilterSpec,
 ) -> Result<Fit, DiagnoseError> {
-    let model = Arc::new(setup.model(registry)?.with_attitude(filter.attitude));
+    let model = catalogue.model(
+        &setup.effects,
+        &setup.parameters,
+        &setup.noise,
+        filter.attitude,
+    )?;
     let n = model.dim();
-    let (m0, v0, p0) = first_full_measurement(ds)?;
+    let nav = catalogue.nav_dim();
+    let tilt = [setup.priors.level_rad, setup.priors.azimuth_rad];
+    let start = catalogue.start(ds, &setup.noise, tilt)?;
     let mut x0 = vec![0.0; n];
-    x0[V_X] = v0[0];
-    x0[V_Y] = v0[1];
-    x0[LAT] = p0[0];
-    x0[LON] = p0[1];
-    let sig0 = setup.noise.measurement_sigmas(v0[0].hypot(v0[1]), p0[0]);
+    x0[..nav].copy_from_slice(&start.x);
     let names = model.state_names();
     let prior_sigma: Vec<f64> = (0..n)
-        .map(|i| match i {
-            PHI_X | PHI_Y => setup.priors.level_rad,
-            PHI_Z => setup.priors.azimuth_rad,
-            V_X | V_Y | LAT | LON => sig0[i - V_X],
-            _ => setup
-                .priors
-                .coefficients
-                .get(&names[i])
-                .copied()
-                .unwrap_or_else(|| typical_sigma(&model, i)),
+        .map(|i| {
+            if i < nav {
+                start.sigma[i]
+            } else if catalogue.pinned().contains(&names[i].as_str()) {
+                PINNED_SIGMA * model.typical_sigma(i)
+            } else {
+                setup
+                    .priors
+                    .coefficients
+                    .get(&names[i])
+                    .copied()
+                    .unwrap_or_else(|| model.typical_sigma(i))
+            }
         })
         .collect();
-    let typical: Vec<f64> = (0..n).map(|i| typical_sigma(&model, i)).collect();
+    let typical: Vec<f64> = (0..n).map(|i| model.typical_sigma(i)).collect();
     let mut pm = vec![0.0; n * n];
     for i in 0..n {
         pm[i + i * n] = prior_sigma[i] * prior_sigma[i];
@@ -190,11 +199,15 @@ pub fn fit(
     let mut filt: Box<dyn Filter> = filter.build(model.clone())?;
     filt.reset(&x0, &pm)?;
     let cap = ds.measurements.len();
-    let width = n - NAV_DIM;
+    let width = n - nav;
+    let channels = catalogue.channels();
     let mut fit = Fit {
         setup: setup.clone(),
         effects: setup.effects.clone(),
         names,
+        nav_dim: nav,
+        channels,
+        tilt_names: catalogue.tilt_names(),
         noisy,
         t: Vec::with_capacity(cap),
         z: Vec::with_capacity(cap),
@@ -216,46 +229,48 @@ pub fn fit(
         failure: None,
     };
     let inputs = &ds.inputs;
+    let sensors = catalogue.sensors(setup.noise);
+    // The measured values, as the sensors read them (their sigmas and presence are the
+    // update's business).
+    let nz = channels.len();
+    let mut read = [0.0; MAX_CHANNELS];
+    let mut read_sigma = [0.0; MAX_CHANNELS];
+    let mut read_present = [false; MAX_CHANNELS];
     let result = Runner::new(64).run(
         &mut *filt,
-        m0.t,
+        start.t,
         inputs,
         &ds.measurements,
-        &setup.noise,
+        &*sensors,
         |v| {
             let r = v.report;
             let m = &ds.measurements[v.index];
-            let mut z = [f64::NAN; MEAS_DIM];
-            let mut zh = [f64::NAN; MEAS_DIM];
-            let mut ss = [f64::NAN; MEAS_DIM];
+            let (x, p) = (v.filter.state(), v.filter.covariance());
+            sensors.observe(
+                m,
+                x,
+                &mut read[..nz],
+                &mut read_sigma[..nz],
+                &mut read_present[..nz],
+            );
+            let mut z = [f64::NAN; MAX_CHANNELS];
+            let mut zh = [f64::NAN; MAX_CHANNELS];
+            let mut ss = [f64::NAN; MAX_CHANNELS];
             let k = r.dim();
             for (a, &c) in r.channels.iter().enumerate() {
-                let zc = match c {
-                    0 | 1 => m.velocity.map_or(f64::NAN, |w| w[c]),
-                    _ => m.gps_rad().map_or(f64::NAN, |w| w[c - 2]),
-                };
-                z[c] = zc;
-                zh[c] = zc - r.innovation[a];
+                z[c] = read[c];
+                zh[c] = read[c] - r.innovation[a];
                 ss[c] = r.innovation_cov[a + a * k].sqrt();
             }
-            // Mean horizontal specific force over the step's input knots, for the phase.
-            let knots = v.window.f.len().max(1) as f64;
-            let (fe, fnn) = v
-                .window
-                .f
-                .iter()
-                .fold((0.0, 0.0), |(e, n), f| (e + f[0], n + f[1]));
-            let f_mean = [fe / knots, fnn / knots];
             fit.t.push(v.t);
             fit.z.push(z);
             fit.z_hat.push(zh);
             fit.s_sigma.push(ss);
             fit.nis.push(r.nis);
             fit.dims.push(k);
-            fit.phases.push(classify(f_mean, m.velocity));
+            fit.phases.push(catalogue.phase(v.window, m));
             fit.loglik += r.log_likelihood;
-            let (x, p) = (v.filter.state(), v.filter.covariance());
-            for i in NAV_DIM..n {
+            for i in nav..n {
                 fit.track.estimate.push(x[i]);
                 fit.track.variance.push(p[i + i * n]);
             }
@@ -267,26 +282,6 @@ pub fn fit(
     fit.x = filt.state().to_vec();
     fit.p = filt.covariance().to_vec();
     Ok(fit)
-}
-
-/// The first measurement with both odometer and GPS (where a filter can start), with its
-/// velocity and its position in radians.
-pub fn first_full_measurement(
-    ds: &Dataset,
-) -> Result<(&navkf_dynamics::dataset::Measurement, [f64; 2], [f64; 2]), DiagnoseError> {
-    ds.measurements
-        .iter()
-        .find_map(|m| match (m.velocity, m.gps_rad()) {
-            (Some(v), Some(p)) => Some((m, v, p)),
-            _ => None,
-        })
-        .ok_or_else(|| {
-            DiagnoseError::Data(format!(
-                "dataset `{}`: no measurement row has both odometer and GPS, so the filter \
-                 cannot start",
-                ds.name
-            ))
-        })
 }
 
 /// States driven by process noise in either fit: they stay marginalised in both likelihoods

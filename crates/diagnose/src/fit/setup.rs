@@ -2,11 +2,11 @@
 //! parameters, the noise it assumes, the priors it starts from) and the filter that runs it.
 //! A diagnosis compares many of these, each a small change of the last
 //! ([`FitSetup::with_effect`]), so they are plain values that compare equal when they would
-//! give the same pass.
+//! give the same pass. The family's catalogue builds the model from it
+//! ([`crate::catalogue::Catalogue::model`]).
 
-use crate::error::DiagnoseError;
 use crate::priors::Priors;
-use navkf_dynamics::{NoiseConfig, PlatformModel, Registry};
+use navkf_dynamics::NoiseConfig;
 use std::collections::BTreeMap;
 
 /// Everything that sets one filter pass besides the data.
@@ -31,16 +31,5 @@ impl FitSetup {
             s.parameters.insert(effect.to_string(), p);
         }
         s
-    }
-
-    /// Builds the model this setup describes.
-    pub fn model(&self, registry: &Registry) -> Result<PlatformModel, DiagnoseError> {
-        let mut effects = registry.build_all(&self.effects)?;
-        for e in &mut effects {
-            if let Some(&p) = self.parameters.get(e.name()) {
-                e.set_parameter(p).map_err(DiagnoseError::Data)?;
-            }
-        }
-        Ok(PlatformModel::new(effects, &self.noise)?)
     }
 }

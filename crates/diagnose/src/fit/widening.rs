@@ -32,11 +32,10 @@
 
 use super::pass::{fit, Fit};
 use super::setup::FitSetup;
+use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use crate::priors::Priors;
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::state::NAV_DIM;
-use navkf_dynamics::Registry;
 use navkf_filters::FilterSpec;
 use serde::{Deserialize, Serialize};
 
@@ -104,7 +103,7 @@ pub fn widest_sigma(priors: &Priors, name: &str, start: f64, typical: f64) -> f6
 /// coefficients in `refused`.
 pub fn widenings(f: &Fit, refused: &[String]) -> Vec<Widening> {
     let mut out = Vec::new();
-    for i in NAV_DIM..f.names.len() {
+    for i in f.nav_dim..f.names.len() {
         if f.noisy[i] || refused.contains(&f.names[i]) {
             continue;
         }
@@ -156,10 +155,10 @@ pub fn widenings(f: &Fit, refused: &[String]) -> Vec<Widening> {
 pub fn fit_adaptive(
     ds: &Dataset,
     setup: &FitSetup,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     filter: &FilterSpec,
 ) -> Result<(Fit, Vec<Widening>), DiagnoseError> {
-    let mut f = fit(ds, setup, registry, filter)?;
+    let mut f = fit(ds, setup, catalogue, filter)?;
     let mut log = Vec::new();
     let mut refused: Vec<String> = Vec::new();
     for _ in 0..MAX_WIDENINGS {
@@ -174,7 +173,7 @@ pub fn fit_adaptive(
         for wi in &w {
             trial.priors.coefficients.insert(wi.name.clone(), wi.to);
         }
-        let g = fit(ds, &trial, registry, filter)?;
+        let g = fit(ds, &trial, catalogue, filter)?;
         if g.failure.is_none() && g.loglik >= f.loglik + WIDEN_EVIDENCE {
             f = g;
             log.extend(w);
@@ -192,12 +191,12 @@ pub const TILT_FACTORS: [f64; 2] = [10.0, 100.0];
 /// time; the best is kept if it raises the marginal likelihood by at least
 /// [`WIDEN_EVIDENCE`] (a gyrocompassed platform whose drift is far beyond the default starts
 /// degrees off in azimuth, and a filter held to arcminutes then blames the misfit on
-/// something else). Returns the fit to go on from and the widenings kept (named `level_rad`
-/// and `azimuth_rad`).
+/// something else). Returns the fit to go on from and the widenings kept (named by the
+/// family's tilt names: `level_rad`, and `azimuth_rad` or `heading_rad`).
 pub fn widen_tilt(
     ds: &Dataset,
     f: Fit,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     filter: &FilterSpec,
 ) -> Result<(Fit, Vec<Widening>), DiagnoseError> {
     use rayon::prelude::*;
@@ -213,7 +212,7 @@ pub fn widen_tilt(
             } else {
                 setup.priors.azimuth_rad *= m;
             }
-            fit(ds, &setup, registry, filter)
+            fit(ds, &setup, catalogue, filter)
         })
         .collect::<Result<Vec<Fit>, _>>()?;
     let best = fits
@@ -224,9 +223,9 @@ pub fn widen_tilt(
     match best {
         Some((g, &(k, m))) if g.loglik >= f.loglik + WIDEN_EVIDENCE => {
             let (name, from) = if k == 0 {
-                ("level_rad", f.setup.priors.level_rad)
+                (f.tilt_names[0], f.setup.priors.level_rad)
             } else {
-                ("azimuth_rad", f.setup.priors.azimuth_rad)
+                (f.tilt_names[1], f.setup.priors.azimuth_rad)
             };
             let w = Widening {
                 name: name.into(),
@@ -236,7 +235,7 @@ pub fn widen_tilt(
                 at_cap: m == TILT_FACTORS[TILT_FACTORS.len() - 1],
             };
             // The coefficients' priors may now want other widths.
-            let (g, _) = fit_adaptive(ds, &g.setup, registry, filter)?;
+            let (g, _) = fit_adaptive(ds, &g.setup, catalogue, filter)?;
             Ok((g, vec![w]))
         }
         _ => Ok((f, Vec::new())),
@@ -246,7 +245,7 @@ pub fn widen_tilt(
 /// The coefficient priors of `fit` wider than the ones the diagnosis started from (`start`);
 /// the `implied_estimate` is the final estimate.
 pub fn widened_since(start: &Priors, fit: &Fit) -> Vec<Widening> {
-    (NAV_DIM..fit.names.len())
+    (fit.nav_dim..fit.names.len())
         .filter_map(|i| {
             let name = &fit.names[i];
             let from = start
@@ -272,7 +271,7 @@ pub fn widened_since(start: &Priors, fit: &Fit) -> Vec<Widening> {
 pub fn refit_from_starting_priors(
     ds: &Dataset,
     fit: Fit,
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     filter: &FilterSpec,
 ) -> Result<Fit, DiagnoseError> {
     if fit.setup.priors == fit.setup.priors.restarted() {
@@ -280,5 +279,5 @@ pub fn refit_from_starting_priors(
     }
     let mut setup = fit.setup.clone();
     setup.priors = setup.priors.restarted();
-    Ok(fit_adaptive(ds, &setup, registry, filter)?.0)
+    Ok(fit_adaptive(ds, &setup, catalogue, filter)?.0)
 }

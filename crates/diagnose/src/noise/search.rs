@@ -5,11 +5,12 @@
 use super::levels::{
     scaled, NoiseFit, NoiseVerdict, SourceFit, RESOLVED_SIGMA_FACTOR, SOURCES, Z_FLAG,
 };
+use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use crate::fit::pass::{fit, Fit};
 use crate::fit::setup::FitSetup;
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::{NoiseConfig, Registry};
+use navkf_dynamics::NoiseConfig;
 use navkf_filters::FilterSpec;
 use rayon::prelude::*;
 
@@ -39,7 +40,7 @@ struct Surface<'a> {
     ds: &'a Dataset,
     setup: &'a FitSetup,
     stated: NoiseConfig,
-    registry: &'a Registry,
+    catalogue: &'a dyn Catalogue,
     filter: &'a FilterSpec,
     passes: std::sync::atomic::AtomicUsize,
 }
@@ -58,7 +59,7 @@ impl Surface<'_> {
             .map(|th| {
                 let mut s = self.setup.clone();
                 s.noise = scaled(&self.stated, *th);
-                let f = fit(self.ds, &s, self.registry, self.filter)?;
+                let f = fit(self.ds, &s, self.catalogue, self.filter)?;
                 Ok(if f.failure.is_some() || !f.loglik.is_finite() {
                     f64::NEG_INFINITY
                 } else {
@@ -307,7 +308,7 @@ pub fn check(
     ds: &Dataset,
     model: &Fit,
     theta_start: [f64; 4],
-    registry: &Registry,
+    catalogue: &dyn Catalogue,
     filter: &FilterSpec,
 ) -> Result<NoiseFit, DiagnoseError> {
     let (setup, loglik_start, stated) = (&model.setup, model.loglik, &ds.noise);
@@ -315,7 +316,7 @@ pub fn check(
         ds,
         setup,
         stated: *stated,
-        registry,
+        catalogue,
         filter,
         passes: Default::default(),
     };

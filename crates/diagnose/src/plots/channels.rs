@@ -1,20 +1,20 @@
 //! The figures of the innovations: every measured channel against the model's prediction of
 //! it, and each channel's innovations inside their predicted +-2 sigma band.
 
-use super::style::{stride, Geo, AFTER, BEFORE, CHANNELS, MEASURED};
+use super::style::{stride, Geo, AFTER, BEFORE, MEASURED};
+use crate::catalogue::MAX_CHANNELS;
 use crate::fit::pass::Fit;
-use navkf_dynamics::state::MEAS_DIM;
 use navkf_report::figure::*;
 use plotters::prelude::*;
 
 /// Measured channels against the prediction of the model `fit` (named `label`).
 pub fn measured_vs_predicted(fit: &Fit, geo: &Geo, label: &str) -> Grid {
     let step = stride(fit.t.len());
-    let panels = (0..MEAS_DIM)
+    let panels = (0..fit.channels.len())
         .map(|c| {
-            let (title, unit) = CHANNELS[c];
+            let (title, unit) = (fit.channels[c].title, fit.channels[c].unit());
             let mut p = Panel::new(title.into(), "time (s)", unit.into(), Scale::Linear, SMALL);
-            let series = |v: &[[f64; MEAS_DIM]]| -> Vec<(f64, f64)> {
+            let series = |v: &[[f64; MAX_CHANNELS]]| -> Vec<(f64, f64)> {
                 fit.t
                     .iter()
                     .zip(v)
@@ -65,9 +65,9 @@ fn shorten(s: &str) -> String {
 /// Innovations of `fit` (named `label`) with their +-2 sigma bands.
 pub fn innovations(fit: &Fit, geo: &Geo, label: &str) -> Grid {
     let step = stride(fit.t.len());
-    let panels = (0..MEAS_DIM)
+    let panels = (0..fit.channels.len())
         .map(|c| {
-            let (title, unit) = CHANNELS[c];
+            let (title, unit) = (fit.channels[c].title, fit.channels[c].unit());
             let s = geo.scale(c);
             let mut p = Panel::new(
                 format!("{} innovation", title.split(',').next().unwrap_or(title)),

@@ -1,7 +1,8 @@
 //! The figures of the consistency tests: NIS in sliding windows and per motion phase against
 //! its bounds, each channel's autocorrelation, and the coefficients' errors against the truth.
 
-use super::style::{model_label, AFTER, BEFORE, BOUNDS, CHANNELS};
+use super::style::{model_label, AFTER, BEFORE, BOUNDS};
+use crate::catalogue::channel_title;
 use crate::consistency::phase_name;
 use crate::diagnosis::{Diagnosis, Fits};
 use crate::summary::FitSummary;
@@ -140,7 +141,7 @@ pub fn whiteness(d: &Diagnosis) -> Grid {
         .iter()
         .enumerate()
         .map(|(c, w)| {
-            let title = CHANNELS.get(c).map_or(w.channel.as_str(), |ch| ch.0);
+            let title = channel_title(&w.channel);
             let mut p = Panel::new(
                 format!(
                     "{}: autocorrelation",

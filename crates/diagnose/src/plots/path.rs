@@ -1,7 +1,7 @@
 //! The path coloured by how badly the model fits there, so that the places where it fails
 //! show on the map.
 
-use super::style::Geo;
+use super::style::{position_channels, Geo};
 use crate::fit::pass::Fit;
 use navkf_report::figure::*;
 use plotters::prelude::*;
@@ -68,6 +68,7 @@ pub fn path_misfit(fit: &Fit, geo: &Geo, label: &str) -> Grid {
     // Runs of one colour class, each ending where the next starts so the path is unbroken.
     let mut run: Vec<(f64, f64)> = Vec::new();
     let mut class = None;
+    let (la, lo) = position_channels(fit);
     let (mut e_ext, mut n_ext) = ((f64::MAX, f64::MIN), (f64::MAX, f64::MIN));
     // The predicted positions: the fixes' own noise would scribble over the colours.
     for ((z, zh), r) in fit.z.iter().zip(&fit.z_hat).zip(&misfit) {
@@ -78,7 +79,7 @@ pub fn path_misfit(fit: &Fit, geo: &Geo, label: &str) -> Grid {
                 geo.show(c, z[c])
             }
         };
-        let (north, east) = (pos(2), pos(3));
+        let (north, east) = (pos(la), pos(lo));
         if !(north.is_finite() && east.is_finite()) {
             continue;
         }
@@ -97,9 +98,13 @@ pub fn path_misfit(fit: &Fit, geo: &Geo, label: &str) -> Grid {
     if let Some(k) = class {
         p.line(MISFIT_CLASSES[k].1.stroke_width(4), false, run);
     }
-    if let Some(z) = fit.z.iter().find(|z| z[2].is_finite() && z[3].is_finite()) {
+    if let Some(z) = fit
+        .z
+        .iter()
+        .find(|z| z[la].is_finite() && z[lo].is_finite())
+    {
         p.labels
-            .push((geo.show(3, z[3]), geo.show(2, z[2]), "start".into()));
+            .push((geo.show(lo, z[lo]), geo.show(la, z[la]), "start".into()));
     }
     // Equal metres per pixel on both axes (the plot area is about 830 x 700 pixels).
     if e_ext.0 <= e_ext.1 {

@@ -2,21 +2,13 @@
 //! after, the local metric frame that shows positions in metres, and the thinning of long
 //! series.
 
+use crate::catalogue::ChannelKind;
 use crate::fit::pass::Fit;
 use navkf_dynamics::earth::{meridian_radius, prime_vertical_radius};
-use navkf_dynamics::state::MEAS_DIM;
 use plotters::prelude::*;
 
 /// Points drawn per curve at most (longer series are thinned evenly).
 pub const MAX_POINTS: usize = 4000;
-
-/// The channels as drawn: title and unit.
-pub const CHANNELS: [(&str, &str); MEAS_DIM] = [
-    ("east velocity v_x", "m/s"),
-    ("north velocity v_y", "m/s"),
-    ("latitude L, as metres north of the first fix", "m"),
-    ("longitude lambda, as metres east of the first fix", "m"),
-];
 
 /// A measured channel.
 pub const MEASURED: RGBColor = RGBColor(120, 120, 120);
@@ -38,6 +30,7 @@ pub fn model_label(effects: &[String]) -> String {
 
 /// Local metric frame at the first GPS fix: channel values to display units.
 pub struct Geo {
+    kinds: Vec<ChannelKind>,
     lat0: f64,
     lon0: f64,
     north_per_rad: f64,
@@ -46,10 +39,15 @@ pub struct Geo {
 
 impl Geo {
     pub fn of(fit: &Fit) -> Self {
-        let first = fit.z.iter().find(|z| z[2].is_finite() && z[3].is_finite());
-        let (lat0, lon0) = first.map_or((0.0, 0.0), |z| (z[2], z[3]));
+        let (la, lo) = position_channels(fit);
+        let first = fit
+            .z
+            .iter()
+            .find(|z| z[la].is_finite() && z[lo].is_finite());
+        let (lat0, lon0) = first.map_or((0.0, 0.0), |z| (z[la], z[lo]));
         let s = lat0.sin();
         Geo {
+            kinds: fit.channels.iter().map(|c| c.kind).collect(),
             lat0,
             lon0,
             north_per_rad: meridian_radius(s),
@@ -59,21 +57,30 @@ impl Geo {
 
     /// Factor from channel `c`'s units to display units.
     pub fn scale(&self, c: usize) -> f64 {
-        match c {
-            2 => self.north_per_rad,
-            3 => self.east_per_rad,
+        match self.kinds.get(c) {
+            Some(ChannelKind::Latitude) => self.north_per_rad,
+            Some(ChannelKind::Longitude) => self.east_per_rad,
             _ => 1.0,
         }
     }
 
     /// A measured or predicted value of channel `c` in display units.
     pub fn show(&self, c: usize, v: f64) -> f64 {
-        match c {
-            2 => (v - self.lat0) * self.north_per_rad,
-            3 => (v - self.lon0) * self.east_per_rad,
+        match self.kinds.get(c) {
+            Some(ChannelKind::Latitude) => (v - self.lat0) * self.north_per_rad,
+            Some(ChannelKind::Longitude) => (v - self.lon0) * self.east_per_rad,
             _ => v,
         }
     }
+}
+
+/// The indices of the latitude and longitude channels of `fit`.
+pub fn position_channels(fit: &Fit) -> (usize, usize) {
+    let find = |k: ChannelKind| fit.channels.iter().position(|c| c.kind == k);
+    (
+        find(ChannelKind::Latitude).unwrap_or(0),
+        find(ChannelKind::Longitude).unwrap_or(0),
+    )
 }
 
 /// Every `stride`-th index of a series of `n`, so that at most [`MAX_POINTS`] are drawn.

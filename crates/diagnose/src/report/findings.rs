@@ -33,7 +33,7 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
         );
     }
     // A misalignment of degrees breaks the small-angle model before anything else: first.
-    if d.attitude == navkf_dynamics::Attitude::SmallAngle {
+    if d.attitude == navkf_dynamics::Attitude::SmallAngle && d.family.is_platform() {
         let large: Vec<String> = d
             .priors
             .iter()
@@ -273,16 +273,20 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
         if w.implied_estimate.is_nan() {
             out.push(format!(
                 "The prior of the initial {} error was widened from {:.2e} to {:.2e} rad: the \
-                 data fit decisively better with it. A platform gyrocompassed with drifts far \
-                 beyond its priors' starts that far off{}.",
-                if w.name == "azimuth_rad" {
-                    "azimuth"
-                } else {
-                    "level"
+                 data fit decisively better with it. {}{}.",
+                match w.name.as_str() {
+                    "azimuth_rad" => "azimuth",
+                    "heading_rad" => "heading",
+                    _ => "level",
                 },
                 w.from,
                 w.to,
-                if w.to > 0.05 {
+                if d.family.is_platform() {
+                    "A platform gyrocompassed with drifts far beyond its priors' starts that far off"
+                } else {
+                    "The unit's own alignment was that far off"
+                },
+                if w.to > 0.05 && d.family.is_platform() {
                     "; beyond a few degrees the small-angle model itself no longer holds"
                 } else {
                     ""

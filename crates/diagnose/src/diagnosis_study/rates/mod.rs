@@ -278,8 +278,8 @@ fn logistic(points: &[(f64, bool)]) -> Option<[f64; 2]> {
 
 /// The detection curve of `effect` from the single-effect records.
 fn detection(effect: &str, records: &[&Record]) -> Detection {
-    let registry = Registry::catalogue();
-    let (typical, unit) = registry
+    let catalogue = Registry::catalogue();
+    let (typical, unit) = catalogue
         .build(effect)
         .ok()
         .map(|e| {

@@ -1,0 +1,188 @@
+//! What a diagnosis needs of a model family: its catalogue of effects, the model a fit runs,
+//! the sensors that read the data, where a filter starts, the channels a report shows and the
+//! motion phases it sorts updates into. The rounds, the noise check, the candidates, the
+//! stand-in test and the verdict run on this trait alone; [`platform`] (the platform's
+//! [`navkf_dynamics::Registry`] is its catalogue) and [`strapdown`] are the two families
+//! (docs/model.md, "The family contract").
+
+pub mod platform;
+pub mod strapdown;
+
+use crate::error::DiagnoseError;
+use navkf_dynamics::dataset::{Dataset, Measurement};
+use navkf_dynamics::sensor_classes::PhysicalBound;
+use navkf_dynamics::trajectory::Phase;
+use navkf_dynamics::{
+    Attitude, FamilyModel, InputWindow, MeasurementModel, ModelKind, NoiseConfig,
+};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// A pinned coefficient's prior, as a share of its typical size.
+pub const PINNED_SIGMA: f64 = 1e-6;
+
+/// The most measurement channels a family has (the strapdown's seven).
+pub const MAX_CHANNELS: usize = 7;
+
+/// What a channel measures, where the figures need to know.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ChannelKind {
+    /// A velocity or speed, m/s.
+    Velocity,
+    /// Latitude, rad (shown as metres north of the first fix).
+    Latitude,
+    /// Longitude, rad (shown as metres east of the first fix).
+    Longitude,
+    /// A pseudo-measurement that reads zero (the non-holonomic constraint, a zero-velocity
+    /// update), m/s.
+    Constraint,
+}
+
+/// One measurement channel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Channel {
+    /// Name in tables (`v_x`, `speed`).
+    pub name: &'static str,
+    /// Title in figures.
+    pub title: &'static str,
+    /// What it measures.
+    pub kind: ChannelKind,
+}
+
+impl Channel {
+    /// The unit it is drawn in.
+    pub fn unit(&self) -> &'static str {
+        match self.kind {
+            ChannelKind::Velocity | ChannelKind::Constraint => "m/s",
+            ChannelKind::Latitude | ChannelKind::Longitude => "m",
+        }
+    }
+}
+
+/// What the diagnosis reads of one effect of the catalogue.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EffectInfo {
+    /// Its coefficients' names (empty for a noise-only term).
+    pub coefficients: Vec<String>,
+    /// The bound of each coefficient, where declared.
+    pub bounds: Vec<PhysicalBound>,
+    /// A noise-only term's typical density (its one parameter), `None` for an effect with
+    /// coefficients or one with no noise.
+    pub noise_density: Option<f64>,
+}
+
+/// Where a filter starts on a dataset.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Start {
+    /// Time of the initial state, s.
+    pub t: f64,
+    /// The navigation states' first estimate (the rest start at zero).
+    pub x: Vec<f64>,
+    /// Their prior one-sigma.
+    pub sigma: Vec<f64>,
+}
+
+/// A model family as the diagnosis sees it (module documentation).
+pub trait Catalogue: Send + Sync + std::fmt::Debug {
+    /// The family.
+    fn kind(&self) -> ModelKind;
+    /// The catalogued effects' names, in order.
+    fn effect_names(&self) -> Vec<String>;
+    /// What the diagnosis reads of effect `name`.
+    fn effect(&self, name: &str) -> Result<EffectInfo, DiagnoseError>;
+    /// The model of `effects` (with the parameters of those that have one, by effect) and
+    /// the process noise of `noise`, with the filter's `attitude` equations.
+    fn model(
+        &self,
+        effects: &[String],
+        parameters: &BTreeMap<String, f64>,
+        noise: &NoiseConfig,
+        attitude: Attitude,
+    ) -> Result<Arc<dyn FamilyModel>, DiagnoseError>;
+    /// The sensors that read a dataset's records under `noise`.
+    fn sensors(&self, noise: NoiseConfig)
+        -> Box<dyn MeasurementModel<Record = Measurement> + Sync>;
+    /// The measurement channels, in the model's order.
+    fn channels(&self) -> &'static [Channel];
+    /// Navigation states (the rest are coefficients).
+    fn nav_dim(&self) -> usize;
+    /// The names the tilt priors are reported by: level, then azimuth or heading.
+    fn tilt_names(&self) -> [&'static str; 2];
+    /// The tilt priors when nothing states them, on `ds` whose first fix is at latitude
+    /// `start_lat` (rad).
+    fn default_tilt(&self, ds: &Dataset, start_lat: f64) -> [f64; 2];
+    /// The base model's coefficients with their default one-sigma, for the priors' table.
+    fn base_coefficients(&self) -> Vec<(String, f64)>;
+    /// Where a filter starts on `ds` under `noise`, with tilt priors `tilt` (level, then
+    /// azimuth or heading).
+    fn start(
+        &self,
+        ds: &Dataset,
+        noise: &NoiseConfig,
+        tilt: [f64; 2],
+    ) -> Result<Start, DiagnoseError>;
+    /// Base coefficients the family's measurements cannot inform, which a fit holds at zero
+    /// (a prior of [`PINNED_SIGMA`] times their typical size) rather than let a filter's
+    /// linearisation drift them and the widening follow the drift.
+    fn pinned(&self) -> &'static [&'static str] {
+        &[]
+    }
+    /// The motion phase of the step ending at `m`, from the inputs of its window.
+    fn phase(&self, window: &InputWindow, m: &Measurement) -> Phase;
+    /// The catalogue with the rival of a noise-only candidate added (a random walk of the
+    /// accelerometer biases, outside the catalogue) and that rival's name and typical
+    /// density; `None` when the family has none.
+    fn with_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str, f64)>;
+}
+
+/// Every coefficient name a prior may be stated for in `catalogue`'s family: the base model's
+/// and every effect's.
+pub fn coefficient_names(catalogue: &dyn Catalogue) -> Vec<String> {
+    let base = catalogue.base_coefficients().into_iter().map(|(n, _)| n);
+    let effects = catalogue.effect_names().into_iter().flat_map(|e| {
+        catalogue
+            .effect(&e)
+            .map(|i| i.coefficients)
+            .unwrap_or_default()
+    });
+    base.chain(effects).collect()
+}
+
+/// The title figures give the channel named `name` (the name itself when no family has it).
+pub fn channel_title(name: &str) -> &str {
+    platform::channels()
+        .iter()
+        .chain(strapdown::channels())
+        .find(|c| c.name == name)
+        .map_or(name, |c| c.title)
+}
+
+/// The first measurement with both an odometer reading (velocity or speed) and a GPS fix
+/// (where a filter can start), with the fix in radians.
+pub fn first_full_measurement(
+    ds: &Dataset,
+) -> Result<(&navkf_dynamics::dataset::Measurement, [f64; 2]), DiagnoseError> {
+    ds.measurements
+        .iter()
+        .find_map(
+            |m| match (m.velocity.is_some() || m.speed.is_some(), m.gps_rad()) {
+                (true, Some(p)) => Some((m, p)),
+                _ => None,
+            },
+        )
+        .ok_or_else(|| {
+            DiagnoseError::Data(format!(
+                "dataset `{}`: no measurement row has both odometer and GPS, so the filter \
+                 cannot start",
+                ds.name
+            ))
+        })
+}
+
+/// The catalogue of `ds`'s family: the platform's or the strapdown's.
+pub fn of(ds: &Dataset) -> Box<dyn Catalogue> {
+    match ds.model {
+        ModelKind::Platform => Box::new(navkf_dynamics::Registry::catalogue()),
+        ModelKind::Strapdown => Box::new(strapdown::StrapdownCatalogue::default()),
+    }
+}

@@ -1,0 +1,270 @@
+//! The strapdown family (docs/model.md, "The strapdown family", "Strapdown effects") as the
+//! diagnosis sees it: the catalogue of [`StrapdownRegistry`] at a MEMS unit's sizes, the
+//! odometer's speed, the GPS fix, the non-holonomic constraint and the zero-velocity update
+//! as channels, and a filter that starts from the dataset's `[initial]` attitude or, without
+//! one, from the attitude the data give ([`Dataset::align_from_data`]).
+//!
+//! A bias instability is the family's noise-only term: its one parameter, as the diagnosis
+//! fits it, is the density `q = 2 sigma^2 / T` of its white noise (docs/model.md
+//! eq. (69)), at the correlation time `T` of its declaration.
+
+use super::{first_full_measurement, Catalogue, Channel, ChannelKind, EffectInfo, Start};
+use crate::error::DiagnoseError;
+use navkf_dynamics::dataset::{Dataset, Measurement};
+use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
+use navkf_dynamics::strapdown::effects::StrapdownRegistry;
+use navkf_dynamics::strapdown::model::{StrapdownModel, MEAS_DIM};
+use navkf_dynamics::strapdown::sensors::StrapdownSensors;
+use navkf_dynamics::strapdown::state::*;
+use navkf_dynamics::strapdown::unit_class::UnitClass;
+use navkf_dynamics::trajectory::{phase_thresholds as thresholds, Phase};
+use navkf_dynamics::{
+    Attitude, FamilyModel, InputWindow, MeasurementModel, ModelKind, NoiseConfig,
+};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// A heading's one-sigma when `[initial]` states the heading but `[prior]` not its sigma, rad:
+/// 2 deg, a heading taken from a GPS track.
+pub const STATED_HEADING_SIGMA: f64 = 0.035;
+
+/// The strapdown catalogue at the sizes of a unit class (MEMS unless set).
+#[derive(Debug, Clone, Default)]
+pub struct StrapdownCatalogue {
+    /// The effects by name.
+    pub registry: StrapdownRegistry,
+    /// The unit's class: the typical sizes of its biases and effects.
+    pub class: UnitClass,
+}
+
+const CHANNELS: [Channel; MEAS_DIM] = [
+    Channel {
+        name: "speed",
+        title: "odometer speed",
+        kind: ChannelKind::Velocity,
+    },
+    Channel {
+        name: "L",
+        title: "latitude L, as metres north of the first fix",
+        kind: ChannelKind::Latitude,
+    },
+    Channel {
+        name: "lambda",
+        title: "longitude lambda, as metres east of the first fix",
+        kind: ChannelKind::Longitude,
+    },
+    Channel {
+        name: "nhc_lateral",
+        title: "constraint: lateral velocity (zero)",
+        kind: ChannelKind::Constraint,
+    },
+    Channel {
+        name: "nhc_vertical",
+        title: "constraint: vertical velocity (zero)",
+        kind: ChannelKind::Constraint,
+    },
+    Channel {
+        name: "zupt_east",
+        title: "at a standstill: east velocity (zero)",
+        kind: ChannelKind::Constraint,
+    },
+    Channel {
+        name: "zupt_north",
+        title: "at a standstill: north velocity (zero)",
+        kind: ChannelKind::Constraint,
+    },
+];
+
+impl StrapdownCatalogue {
+    /// The attitude at the first IMU row and the tilt sigmas that go with it: `[initial]`
+    /// with `[prior]`'s sigmas, or the alignment from the data.
+    fn initial(&self, ds: &Dataset) -> Result<([f64; 3], [f64; 2]), DiagnoseError> {
+        let level_default = self.class.errors().accel_bias / 9.80665;
+        if let Some(a) = ds.initial {
+            let level = ds.prior.level_rad.unwrap_or(level_default);
+            let heading = ds.prior.azimuth_rad.unwrap_or(STATED_HEADING_SIGMA);
+            return Ok((
+                [
+                    a.roll_deg.to_radians(),
+                    a.pitch_deg.to_radians(),
+                    a.heading_deg.to_radians(),
+                ],
+                [level, heading],
+            ));
+        }
+        let a = ds.align_from_data().map_err(|e| {
+            DiagnoseError::Data(format!(
+                "{}: dataset.toml has no [initial] attitude and the data give none: {e}",
+                ds.name
+            ))
+        })?;
+        Ok((
+            [
+                a.attitude.roll_deg.to_radians(),
+                a.attitude.pitch_deg.to_radians(),
+                a.attitude.heading_deg.to_radians(),
+            ],
+            [a.level_sigma, a.heading_sigma],
+        ))
+    }
+}
+
+/// The family's channels.
+pub fn channels() -> &'static [Channel] {
+    &CHANNELS
+}
+
+impl Catalogue for StrapdownCatalogue {
+    fn kind(&self) -> ModelKind {
+        ModelKind::Strapdown
+    }
+    fn effect_names(&self) -> Vec<String> {
+        self.registry
+            .names()
+            .into_iter()
+            .map(String::from)
+            .collect()
+    }
+    fn effect(&self, name: &str) -> Result<EffectInfo, DiagnoseError> {
+        let e = self.registry.get(name)?;
+        Ok(EffectInfo {
+            coefficients: e.coefficients.iter().map(|c| c.name.to_string()).collect(),
+            bounds: e.coefficients.iter().map(|c| c.bound).collect(),
+            noise_density: e.instability.map(|law| {
+                let sigma = law.sigma_for(self.class);
+                2.0 * sigma * sigma / law.time_s
+            }),
+        })
+    }
+    fn model(
+        &self,
+        effects: &[String],
+        parameters: &BTreeMap<String, f64>,
+        noise: &NoiseConfig,
+        attitude: Attitude,
+    ) -> Result<Arc<dyn FamilyModel>, DiagnoseError> {
+        if attitude != Attitude::SmallAngle {
+            return Err(DiagnoseError::Data(
+                "--attitude: the platform's choice; the strapdown family's attitude equations \
+                 are exact Euler angles (docs/model.md eqs. (53)-(55)), expected no --attitude"
+                    .into(),
+            ));
+        }
+        let mut list = StrapdownEffectList::default();
+        for name in effects {
+            let effect = self.registry.get(name)?.clone();
+            if let (Some(law), Some(&density)) = (effect.instability, parameters.get(name)) {
+                // q = 2 sigma^2 / T at the declared T.
+                let sigma = (density * law.time_s / 2.0).sqrt();
+                list.parameters
+                    .insert(law.parameter_names[1].to_string(), sigma);
+            }
+            list.effects.push(effect);
+        }
+        Ok(Arc::new(
+            StrapdownModel::base(noise)
+                .with_unit(self.class.errors())
+                .with_effects(&list, self.class, 1.0)?,
+        ))
+    }
+    fn sensors(
+        &self,
+        noise: NoiseConfig,
+    ) -> Box<dyn MeasurementModel<Record = Measurement> + Sync> {
+        Box::new(StrapdownSensors { noise })
+    }
+    fn channels(&self) -> &'static [Channel] {
+        &CHANNELS
+    }
+    fn nav_dim(&self) -> usize {
+        NAV_DIM
+    }
+    fn tilt_names(&self) -> [&'static str; 2] {
+        ["level_rad", "heading_rad"]
+    }
+    fn default_tilt(&self, ds: &Dataset, _start_lat: f64) -> [f64; 2] {
+        let level = self.class.errors().accel_bias / 9.80665;
+        self.initial(ds)
+            .map_or([level, STATED_HEADING_SIGMA], |(_, sigma)| sigma)
+    }
+    fn base_coefficients(&self) -> Vec<(String, f64)> {
+        let unit = self.class.errors();
+        (NAV_DIM..BASE_DIM)
+            .map(|i| {
+                let sigma = if i < BA_X {
+                    unit.gyro_bias
+                } else {
+                    unit.accel_bias
+                };
+                (STATE_NAMES[i].to_string(), sigma)
+            })
+            .collect()
+    }
+    /// At the first row with both odometer and GPS: the initial attitude, its heading turned
+    /// by what the z gyro read since the first IMU row (a level unit's `psi' = -w_z`; the bias
+    /// over that time is within the heading's prior for the usual second or two), the
+    /// velocity along the heading at the odometer's speed, and the fix.
+    fn start(
+        &self,
+        ds: &Dataset,
+        noise: &NoiseConfig,
+        [level, azimuth]: [f64; 2],
+    ) -> Result<Start, DiagnoseError> {
+        let (m0, p0) = first_full_measurement(ds)?;
+        let ([roll, pitch, heading0], _) = self.initial(ds)?;
+        let mut turned = 0.0;
+        for pair in ds.inputs.windows(2).take_while(|p| p[1].t <= m0.t) {
+            turned -= 0.5 * (pair[0].f[2] + pair[1].f[2]) * (pair[1].t - pair[0].t);
+        }
+        let heading = heading0 + turned;
+        let speed = m0.speed.unwrap_or(0.0);
+        let sig = noise.measurement_sigmas(speed.abs(), p0[0]);
+        let v_sigma = sig[0].hypot(speed.abs() * azimuth);
+        let x = vec![
+            roll,
+            pitch,
+            heading,
+            speed * heading.sin(),
+            speed * heading.cos(),
+            p0[0],
+            p0[1],
+        ];
+        let sigma = vec![level, level, azimuth, v_sigma, v_sigma, sig[2], sig[3]];
+        Ok(Start { t: m0.t, x, sigma })
+    }
+    /// `baz`: the horizontal model sees the vertical accelerometer bias only through the tilt,
+    /// and a filter's estimate of it drifts by its own linearisation whatever the truth
+    /// (docs/model.md, "What the horizontal model cannot see: the vertical accelerometer
+    /// bias"); the diagnosis's widening would follow that drift to tens of prior sigmas.
+    fn pinned(&self) -> &'static [&'static str] {
+        &["baz"]
+    }
+    /// From the odometer's speed and the readings over the step: the forward force
+    /// (accelerating, decelerating) and the rate about up (turning).
+    fn phase(&self, window: &InputWindow, m: &Measurement) -> Phase {
+        let Some(speed) = m.speed else {
+            return Phase::Cruising;
+        };
+        if speed.abs() < thresholds::STILL_SPEED {
+            return Phase::Standstill;
+        }
+        let knots = window.f.len().max(1) as f64;
+        let (turn, along) = window
+            .f
+            .iter()
+            .fold((0.0, 0.0), |(w, a), f| (w + f[2], a + f[3]));
+        let (turn, along) = (turn / knots, along / knots);
+        if turn.abs() > thresholds::TURN_RATE_DEG_S.to_radians() {
+            Phase::Turning
+        } else if along > thresholds::ALONG_ACCEL {
+            Phase::Accelerating
+        } else if along < -thresholds::ALONG_ACCEL {
+            Phase::Decelerating
+        } else {
+            Phase::Cruising
+        }
+    }
+    fn with_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str, f64)> {
+        None
+    }
+}

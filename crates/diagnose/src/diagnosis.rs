@@ -66,6 +66,10 @@ pub struct Diagnosis {
         skip_serializing_if = "navkf_dynamics::ModelKind::is_platform"
     )]
     pub family: navkf_dynamics::ModelKind,
+    /// Coefficients the family's measurements cannot inform, held at zero in every fit
+    /// ([`crate::catalogue::Catalogue::pinned`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pinned: Vec<String>,
     /// The attitude equations of every fit's model.
     #[serde(default)]
     pub attitude: navkf_dynamics::Attitude,

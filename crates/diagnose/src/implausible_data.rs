@@ -51,6 +51,7 @@ pub fn implausible_diagnosis(
     let mut d = Diagnosis {
         dataset: ds.name.clone(),
         family: catalogue.kind(),
+        pinned: catalogue.pinned().iter().map(|p| p.to_string()).collect(),
         attitude: opts.filter.attitude,
         verdict: Verdict::ImplausibleData,
         best: None,

@@ -90,7 +90,7 @@ pub fn diagnose(
     let mut rounds: Vec<Round> = under_test.manual_round.into_iter().collect();
     // 2. Rounds.
     let mut named: Vec<Named> = Vec::new();
-    let mut noise_theta = [0.0; 4];
+    let mut noise_theta: crate::noise::Theta = [0.0; crate::noise::MAX_SOURCES];
     let mut noise_checks = Vec::new();
     let mut confounded = Confounded::default();
     for _ in 0..opts.max_rounds {
@@ -173,6 +173,7 @@ pub fn diagnose(
     let mut d = Diagnosis {
         dataset: ds.name.clone(),
         family: catalogue.kind(),
+        pinned: catalogue.pinned().iter().map(|p| p.to_string()).collect(),
         attitude: opts.filter.attitude,
         verdict,
         best: effects.first().cloned(),

@@ -26,6 +26,10 @@ pub struct NoiseConfig {
     /// family, docs/model.md eq. (60)); absent: the constraint is not used.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub nhc_m_s: Option<f64>,
+    /// One-sigma of the zero-velocity update's pseudo-measurements at a standstill, m/s (the
+    /// strapdown family, docs/model.md eq. (61)); absent: `odometer_floor`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub zupt_m_s: Option<f64>,
 }
 
 impl Default for NoiseConfig {
@@ -37,6 +41,7 @@ impl Default for NoiseConfig {
             odometer_floor: 0.01,
             gps_m: 3.0,
             nhc_m_s: None,
+            zupt_m_s: None,
         }
     }
 }
@@ -51,12 +56,19 @@ impl NoiseConfig {
             ("odometer_floor", self.odometer_floor),
             ("gps_m", self.gps_m),
             ("nhc_m_s", self.nhc_m_s.unwrap_or(1.0)),
+            ("zupt_m_s", self.zupt_m_s.unwrap_or(1.0)),
         ] {
             if !(v.is_finite() && v > 0.0) {
                 return Err(format!("noise.{key} = {v}: expected a finite number > 0"));
             }
         }
         Ok(())
+    }
+
+    /// One-sigma of the zero-velocity update's rows, m/s: `zupt_m_s`, else the odometer's
+    /// floor.
+    pub fn zupt_sigma(&self) -> f64 {
+        self.zupt_m_s.unwrap_or(self.odometer_floor)
     }
 
     /// One-sigma of the odometer's velocity at speed `speed` (m/s), per axis.

@@ -54,6 +54,7 @@ fn scaled(noise: NoiseConfig, factors: [f64; 4]) -> NoiseConfig {
         odometer_floor: noise.odometer_floor * factors[2],
         gps_m: noise.gps_m * factors[3],
         nhc_m_s: noise.nhc_m_s,
+        zupt_m_s: noise.zupt_m_s,
     }
 }
 

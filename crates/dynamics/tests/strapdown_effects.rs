@@ -230,6 +230,7 @@ fn the_model_that_knows_the_hidden_effects_follows_the_simulated_run() {
         odometer_floor: 1e-6,
         gps_m: 1e-3,
         nhc_m_s: None,
+        zupt_m_s: None,
     };
     let registry = StrapdownRegistry::catalogue();
     let hidden: Vec<&str> = registry

@@ -175,7 +175,7 @@ pub enum Named {
     /// the next rounds.
     NoiseLevels {
         /// The levels' log-variance scales over the stated ones ([`NoiseFit::used_theta`]).
-        theta: [f64; 4],
+        theta: crate::noise::Theta,
     },
 }
 

@@ -36,11 +36,9 @@ pub fn noise_levels(
         .map(|(_, n)| n.clone())
         .collect();
     let dll = fit.profile_loglik(&keep) - model.fit.profile_loglik(&keep);
-    let old = SOURCES.map(|src| src.values(&model.fit.setup.noise));
-    let changed = SOURCES
+    let changed = SOURCES[..check.sources.len()]
         .iter()
-        .enumerate()
-        .filter(|(j, src)| src.values(&check.used) != old[*j])
+        .filter(|src| src.values(&check.used) != src.values(&model.fit.setup.noise))
         .count()
         .max(1);
     let ln_n = (model.fit.measurement_count().max(1) as f64).ln();
@@ -72,7 +70,7 @@ pub fn noise_levels(
         candidate,
         fit,
         names: Named::NoiseLevels {
-            theta: check.used_theta,
+            theta: check.used(),
         },
     })
 }

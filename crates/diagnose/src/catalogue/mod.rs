@@ -108,6 +108,11 @@ pub trait Catalogue: Send + Sync + std::fmt::Debug {
     fn nav_dim(&self) -> usize;
     /// The names the tilt priors are reported by: level, then azimuth or heading.
     fn tilt_names(&self) -> [&'static str; 2];
+    /// The widest the tilt priors may be tried (level, then azimuth or heading), rad: beyond,
+    /// the start says nothing the attitude equations can use.
+    fn widest_tilt(&self) -> [f64; 2] {
+        [f64::INFINITY; 2]
+    }
     /// The tilt priors when nothing states them, on `ds` whose first fix is at latitude
     /// `start_lat` (rad).
     fn default_tilt(&self, ds: &Dataset, start_lat: f64) -> [f64; 2];
@@ -121,6 +126,11 @@ pub trait Catalogue: Send + Sync + std::fmt::Debug {
         noise: &NoiseConfig,
         tilt: [f64; 2],
     ) -> Result<Start, DiagnoseError>;
+    /// How many of the noise sources ([`crate::noise::SOURCES`]) the family has: the four
+    /// sensors', and the strapdown family's pseudo-measurement tolerance.
+    fn noise_sources(&self) -> usize {
+        4
+    }
     /// Base coefficients the family's measurements cannot inform, which a fit holds at zero
     /// (a prior of [`PINNED_SIGMA`] times their typical size) rather than let a filter's
     /// linearisation drift them and the widening follow the drift.

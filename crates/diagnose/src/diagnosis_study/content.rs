@@ -358,5 +358,6 @@ pub fn misstate(truth: &NoiseConfig, factors: [f64; 4]) -> NoiseConfig {
         odometer_floor: truth.odometer_floor / factors[2],
         gps_m: truth.gps_m / factors[3],
         nhc_m_s: truth.nhc_m_s,
+        zupt_m_s: truth.zupt_m_s,
     }
 }

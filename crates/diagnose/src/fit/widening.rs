@@ -200,8 +200,11 @@ pub fn widen_tilt(
     filter: &FilterSpec,
 ) -> Result<(Fit, Vec<Widening>), DiagnoseError> {
     use rayon::prelude::*;
+    let start = [f.setup.priors.level_rad, f.setup.priors.azimuth_rad];
+    let widest = catalogue.widest_tilt();
     let trials: Vec<(usize, f64)> = (0..2)
         .flat_map(|k| TILT_FACTORS.iter().map(move |&m| (k, m)))
+        .filter(|&(k, m)| start[k] * m <= widest[k])
         .collect();
     let fits = trials
         .par_iter()
@@ -232,7 +235,8 @@ pub fn widen_tilt(
                 from,
                 to: from * m,
                 implied_estimate: f64::NAN,
-                at_cap: m == TILT_FACTORS[TILT_FACTORS.len() - 1],
+                at_cap: m == TILT_FACTORS[TILT_FACTORS.len() - 1]
+                    || from * m * TILT_FACTORS[0] > widest[k],
             };
             // The coefficients' priors may now want other widths.
             let (g, _) = fit_adaptive(ds, &g.setup, catalogue, filter)?;

@@ -1,6 +1,7 @@
-//! What a noise check finds: the four noise sources, their levels scaled by a log-variance
-//! each, and what the data say of each (fits, under-stated, over-stated, unresolved). The
-//! search that finds them is [`super::search`].
+//! What a noise check finds: the noise sources (four for the platform; the strapdown family
+//! adds its pseudo-measurements' tolerance), their levels scaled by a log-variance each, and
+//! what the data say of each (fits, under-stated, over-stated, unresolved). The search that
+//! finds them is [`super::search`].
 
 use navkf_dynamics::NoiseConfig;
 use serde::{Deserialize, Serialize};
@@ -24,14 +25,26 @@ pub enum NoiseSource {
     Odometer,
     /// GPS position noise (`gps_m`).
     Gps,
+    /// The tolerance of the pseudo-measurements that read zero (`nhc_m_s` and `zupt_m_s`
+    /// together; the strapdown family): how far from zero the vehicle's sideways, vertical and
+    /// standstill velocities really are.
+    Constraint,
 }
 
-/// The four sources, in the order of the log-scale vector.
-pub const SOURCES: [NoiseSource; 4] = [
+/// The most sources a family has.
+pub const MAX_SOURCES: usize = 5;
+
+/// Log-variance scales, one per source (those a family lacks stay zero).
+pub type Theta = [f64; MAX_SOURCES];
+
+/// The sources, in the order of the log-scale vector; a family has the first few
+/// ([`crate::catalogue::Catalogue::noise_sources`]).
+pub const SOURCES: [NoiseSource; MAX_SOURCES] = [
     NoiseSource::Gyro,
     NoiseSource::Accelerometer,
     NoiseSource::Odometer,
     NoiseSource::Gps,
+    NoiseSource::Constraint,
 ];
 
 impl NoiseSource {
@@ -42,6 +55,7 @@ impl NoiseSource {
             NoiseSource::Accelerometer => "accelerometer noise",
             NoiseSource::Odometer => "odometer noise",
             NoiseSource::Gps => "GPS noise",
+            NoiseSource::Constraint => "constraint tolerance",
         }
     }
 
@@ -55,21 +69,36 @@ impl NoiseSource {
                 ("odometer_floor", n.odometer_floor),
             ],
             NoiseSource::Gps => vec![("gps_m", n.gps_m)],
+            NoiseSource::Constraint => n
+                .nhc_m_s
+                .map(|v| ("nhc_m_s", v))
+                .into_iter()
+                .chain([("zupt_m_s", n.zupt_sigma())])
+                .collect(),
         };
         pairs.into_iter().map(|(k, v)| (k.to_string(), v)).collect()
     }
 }
 
-/// `stated` with each source's variance scaled by `exp(theta[j])`.
-pub fn scaled(stated: &NoiseConfig, theta: [f64; 4]) -> NoiseConfig {
+/// `stated` with each source's variance scaled by `exp(theta[j])` (a constraint left
+/// unscaled keeps its stated keys as they are).
+pub fn scaled(stated: &NoiseConfig, theta: Theta) -> NoiseConfig {
     let sigma = |j: usize| (0.5 * theta[j]).exp();
+    let constraint = theta[4] != 0.0;
     NoiseConfig {
         gyro_psd: stated.gyro_psd * theta[0].exp(),
         accel_psd: stated.accel_psd * theta[1].exp(),
         odometer_rel: stated.odometer_rel * sigma(2),
         odometer_floor: stated.odometer_floor * sigma(2),
         gps_m: stated.gps_m * sigma(3),
-        nhc_m_s: stated.nhc_m_s,
+        nhc_m_s: stated
+            .nhc_m_s
+            .map(|v| if constraint { v * sigma(4) } else { v }),
+        zupt_m_s: if constraint {
+            Some(stated.zupt_sigma() * sigma(4))
+        } else {
+            stated.zupt_m_s
+        },
     }
 }
 
@@ -118,12 +147,12 @@ pub struct NoiseFit {
     pub refitted: bool,
     /// The levels to use: the fitted ones for mis-stated sources, the stated ones otherwise.
     pub used: NoiseConfig,
-    /// Their log-variance scales over the stated levels.
-    pub used_theta: [f64; 4],
+    /// Their log-variance scales over the stated levels, one per source of the family.
+    pub used_theta: Vec<f64>,
     /// Log-variance scales of the maximum-likelihood levels over the stated ones.
-    pub theta: [f64; 4],
+    pub theta: Vec<f64>,
     /// Their standard errors.
-    pub theta_se: [f64; 4],
+    pub theta_se: Vec<f64>,
     /// Per source, against the stated levels.
     pub sources: Vec<SourceFit>,
     /// Log-likelihood gain of the maximum-likelihood levels over the start levels.
@@ -133,6 +162,11 @@ pub struct NoiseFit {
 }
 
 impl NoiseFit {
+    /// [`NoiseFit::used_theta`] as the search takes it back.
+    pub fn used(&self) -> Theta {
+        std::array::from_fn(|j| self.used_theta.get(j).copied().unwrap_or(0.0))
+    }
+
     /// Whether any source is mis-stated.
     pub fn mis_stated(&self) -> bool {
         self.sources.iter().any(|s| {

@@ -6,10 +6,15 @@
 //! expected value), and no physical effect explains it. So before ranking effects the
 //! diagnosis asks whether the stated noise fits.
 //!
-//! Each of the four sources gets a variance scale `exp(theta)`: the gyro density `q_g` and the
+//! Each source gets a variance scale `exp(theta)`: the gyro density `q_g` and the
 //! accelerometer density `q_a` (docs/model.md eq. (12)), the odometer's sigma (its relative
-//! term and its floor together) and the GPS sigma (both docs/model.md eq. (14)). The
-//! innovation log-likelihood `LL(theta)` is maximised over the four log-scales:
+//! term and its floor together) and the GPS sigma (both docs/model.md eq. (14)); the
+//! strapdown family adds the tolerance of its pseudo-measurements (`nhc_m_s` and `zupt_m_s`
+//! together, docs/model.md eqs. (60), (61)), which is no sensor's noise but how far from zero
+//! the vehicle's sideways, vertical and standstill velocities are, and which a recording's
+//! exact zeros leave pessimistic (the likelihood then favours any effect that shrinks the
+//! predicted variance). The innovation log-likelihood `LL(theta)` is maximised over the
+//! log-scales:
 //!
 //! 1. **Score test at the levels in use.** Central differences along each axis give the
 //!    gradient `g` and curvature `H_jj` of `LL`; `g_j / sqrt(-H_jj)` is the score statistic,
@@ -38,6 +43,7 @@ pub mod levels;
 pub mod search;
 
 pub use levels::{
-    scaled, NoiseFit, NoiseSource, NoiseVerdict, SourceFit, RESOLVED_SIGMA_FACTOR, SOURCES, Z_FLAG,
+    scaled, NoiseFit, NoiseSource, NoiseVerdict, SourceFit, Theta, MAX_SOURCES,
+    RESOLVED_SIGMA_FACTOR, SOURCES, Z_FLAG,
 };
 pub use search::{check, MAX_STEP, Z_ACTIVE};

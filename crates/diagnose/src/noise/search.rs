@@ -3,7 +3,8 @@
 //! process-noise densities, and the resolution at the optimum.
 
 use super::levels::{
-    scaled, NoiseFit, NoiseVerdict, SourceFit, RESOLVED_SIGMA_FACTOR, SOURCES, Z_FLAG,
+    scaled, NoiseFit, NoiseVerdict, SourceFit, Theta, MAX_SOURCES, RESOLVED_SIGMA_FACTOR, SOURCES,
+    Z_FLAG,
 };
 use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
@@ -43,6 +44,8 @@ struct Surface<'a> {
     catalogue: &'a dyn Catalogue,
     filter: &'a FilterSpec,
     passes: std::sync::atomic::AtomicUsize,
+    /// The family's sources: the first this many of [`SOURCES`].
+    sources: usize,
 }
 
 impl Surface<'_> {
@@ -51,7 +54,7 @@ impl Surface<'_> {
         self.passes.load(std::sync::atomic::Ordering::Relaxed)
     }
 
-    fn at(&self, thetas: &[[f64; 4]]) -> Result<Vec<f64>, DiagnoseError> {
+    fn at(&self, thetas: &[Theta]) -> Result<Vec<f64>, DiagnoseError> {
         self.passes
             .fetch_add(thetas.len(), std::sync::atomic::Ordering::Relaxed);
         thetas
@@ -74,11 +77,11 @@ impl Surface<'_> {
     /// entries are left at zero.
     fn derivatives(
         &self,
-        theta: [f64; 4],
+        theta: Theta,
         f0: f64,
         axes: &[usize],
         cross: bool,
-    ) -> Result<([f64; 4], [[f64; 4]; 4]), DiagnoseError> {
+    ) -> Result<(Theta, [[f64; MAX_SOURCES]; MAX_SOURCES]), DiagnoseError> {
         let mut pts = Vec::new();
         for &j in axes {
             for s in [H, -H] {
@@ -102,9 +105,9 @@ impl Surface<'_> {
             pts.push(t);
         }
         let v = self.at(&pts)?;
-        let mut g = [0.0; 4];
-        let mut hess = [[0.0; 4]; 4];
-        let mut plus = [0.0; 4];
+        let mut g = [0.0; MAX_SOURCES];
+        let mut hess = [[0.0; MAX_SOURCES]; MAX_SOURCES];
+        let mut plus = [0.0; MAX_SOURCES];
         for (a, &j) in axes.iter().enumerate() {
             let (fp, fm) = (v[2 * a], v[2 * a + 1]);
             plus[j] = fp;
@@ -123,7 +126,7 @@ impl Surface<'_> {
 
 /// The score statistic `g / sqrt(-H)` of each axis; 0 where the curvature is not negative
 /// (no information).
-fn scores(g: &[f64; 4], hess: &[[f64; 4]; 4]) -> [f64; 4] {
+fn scores(g: &Theta, hess: &[[f64; MAX_SOURCES]; MAX_SOURCES]) -> Theta {
     std::array::from_fn(|j| {
         let curv = -hess[j][j];
         if curv > 0.0 && g[j].is_finite() {
@@ -141,12 +144,12 @@ fn scores(g: &[f64; 4], hess: &[[f64; 4]; 4]) -> [f64; 4] {
 /// log-likelihood rises.
 fn model_jump(
     surface: &Surface<'_>,
-    start: [f64; 4],
+    start: Theta,
     f0: f64,
-    g: &[f64; 4],
-    hess: &[[f64; 4]; 4],
+    g: &Theta,
+    hess: &[[f64; MAX_SOURCES]; MAX_SOURCES],
     active: &[usize],
-) -> Result<([f64; 4], f64), DiagnoseError> {
+) -> Result<(Theta, f64), DiagnoseError> {
     let mut theta = start;
     for &j in active {
         // Back from the derivatives to the differences of the three axis values.
@@ -170,18 +173,20 @@ fn model_jump(
 /// times). Leaves in `g` and `hess` the last derivatives along every axis it took.
 fn optimise(
     surface: &Surface<'_>,
-    mut theta: [f64; 4],
+    mut theta: Theta,
     mut f: f64,
     active: &mut Vec<usize>,
-    g: &mut [f64; 4],
-    hess: &mut [[f64; 4]; 4],
-) -> Result<([f64; 4], f64), DiagnoseError> {
+    g: &mut Theta,
+    hess: &mut [[f64; MAX_SOURCES]; MAX_SOURCES],
+) -> Result<(Theta, f64), DiagnoseError> {
     for _ in 0..2 {
         let end = newton(surface, theta, f, active)?;
         theta = end.theta;
         f = end.value;
         *hess = end.hessian;
-        let inactive: Vec<usize> = (0..4).filter(|j| !active.contains(j)).collect();
+        let inactive: Vec<usize> = (0..surface.sources)
+            .filter(|j| !active.contains(j))
+            .collect();
         if inactive.is_empty() {
             break;
         }
@@ -206,16 +211,16 @@ fn optimise(
 
 /// Where Newton's method stopped: the log-scales, the log-likelihood there and its Hessian.
 struct NewtonEnd {
-    theta: [f64; 4],
+    theta: Theta,
     value: f64,
-    hessian: [[f64; 4]; 4],
+    hessian: [[f64; MAX_SOURCES]; MAX_SOURCES],
 }
 
 /// Newton's method on the log-scales of `active` (the others fixed), from `theta` with value
 /// `f`; returns the optimum, its value and the Hessian there (over `active`).
 fn newton(
     surface: &Surface<'_>,
-    mut theta: [f64; 4],
+    mut theta: Theta,
     mut f: f64,
     active: &[usize],
 ) -> Result<NewtonEnd, DiagnoseError> {
@@ -277,7 +282,10 @@ fn newton(
 
 /// `-H` over `active`, made positive definite (eigenvalues at least [`MIN_CURVATURE`]);
 /// non-finite entries count as no information.
-fn information(hess: &[[f64; 4]; 4], active: &[usize]) -> nalgebra::DMatrix<f64> {
+fn information(
+    hess: &[[f64; MAX_SOURCES]; MAX_SOURCES],
+    active: &[usize],
+) -> nalgebra::DMatrix<f64> {
     let m = active.len();
     let raw = nalgebra::DMatrix::from_fn(m, m, |a, b| {
         let v = -hess[active[a]][active[b]];
@@ -307,7 +315,7 @@ fn information(hess: &[[f64; 4]; 4], active: &[usize]) -> nalgebra::DMatrix<f64>
 pub fn check(
     ds: &Dataset,
     model: &Fit,
-    theta_start: [f64; 4],
+    theta_start: Theta,
     catalogue: &dyn Catalogue,
     filter: &FilterSpec,
 ) -> Result<NoiseFit, DiagnoseError> {
@@ -319,15 +327,19 @@ pub fn check(
         catalogue,
         filter,
         passes: Default::default(),
+        sources: catalogue.noise_sources(),
     };
-    let all = [0, 1, 2, 3];
+    let k = surface.sources;
+    let all: Vec<usize> = (0..k).collect();
     let (mut theta, mut f) = (theta_start, loglik_start);
     let mut failed_start = false;
     if !f.is_finite() {
         // The filter failed at the start levels: start from the best of a few common scales
         // (variance x 7 to x 22000).
         failed_start = true;
-        let starts: Vec<[f64; 4]> = (1..=5).map(|k| [2.0 * k as f64; 4]).collect();
+        let starts: Vec<Theta> = (1..=5)
+            .map(|m| std::array::from_fn(|j| if j < k { 2.0 * m as f64 } else { 0.0 }))
+            .collect();
         let v = surface.at(&starts)?;
         if let Some((k, &best)) = v
             .iter()
@@ -343,11 +355,14 @@ pub fn check(
     let (mut g, mut hess) = if f.is_finite() {
         surface.derivatives(theta, f, &all, false)?
     } else {
-        ([f64::NAN; 4], [[f64::NAN; 4]; 4])
+        (
+            [f64::NAN; MAX_SOURCES],
+            [[f64::NAN; MAX_SOURCES]; MAX_SOURCES],
+        )
     };
-    let joined = |z: [f64; 4], active: &mut Vec<usize>, threshold: f64| {
+    let joined = |z: Theta, active: &mut Vec<usize>, threshold: f64| {
         let mut any = false;
-        for j in 0..4 {
+        for j in 0..k {
             if !active.contains(&j) && z[j].abs() >= threshold {
                 active.push(j);
                 any = true;
@@ -378,7 +393,7 @@ pub fn check(
     // the local search (probing first would let a process noise stand in for a measurement
     // noise the local search finds at once).
     if f.is_finite() && !failed_start {
-        let probes: Vec<(usize, [f64; 4])> = [0usize, 1]
+        let probes: Vec<(usize, Theta)> = [0usize, 1]
             .iter()
             .filter(|j| !active.contains(j))
             .flat_map(|&j| {
@@ -411,7 +426,7 @@ pub fn check(
     }
     // Standard errors: the inverse information over the active sources; the axis curvature
     // for the others.
-    let mut se = [0.0; 4];
+    let mut se = [0.0; MAX_SOURCES];
     if !active.is_empty() {
         let info = information(&hess, &active);
         let cov = info.try_inverse().unwrap_or_else(|| {
@@ -429,9 +444,9 @@ pub fn check(
             1.0 / MIN_CURVATURE.sqrt()
         };
     }
-    let mut used_theta = [0.0; 4];
+    let mut used_theta = [0.0; MAX_SOURCES];
     let ml = scaled(stated, theta);
-    let sources = SOURCES
+    let sources = SOURCES[..k]
         .iter()
         .enumerate()
         .map(|(j, &source)| {
@@ -467,9 +482,9 @@ pub fn check(
         start: scaled(stated, theta_start),
         refitted,
         used: scaled(stated, used_theta),
-        used_theta,
-        theta,
-        theta_se: se,
+        used_theta: used_theta[..k].to_vec(),
+        theta: theta[..k].to_vec(),
+        theta_se: se[..k].to_vec(),
         sources,
         loglik_gain: f - loglik_start,
         passes: surface.passes.into_inner(),

@@ -320,6 +320,17 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
             )
         });
     }
+    if !d.pinned.is_empty() {
+        out.push(format!(
+            "Held at zero in every fit, and not tested: {}. The horizontal model cannot inform \
+             them (the vertical force is not integrated, and a drive turns about the vertical \
+             only), and a filter's own linearisation drifts their estimates whatever the truth, \
+             so a likelihood would reward the drift (docs/model.md, \"What the horizontal model \
+             cannot see: the vertical accelerometer bias\"). Rotations about the unit's forward \
+             and left axes, or a vertical channel, would reveal them.",
+            d.pinned.join(", ")
+        ));
+    }
     out
 }
 

@@ -180,11 +180,14 @@ impl Dataset {
             let entry = format!("{key} = {}", toml_f64(value));
             text.push_str(&format!("{entry:<40} # {comment}\n"));
         }
-        if let Some(v) = n.nhc_m_s {
-            let entry = format!("nhc_m_s = {}", toml_f64(v));
-            text.push_str(&format!(
-                "{entry:<40} # non-holonomic constraint sigma, m/s\n"
-            ));
+        for (key, value, comment) in [
+            ("nhc_m_s", n.nhc_m_s, "non-holonomic constraint sigma, m/s"),
+            ("zupt_m_s", n.zupt_m_s, "zero-velocity update sigma, m/s"),
+        ] {
+            if let Some(v) = value {
+                let entry = format!("{key} = {}", toml_f64(v));
+                text.push_str(&format!("{entry:<40} # {comment}\n"));
+            }
         }
         if !self.prior.is_empty() {
             let p = &self.prior;

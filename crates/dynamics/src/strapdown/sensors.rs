@@ -67,15 +67,15 @@ impl StrapdownSensors {
                 available[4] = true;
             }
         }
-        let floor = self.noise.odometer_floor;
+        let zupt = self.noise.zupt_sigma();
         let sigma = [
             self.noise.odometer_sigma(speed.abs()),
             gps[2],
             gps[3],
             nhc,
             nhc,
-            floor,
-            floor,
+            zupt,
+            zupt,
         ];
         (z, sigma, available)
     }

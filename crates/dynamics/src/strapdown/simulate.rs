@@ -326,9 +326,10 @@ impl StrapdownSimulator {
             let sig = self.noise.measurement_sigmas(speed.abs(), nav[LAT]);
             let e: [f64; 5] = std::array::from_fn(|_| rng.sample(StandardNormal));
             // A wheel that does not turn counts nothing: at a standstill the odometer reads
-            // exactly zero, and the zero-velocity update's reading gets the floor's noise.
+            // exactly zero, and the zero-velocity update's reading gets its stated noise (the
+            // odometer's floor unless `zupt_m_s` says otherwise).
             let still = speed == 0.0;
-            let floor = self.noise.odometer_floor;
+            let floor = self.noise.zupt_sigma();
             let nhc = self
                 .noise
                 .nhc_m_s
@@ -505,6 +506,28 @@ impl StrapdownSimulator {
             model: ModelKind::Strapdown,
             initial: Some(initial),
         }
+    }
+}
+
+impl StrapdownSimulator {
+    /// [`StrapdownSimulator::dataset`] with the run's constraint and zero-velocity readings
+    /// kept ([`Measurement::nhc`], [`Measurement::zupt`]): the dataset as the study's filters
+    /// meet it, which no file holds. A diagnosis measured on it meets the vehicle its stated
+    /// `nhc_m_s` describes.
+    pub fn dataset_with_readings(
+        &self,
+        name: &str,
+        seed: u64,
+        run: &SimulatedRun,
+        level_rad: f64,
+        heading_rad: f64,
+    ) -> Dataset {
+        let mut ds = self.dataset(name, seed, run, level_rad, heading_rad);
+        for (m, r) in ds.measurements.iter_mut().zip(&run.measurements) {
+            m.nhc = r.nhc;
+            m.zupt = r.zupt;
+        }
+        ds
     }
 }
 

@@ -162,6 +162,7 @@ pub fn sample(name: &str) -> Dataset {
             odometer_floor: 0.01,
             gps_m: 2.0,
             nhc_m_s: None,
+            zupt_m_s: None,
         },
         noise_stated: true,
         prior: PlatformPrior {

@@ -54,6 +54,13 @@ pub(super) fn check_family_keys(config: &StudyConfig) -> Result<(), String> {
                     unit.name()
                 ));
             }
+            if config.noise.zupt_m_s.is_some() {
+                return Err(
+                    "noise.zupt_m_s: the zero-velocity update belongs to the strapdown family; \
+                     expected model.kind = \"strapdown\" or no noise.zupt_m_s"
+                        .into(),
+                );
+            }
             if config.noise.nhc_m_s.is_some() {
                 return Err(
                     "noise.nhc_m_s: the non-holonomic constraint belongs to the \

@@ -131,17 +131,26 @@ pub(super) fn read_config(
             },
         });
     }
-    if kind == ModelKind::Platform && config.noise.is_some_and(|n| n.nhc_m_s.is_some()) {
-        let message = "the non-holonomic constraint belongs to the strapdown family; expected \
-                       [model] kind = \"strapdown\" or no noise.nhc_m_s"
-            .to_string();
-        return Err(match key_line(&text, "noise", "nhc_m_s") {
-            Some(line) => data_error(path, line, "noise.nhc_m_s", message),
-            None => DynamicsError::File {
-                path: path.to_path_buf(),
-                message: format!("noise.nhc_m_s: {message}"),
-            },
-        });
+    for (key, set) in [
+        ("nhc_m_s", config.noise.is_some_and(|n| n.nhc_m_s.is_some())),
+        (
+            "zupt_m_s",
+            config.noise.is_some_and(|n| n.zupt_m_s.is_some()),
+        ),
+    ] {
+        if kind == ModelKind::Platform && set {
+            let message = format!(
+                "the strapdown family's pseudo-measurements; expected [model] kind = \
+                 \"strapdown\" or no noise.{key}"
+            );
+            return Err(match key_line(&text, "noise", key) {
+                Some(line) => data_error(path, line, &format!("noise.{key}"), message),
+                None => DynamicsError::File {
+                    path: path.to_path_buf(),
+                    message: format!("noise.{key}: {message}"),
+                },
+            });
+        }
     }
     if let Err((key, message)) = config.prior.validate(&known) {
         // `prior.level_rad` sits in [prior]; `prior.coefficients.X` in [prior.coefficients].

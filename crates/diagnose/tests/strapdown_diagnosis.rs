@@ -1,0 +1,132 @@
+//! The diagnosis on the strapdown family (`diagnose::catalogue::strapdown`): on simulated
+//! MEMS drives it names nothing on clean data, names a hidden effect with its value, and takes
+//! a file's exact-zero constraint readings for a tolerance, not an effect. Its error rates over
+//! hundreds of drawn drives are `examples/strapdown_error_rates.rs`'s.
+
+use navkf_diagnose::catalogue::strapdown::StrapdownCatalogue;
+use navkf_diagnose::{diagnose, Options};
+use navkf_dynamics::dataset::Dataset;
+use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
+use navkf_dynamics::strapdown::effects::StrapdownRegistry;
+use navkf_dynamics::strapdown::model::StrapdownModel;
+use navkf_dynamics::strapdown::simulate::StrapdownSimulator;
+use navkf_dynamics::strapdown::unit_class::UnitClass;
+use navkf_dynamics::{NoiseConfig, Trajectory, TrajectoryConfig};
+use std::sync::Arc;
+
+/// A simulated MEMS drive on the paper's test at 10 Hz, with `effects` hidden, as a dataset
+/// with the study's constraint and zero-velocity readings.
+pub fn drive(effects: &str, seed: u64, run: u64) -> Dataset {
+    drive_as(effects, seed, run, true)
+}
+
+/// [`drive`], with the pseudo-measurements' readings kept or left at zero as a file has them.
+pub fn drive_as(effects: &str, seed: u64, run: u64, readings: bool) -> Dataset {
+    let unit = UnitClass::Mems.errors();
+    let noise = unit.noise(NoiseConfig {
+        nhc_m_s: Some(0.1),
+        ..NoiseConfig::default()
+    });
+    let list = StrapdownEffectList::parse_entries(&[effects], &StrapdownRegistry::catalogue())
+        .unwrap_or_else(|(_, e)| panic!("{e}"));
+    let model = Arc::new(
+        StrapdownModel::base(&noise)
+            .with_unit(unit)
+            .with_effects(&list, UnitClass::Mems, 1.0)
+            .unwrap(),
+    );
+    let traj = Arc::new(Trajectory::build(&TrajectoryConfig::default()).unwrap());
+    let sim = StrapdownSimulator::new(model, traj, 10.0, 1.0, unit, &list.fixed, noise).unwrap();
+    let run = sim.run(seed, run);
+    let level = unit.accel_bias / 9.80665;
+    if readings {
+        sim.dataset_with_readings("drive", seed, &run, level, 0.035)
+    } else {
+        sim.dataset("drive", seed, &run, level, 0.035)
+    }
+}
+
+#[test]
+fn a_clean_mems_drive_names_nothing() {
+    let catalogue = StrapdownCatalogue::default();
+    for run in 0..3 {
+        let ds = drive("", 1, run);
+        let (d, _) = diagnose(&ds, &catalogue, &Options::default()).unwrap();
+        eprintln!(
+            "run {run}: {:?} named {:?} suggested {:?}",
+            d.verdict, d.effects, d.suggested
+        );
+        for f in &d.findings {
+            eprintln!("  {f}");
+        }
+        assert!(d.effects.is_empty(), "run {run}: named {:?}", d.effects);
+    }
+}
+
+/// Each effect a level drive identifies well, hidden at four times its MEMS size (the others
+/// of its coefficients at zero), is named with its value within four of its sigmas; a bias
+/// instability is named as one; the held coefficients are said to be held. (The x
+/// accelerometer's scale and the lever arm are identified only in part: their rates are
+/// `examples/strapdown_error_rates.rs`'s.)
+#[test]
+fn a_hidden_effect_is_named_with_its_value() {
+    let catalogue = StrapdownCatalogue::default();
+    let cases: [(&str, &str, f64, &str); 5] = [
+        ("odometer-scale", "kod", -8e-3, ""),
+        ("odometer-misalignment", "a_y", 0.04, ", a_p=0"),
+        ("gps-latency", "tau", 0.4, ""),
+        ("gyro-scale", "s_gz", -0.012, ", s_gx=0, s_gy=0"),
+        ("gyro-bias-instability", "", 0.0, "T_g=600, sigma_bg=1e-4"),
+    ];
+    for (k, (effect, coefficient, value, rest)) in cases.into_iter().enumerate() {
+        let list = if coefficient.is_empty() {
+            rest.to_string()
+        } else {
+            format!("{coefficient}={value}{rest}")
+        };
+        let ds = drive(&list, 3, k as u64);
+        let (d, _) = diagnose(&ds, &catalogue, &Options::default()).unwrap();
+        assert_eq!(
+            d.effects,
+            [effect],
+            "{list}: {:?}, {:#?}",
+            d.verdict,
+            d.findings
+        );
+        if let Some(c) = d.model.coefficients.iter().find(|c| c.name == coefficient) {
+            assert!(
+                (c.estimate - value).abs() < 4.0 * c.sigma,
+                "{list}: {} = {} +- {}",
+                c.name,
+                c.estimate,
+                c.sigma
+            );
+        }
+        assert_eq!(d.pinned, ["baz", "s_az", "m_azx", "m_azy", "s_gx", "s_gy"]);
+        assert!(d.findings.iter().any(|f| f.contains("Held at zero")));
+    }
+}
+
+/// A simulated file's constraint and zero-velocity readings are exact zeros, tighter than
+/// the stated `nhc_m_s` and floor: the noise check fits their tolerance down (to about a
+/// micrometre a second, a rigid simulated vehicle) and nothing is named.
+#[test]
+fn exact_zero_constraint_readings_are_fitted_as_a_tolerance_not_an_effect() {
+    let catalogue = StrapdownCatalogue::default();
+    for run in 0..2 {
+        let ds = drive_as("", 1, run, false);
+        let (d, _) = diagnose(&ds, &catalogue, &Options::default()).unwrap();
+        assert!(
+            d.effects.is_empty() && d.suggested.is_empty(),
+            "run {run}: {:?}",
+            d.effects
+        );
+        let check = d.noise.as_ref().expect("a noise check");
+        let constraint = check.sources.last().unwrap();
+        assert_eq!(
+            constraint.source,
+            navkf_diagnose::noise::NoiseSource::Constraint
+        );
+        assert!(constraint.sigma_ratio < 1e-2, "{constraint:?}");
+    }
+}

@@ -115,18 +115,6 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     // elapsed time says it is working (drawn only on a terminal).
     let spinner = navkf_report::progress::spinner(format!("reading {}", a.dataset.display()));
     let ds = Dataset::read_with(&a.dataset, &Registry::catalogue())?;
-    if !ds.model.is_platform() {
-        // The library diagnoses the family (navkf_diagnose::catalogue::strapdown); the command
-        // waits until its error rates are measured.
-        return Err(format!(
-            "{}: a strapdown dataset; the diagnosis judges the platform family only so far (its \
-             strapdown catalogue is built, its error rates are not yet measured). `navkf \
-             inspect` reads it, and a strapdown study (studies/strapdown.toml) runs the filters \
-             on the family",
-            ds.name
-        )
-        .into());
-    }
     // The settings that depend on the dataset's family, checked before anything is fitted.
     let catalogue = navkf_diagnose::catalogue::of(&ds);
     let effects = catalogue.effect_names();
@@ -271,13 +259,21 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
                 format!("base + {}", r.model.join(", "))
             }
         );
+        // The widest candidate's name sets the first column (`accel-bias-instability`).
+        let width = r
+            .candidates
+            .iter()
+            .map(|c| c.effect.chars().count())
+            .max()
+            .unwrap_or(0)
+            .max("candidate".len());
         println!(
-            "{:<18} {:>12} {:>10} {:>9}  outcome",
+            "{:<width$} {:>12} {:>10} {:>9}  outcome",
             "candidate", "dLL", "BIC gain", "removed"
         );
         for c in &r.candidates {
             println!(
-                "{:<18} {:>12.1} {:>10.1} {:>8.0}%  {}",
+                "{:<width$} {:>12.1} {:>10.1} {:>8.0}%  {}",
                 c.effect,
                 c.delta_loglik,
                 c.bic_gain,

@@ -1,6 +1,6 @@
 //! The strapdown family from the command line: `simulate --model strapdown` writes a
-//! dataset that `inspect` reads, `diagnose` refuses it in words (its diagnosis is the
-//! platform's only so far), a strapdown setting without `--model strapdown` is refused, and
+//! dataset that `inspect` reads and `diagnose` judges with the strapdown catalogue, a strapdown
+//! setting without `--model strapdown` is refused, and
 //! `plan` and `study` take a strapdown study file.
 
 mod common;
@@ -16,7 +16,7 @@ fn fresh(tag: &str) -> PathBuf {
 }
 
 #[test]
-fn a_simulated_strapdown_dataset_is_inspected_and_its_diagnosis_refused_in_words() {
+fn a_simulated_strapdown_dataset_is_inspected_and_diagnosed() {
     let out = fresh("sim");
     let o = navkf(
         [
@@ -68,13 +68,41 @@ fn a_simulated_strapdown_dataset_is_inspected_and_its_diagnosis_refused_in_words
         s.contains("aligned from the data") && s.contains("GPS track"),
         "{s}"
     );
-    let o = navkf([std::ffi::OsStr::new("diagnose"), out.as_os_str()]);
-    assert!(!o.status.success());
-    let e = text(&o.stderr);
+    // The diagnosis takes it with the strapdown catalogue: the file's exact-zero constraint
+    // readings are a tolerance it fits, and nothing is named on this clean drive.
+    let report = out.with_file_name(format!(
+        "{}-diagnosis",
+        out.file_name().unwrap().to_string_lossy()
+    ));
+    let o = navkf([
+        std::ffi::OsStr::new("diagnose"),
+        out.as_os_str(),
+        std::ffi::OsStr::new("--out"),
+        report.as_os_str(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let d: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(report.join("diagnosis.json")).unwrap()).unwrap();
+    assert_eq!(d["family"], "strapdown");
+    assert_eq!(d["effects"], serde_json::json!([]));
     assert!(
-        e.contains("strapdown dataset") && e.contains("platform family only"),
-        "{e}"
+        text(&o.stdout).contains("constraint tolerance"),
+        "{}",
+        text(&o.stdout)
     );
+    let o = navkf([
+        std::ffi::OsStr::new("diagnose"),
+        out.as_os_str(),
+        std::ffi::OsStr::new("--with"),
+        std::ffi::OsStr::new("gyro-fz"),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        text(&o.stderr).contains("unknown strapdown effect"),
+        "{}",
+        text(&o.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&report);
     let _ = std::fs::remove_dir_all(&out);
 }
 

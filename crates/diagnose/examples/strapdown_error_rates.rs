@@ -26,8 +26,9 @@ enum Content {
     Clean,
     /// The stated noise off by these factors in sigma (gyro, accel, odometer, GPS).
     MisStated([f64; 4]),
-    /// A catalogued effect with its coefficients fixed (`name`, list).
-    Effect(&'static str, String),
+    /// A catalogued effect with its coefficients fixed (`name`, list, size in multiples of
+    /// its typical one).
+    Effect(&'static str, String, f64),
     /// The odometer reads `1 + gain a` times the speed while accelerating at `a` (slip).
     Slip(f64),
     /// The GPS jumps by `metres` north for `minutes` (multipath).
@@ -41,7 +42,7 @@ fn simulate(content: &Content, seed: u64) -> Dataset {
         ..NoiseConfig::default()
     });
     let effects = match content {
-        Content::Effect(_, list) => list.clone(),
+        Content::Effect(_, list, _) => list.clone(),
         _ => String::new(),
     };
     let list = StrapdownEffectList::parse_entries(&[&effects], &StrapdownRegistry::catalogue())
@@ -116,6 +117,19 @@ fn catalogue_coefficients(d: &navkf_diagnose::Diagnosis, effect: &str) -> String
         })
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// The smallest size from which at least 90 % of the hidden effects of that size or larger
+/// were named (at least five of them), as text; "-" when none is.
+fn limit(sizes: &mut [(f64, bool)]) -> String {
+    sizes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    (0..sizes.len())
+        .find(|&i| {
+            let above = &sizes[i..];
+            above.len() >= 5
+                && above.iter().filter(|s| s.1).count() as f64 >= 0.9 * above.len() as f64
+        })
+        .map_or("-".into(), |i| format!("{:.1}", sizes[i].0))
 }
 
 fn log_uniform(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> f64 {
@@ -201,33 +215,38 @@ fn main() {
     ];
     for (name, coef, typical, rest) in singles {
         classes.push((
-            format!("{name} ({coef} 1-10x typical)"),
+            format!("{name} ({coef} 0.2-10x typical)"),
             (0..per_class)
                 .map(|_| {
-                    let v = log_uniform(&mut rng, 1.0, 10.0)
-                        * typical
-                        * if rng.gen_bool(0.5) { 1.0 } else { -1.0 };
-                    Content::Effect(name, format!("{coef}={v}{rest}"))
+                    let multiple = log_uniform(&mut rng, 0.2, 10.0);
+                    let v = multiple * typical * if rng.gen_bool(0.5) { 1.0 } else { -1.0 };
+                    Content::Effect(name, format!("{coef}={v}{rest}"), multiple)
                 })
                 .collect(),
         ));
     }
     println!(
-        "| class | datasets | named the hidden effect | named another | suggested | verdicts |"
+        "| class | datasets | named the hidden effect | named another | suggested | named in 90 % \
+         from (x typical) | verdicts |"
     );
-    println!("|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|");
     let mut seed = 1000u64;
     for (label, contents) in &classes {
         let (mut right, mut wrong, mut suggested) = (0, 0, 0);
+        // (size, named) of each hidden effect.
+        let mut sizes: Vec<(f64, bool)> = Vec::new();
         let mut verdicts = std::collections::BTreeMap::new();
         for content in contents {
             seed += 1;
             let ds = simulate(content, seed);
             let (d, _) = diagnose(&ds, &catalogue, &Options::default()).unwrap();
             let hidden = match content {
-                Content::Effect(name, _) => Some(*name),
+                Content::Effect(name, _, _) => Some(*name),
                 _ => None,
             };
+            if let Content::Effect(name, _, multiple) = content {
+                sizes.push((*multiple, d.effects.iter().any(|e| e == name)));
+            }
             for e in &d.effects {
                 if Some(e.as_str()) == hidden {
                     right += 1;
@@ -240,8 +259,9 @@ fn main() {
             *verdicts.entry(format!("{:?}", d.verdict)).or_insert(0) += 1;
         }
         println!(
-            "| {label} | {} | {right} | {wrong} | {suggested} | {verdicts:?} |",
-            contents.len()
+            "| {label} | {} | {right} | {wrong} | {suggested} | {} | {verdicts:?} |",
+            contents.len(),
+            limit(&mut sizes)
         );
     }
 }

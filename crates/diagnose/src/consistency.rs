@@ -28,7 +28,13 @@ pub fn classify(f_mean: [f64; 2], velocity: Option<[f64; 2]>) -> Phase {
     let (ux, uy) = (v[0] / speed, v[1] / speed);
     let along = f_mean[0] * ux + f_mean[1] * uy;
     let cross = -f_mean[0] * uy + f_mean[1] * ux;
-    if (cross / speed).abs() > thresholds::TURN_RATE_DEG_S.to_radians() {
+    moving_phase(cross / speed, along)
+}
+
+/// The phase of a vehicle in motion from its turn rate (rad/s) and its acceleration along
+/// the track (m/s^2).
+pub fn moving_phase(turn_rate: f64, along: f64) -> Phase {
+    if turn_rate.abs() > thresholds::TURN_RATE_DEG_S.to_radians() {
         Phase::Turning
     } else if along > thresholds::ALONG_ACCEL {
         Phase::Accelerating

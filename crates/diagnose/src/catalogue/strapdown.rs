@@ -272,16 +272,7 @@ impl Catalogue for StrapdownCatalogue {
             .f
             .iter()
             .fold((0.0, 0.0), |(w, a), f| (w + f[2], a + f[3]));
-        let (turn, along) = (turn / knots, along / knots);
-        if turn.abs() > thresholds::TURN_RATE_DEG_S.to_radians() {
-            Phase::Turning
-        } else if along > thresholds::ALONG_ACCEL {
-            Phase::Accelerating
-        } else if along < -thresholds::ALONG_ACCEL {
-            Phase::Decelerating
-        } else {
-            Phase::Cruising
-        }
+        crate::consistency::moving_phase(turn / knots, along / knots)
     }
     fn with_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str, f64)> {
         None

@@ -144,14 +144,46 @@ fn main() {
             .nth(2)
             .and_then(|s| s.parse().ok())
             .expect("clean SEED");
-        let (d, _) = diagnose(
-            &simulate(&Content::Clean, seed),
-            &catalogue,
-            &Options::default(),
-        )
-        .unwrap();
+        let ds = simulate(&Content::Clean, seed);
+        if let (Some(a), Some(t)) = (ds.initial, ds.truth.as_ref()) {
+            let x0 = &t.states[0];
+            println!(
+                "initial attitude error: roll {:.3} deg, pitch {:.3} deg, heading {:.3} deg",
+                a.roll_deg - x0[0].to_degrees(),
+                a.pitch_deg - x0[1].to_degrees(),
+                a.heading_deg - x0[2].to_degrees()
+            );
+        }
+        let (d, _) = diagnose(&ds, &catalogue, &Options::default()).unwrap();
         for f in &d.findings {
             println!("- {f}");
+        }
+        return;
+    }
+    // `-- track SEED EFFECT`: EFFECT's first coefficient over the clean drive SEED, every 100 s.
+    if std::env::args().nth(1).as_deref() == Some("track") {
+        let seed: u64 = std::env::args()
+            .nth(2)
+            .and_then(|s| s.parse().ok())
+            .expect("SEED");
+        let effect = std::env::args().nth(3).expect("EFFECT");
+        let opts = Options {
+            with: vec![effect.clone()],
+            max_rounds: 1,
+            fit_noise: false,
+            ..Options::default()
+        };
+        let (_, fits) = diagnose(&simulate(&Content::Clean, seed), &catalogue, &opts).unwrap();
+        let f = &fits.model;
+        let j = f.names.len() - f.nav_dim - 1;
+        for k in (0..f.track.len()).step_by(100) {
+            let (x, v) = f.track.at(k, j);
+            println!(
+                "t {:6.0}  {} = {x:.4e} +- {:.2e}",
+                f.t[k],
+                f.names[f.nav_dim + j],
+                v.sqrt()
+            );
         }
         return;
     }

@@ -193,6 +193,6 @@ pub fn first_full_measurement(
 pub fn of(ds: &Dataset) -> Box<dyn Catalogue> {
     match ds.model {
         ModelKind::Platform => Box::new(navkf_dynamics::Registry::catalogue()),
-        ModelKind::Strapdown => Box::new(strapdown::StrapdownCatalogue::default()),
+        ModelKind::Strapdown => Box::new(strapdown::StrapdownCatalogue::for_dataset(ds)),
     }
 }

@@ -35,6 +35,10 @@ pub struct StrapdownCatalogue {
     pub registry: StrapdownRegistry,
     /// The unit's class: the typical sizes of its biases and effects.
     pub class: UnitClass,
+    /// The attitude at the first IMU row with its tilt sigmas, found once for the dataset
+    /// the catalogue was made for ([`StrapdownCatalogue::for_dataset`]): the alignment from
+    /// the data scans every reading, and every fit of a diagnosis starts from it.
+    aligned: Option<([f64; 3], [f64; 2])>,
 }
 
 const CHANNELS: [Channel; MEAS_DIM] = [
@@ -76,9 +80,20 @@ const CHANNELS: [Channel; MEAS_DIM] = [
 ];
 
 impl StrapdownCatalogue {
+    /// The MEMS catalogue for `ds`, its start attitude found once (a catalogue made with
+    /// `default()` finds it at every fit, for whatever dataset it is given).
+    pub fn for_dataset(ds: &Dataset) -> Self {
+        let mut c = StrapdownCatalogue::default();
+        c.aligned = c.initial(ds).ok();
+        c
+    }
+
     /// The attitude at the first IMU row and the tilt sigmas that go with it: `[initial]`
     /// with `[prior]`'s sigmas, or the alignment from the data.
     fn initial(&self, ds: &Dataset) -> Result<([f64; 3], [f64; 2]), DiagnoseError> {
+        if let Some(a) = self.aligned {
+            return Ok(a);
+        }
         let level_default = self.class.errors().accel_bias / 9.80665;
         if let Some(a) = ds.initial {
             let level = ds.prior.level_rad.unwrap_or(level_default);

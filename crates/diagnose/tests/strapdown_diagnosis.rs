@@ -61,6 +61,31 @@ fn a_clean_mems_drive_names_nothing() {
         }
         assert!(d.effects.is_empty(), "run {run}: named {:?}", d.effects);
     }
+    // A held coefficient stays held whatever prior is stated (freed, s_az's widened from
+    // 1e-3 to 1.8 on this clean drive), and the report says the stated prior is not used.
+    let mut opts = Options {
+        with: vec!["accel-scale".into()],
+        max_rounds: 1,
+        ..Options::default()
+    };
+    opts.prior.coefficients.insert("s_az".into(), 1e-3);
+    let (d, fits) = diagnose(&drive("", 1, 0), &catalogue, &opts).unwrap();
+    let prior = |name: &str| {
+        let i = fits.model.names.iter().position(|n| n == name).unwrap();
+        fits.model.prior_sigma[i]
+    };
+    assert!(
+        prior("s_az") < 1e-8 && prior("baz") < 1e-6,
+        "{}",
+        prior("s_az")
+    );
+    assert!(
+        d.findings
+            .iter()
+            .any(|f| f.contains("priors stated for s_az are not used")),
+        "{:#?}",
+        d.findings
+    );
 }
 
 /// Each effect a level drive identifies well, hidden at four times its MEMS size (the others

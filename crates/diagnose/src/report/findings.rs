@@ -10,6 +10,7 @@ use crate::candidates::evidence::{Candidate, CandidateKind, Outcome, DECISIVE_BI
 use crate::diagnosis::{Diagnosis, RoundKind};
 use crate::noise::levels::NoiseVerdict;
 use crate::verdict::Verdict;
+use navkf_dynamics::prior::PriorSource;
 
 /// A tilt prior sigma beyond which the diagnosis warns that the small-angle model is out of
 /// its depth (0.5 deg: `results/misalignment/` finds its EKF consistent at 0.1 deg and not at
@@ -327,8 +328,25 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
              only), and a filter's own linearisation drifts their estimates whatever the truth, \
              so a likelihood would reward the drift (docs/model.md, \"What the horizontal model \
              cannot see: the vertical accelerometer bias\"). Rotations about the unit's forward \
-             and left axes, or a vertical channel, would reveal them.",
-            d.pinned.join(", ")
+             and left axes, or a vertical channel, would reveal them.{}",
+            d.pinned.join(", "),
+            {
+                let stated: Vec<&str> = d
+                    .priors
+                    .iter()
+                    .filter(|p| d.pinned.contains(&p.name) && p.source != PriorSource::Default)
+                    .map(|p| p.name.as_str())
+                    .collect();
+                if stated.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        " The priors stated for {} are not used: stated or not, the data \
+                         cannot inform them, and freed they drift.",
+                        stated.join(", ")
+                    )
+                }
+            }
         ));
     }
     out

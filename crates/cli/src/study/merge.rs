@@ -149,6 +149,7 @@ fn merge_sweep(a: MergeArgs) -> Result<(), Box<dyn std::error::Error>> {
         key: sweep_table.key.clone(),
         runs: config.study.runs,
         filters: config.study.filters.clone(),
+        model: config.model.kind,
         points,
     };
     let command = navkf_report::provenance::command_line();

@@ -150,6 +150,7 @@ pub(super) fn run_sweep(a: Args, config: StudyConfig) -> Result<(), Box<dyn std:
         key: key.clone(),
         runs: config.study.runs,
         filters: config.study.filters.clone(),
+        model: config.model.kind,
         points,
     };
     let command = navkf_report::provenance::command_line();

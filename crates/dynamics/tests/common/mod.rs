@@ -402,3 +402,43 @@ pub fn one_by_one(
     }
     out
 }
+
+/// Propagates `points` of `model` (one after another) across `window` in one batch
+/// ([`SystemModel::propagate_points`]) and each alone (`propagate_generic`), with `noise`
+/// (one value per channel per point) held over the window; asserts that every state of every
+/// point lands within `1e-13` of its size (floor 1e-6) of itself, and returns the points
+/// propagated alone.
+pub fn batch_matches_one_point(
+    model: &dyn SystemModel,
+    points: &[f64],
+    noise: &[f64],
+    window: &InputWindow,
+) -> Vec<f64> {
+    let n = model.dim();
+    let nw = model.noise_channels().len();
+    let count = points.len() / n;
+    let mut batch = points.to_vec();
+    let mut scratch = model.propagation_scratch(count);
+    model.propagate_points(&mut batch, Some(noise), window, &mut scratch);
+    let mut one = vec![0.0; 4 * model.dynamic_dim() + n];
+    let mut alone = points.to_vec();
+    for p in 0..count {
+        let x = &mut alone[p * n..(p + 1) * n];
+        propagate_generic(
+            model,
+            x,
+            Some(&noise[p * nw..(p + 1) * nw]),
+            window,
+            &mut one,
+        );
+        for i in 0..n {
+            let b = batch[p * n + i];
+            assert!(
+                (b - x[i]).abs() <= 1e-13 * x[i].abs().max(1e-6),
+                "point {p}, state {i}: batch {b:e}, alone {:e}",
+                x[i]
+            );
+        }
+    }
+    alone
+}

@@ -53,6 +53,12 @@ fn per_filter(
     y: impl Fn(&PointFilter) -> f64,
 ) -> Panel {
     let (words, factor) = axis(&s.key);
+    // A strapdown unit's "azimuth" prior is its heading's.
+    let words = if s.model.is_platform() {
+        words
+    } else {
+        words.replace("azimuth", "heading")
+    };
     let mut p = Panel::new(caption.into(), &words, y_desc.into(), y_scale, BIG);
     p.x_scale = x_scale(s);
     let n = s.filters.len();

@@ -90,6 +90,13 @@ pub struct SweepSummary {
     pub study: String,
     /// The swept key.
     pub key: String,
+    /// The model family the study runs (the platform unless said): the axis names the
+    /// strapdown unit's `azimuth_rad` what it is, its heading.
+    #[serde(
+        default,
+        skip_serializing_if = "navkf_dynamics::ModelKind::is_platform"
+    )]
+    pub model: navkf_dynamics::ModelKind,
     /// Runs per point.
     pub runs: usize,
     /// Filters, in the study's order.

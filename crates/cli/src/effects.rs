@@ -4,19 +4,106 @@
 //! one line of meaning and its coefficients, each read from the effect's own methods
 //! (`description`, `coefficient_names`, `coefficient_units`, `coefficient_sigma`,
 //! `process_noise`): a new effect is listed the moment it is in `Registry::catalogue`, and no
-//! second table can go stale. `docs/glossary.md` says the same in prose.
+//! second table can go stale. `docs/glossary.md` says the same in prose. `--model strapdown`
+//! lists the strapdown family's six biases and its declared effects the same way.
 
 use navkf_dynamics::prior::base_coefficient_sigma;
 use navkf_dynamics::state::{BASE_DIM, BASE_MEANINGS, BASE_NAMES, BASE_UNITS, NAV_DIM};
+use navkf_dynamics::strapdown::effects::StrapdownRegistry;
+use navkf_dynamics::strapdown::state::{
+    BASE_DIM as SD_BASE_DIM, BA_X as SD_BA_X, NAV_DIM as SD_NAV_DIM, STATE_NAMES as SD_NAMES,
+    STATE_UNITS as SD_UNITS,
+};
+use navkf_dynamics::strapdown::unit_class::UnitClass;
 use navkf_dynamics::Registry;
 use std::fmt::Write as _;
 
 #[derive(clap::Args)]
-pub struct Args {}
+pub struct Args {
+    /// The model family whose catalogue to list: `platform` or `strapdown` (its sizes those of
+    /// `--unit`)
+    #[arg(long, default_value = "platform")]
+    model: String,
+    /// The strapdown unit's class whose typical sizes to show: navigation, tactical or mems
+    /// (MEMS if left out)
+    #[arg(long)]
+    unit: Option<String>,
+}
 
-pub fn run(_: Args) -> Result<(), Box<dyn std::error::Error>> {
-    say!("{}", listing(&Registry::catalogue())?.trim_end());
+pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
+    let text = match a.model.as_str() {
+        "platform" => {
+            if let Some(unit) = a.unit {
+                return Err(format!(
+                    "--unit {unit}: a strapdown unit's class; expected --model strapdown or \
+                     no --unit"
+                )
+                .into());
+            }
+            listing(&Registry::catalogue())?
+        }
+        "strapdown" => strapdown_listing(a.unit.as_deref().unwrap_or("mems").parse()?),
+        other => {
+            return Err(format!("--model {other}: expected platform or strapdown").into());
+        }
+    };
+    say!("{}", text.trim_end());
     Ok(())
+}
+
+/// The strapdown family's catalogue at the sizes of `class`, after its six biases.
+fn strapdown_listing(class: UnitClass) -> String {
+    let mut out = String::new();
+    let unit = class.errors();
+    let _ = writeln!(
+        out,
+        "Base coefficients (6, always in the model; typical one-sigma of a {} unit):",
+        class.name()
+    );
+    let _ = writeln!(
+        out,
+        "  {:<7} {:<15} {:<10} meaning",
+        "name", "unit", "typical"
+    );
+    for i in SD_NAV_DIM..SD_BASE_DIM {
+        let (sigma, meaning) = if i < SD_BA_X {
+            (unit.gyro_bias, "gyro bias, body axis")
+        } else {
+            (unit.accel_bias, "accelerometer bias, body axis")
+        };
+        row(&mut out, SD_NAMES[i], SD_UNITS[i], sigma, meaning);
+    }
+    let registry = StrapdownRegistry::catalogue();
+    let names = registry.names();
+    let _ = writeln!(
+        out,
+        "\nEffects ({}; switch on with `--effects NAME` or a strapdown study file's `effects = \
+         [\"NAME\"]`; `NAME=VALUE` fixes every coefficient, `COEFFICIENT=VALUE` one, \
+         `PARAMETER=VALUE` a bias instability's):",
+        names.len()
+    );
+    for name in names {
+        let Ok(effect) = registry.get(name) else {
+            continue;
+        };
+        let _ = writeln!(out, "\n{name}: {}", effect.description);
+        for c in effect.coefficients {
+            row(&mut out, c.name, c.unit, c.sigma_for(class), "");
+        }
+        if let Some(law) = effect.instability {
+            let [t, sigma] = law.parameter_names;
+            let _ = writeln!(
+                out,
+                "  no coefficients: {t} = {} s and {sigma} = {:.3e} by default",
+                law.time_s,
+                law.sigma_for(class)
+            );
+        }
+    }
+    out.lines()
+        .map(str::trim_end)
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// One coefficient's row: name, unit, typical one-sigma, meaning.

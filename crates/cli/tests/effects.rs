@@ -62,3 +62,46 @@ fn effects_lists_the_catalogue_and_the_base_coefficients() {
         }
     }
 }
+
+#[test]
+fn effects_lists_the_strapdown_catalogue_at_a_units_sizes() {
+    use navkf_dynamics::strapdown::effects::StrapdownRegistry;
+    use navkf_dynamics::strapdown::unit_class::UnitClass;
+    for class in UnitClass::ALL {
+        let o = navkf(["effects", "--model", "strapdown", "--unit", class.name()]);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let out = text(&o.stdout);
+        let unit = class.errors();
+        check(
+            &coefficient_line(&out, "bgz"),
+            "bgz",
+            "rad/s",
+            unit.gyro_bias,
+        );
+        check(
+            &coefficient_line(&out, "bax"),
+            "bax",
+            "m/s^2",
+            unit.accel_bias,
+        );
+        let registry = StrapdownRegistry::catalogue();
+        for name in registry.names() {
+            let effect = registry.get(name).unwrap();
+            let header = format!("{name}: {}", effect.description);
+            assert!(out.lines().any(|l| l == header), "no `{header}` in:\n{out}");
+            for c in effect.coefficients {
+                let words = coefficient_line(&out, c.name);
+                check(&words, c.name, c.unit, c.sigma_for(class));
+            }
+        }
+    }
+    let o = navkf(["effects", "--unit", "mems"]);
+    assert!(!o.status.success());
+    assert!(text(&o.stderr).contains("--model strapdown"));
+    let o = navkf(["effects", "--model", "gimbal"]);
+    assert!(!o.status.success());
+    assert!(text(&o.stderr).contains("platform or strapdown"));
+    let o = navkf(["effects", "--model", "strapdown", "--unit", "consumer"]);
+    assert!(!o.status.success());
+    assert!(text(&o.stderr).contains("navigation, tactical or mems"));
+}

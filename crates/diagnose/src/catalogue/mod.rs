@@ -196,3 +196,52 @@ pub fn of(ds: &Dataset) -> Box<dyn Catalogue> {
         ModelKind::Strapdown => Box::new(strapdown::StrapdownCatalogue::for_dataset(ds)),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What each family's catalogue says of itself agrees with its model and sensors: the
+    /// channels are the sensors' rows and the model's measurement, the base coefficients are
+    /// the states after the navigation ones, every effect's bounds match its coefficients,
+    /// and every held coefficient is a state of the model with the whole catalogue.
+    #[test]
+    fn each_catalogue_agrees_with_its_model_and_sensors() {
+        let catalogues: [Box<dyn Catalogue>; 2] = [
+            Box::new(navkf_dynamics::Registry::catalogue()),
+            Box::new(strapdown::StrapdownCatalogue::default()),
+        ];
+        for c in &catalogues {
+            let noise = NoiseConfig::default();
+            let none = BTreeMap::new();
+            let base = c.model(&[], &none, &noise, Attitude::SmallAngle).unwrap();
+            assert_eq!(c.channels().len(), base.meas_dim(), "{:?}", c.kind());
+            assert_eq!(c.sensors(noise).dim(), base.meas_dim());
+            assert!(c.channels().len() <= MAX_CHANNELS);
+            let names = base.state_names();
+            let coefficients: Vec<String> =
+                c.base_coefficients().into_iter().map(|(n, _)| n).collect();
+            assert_eq!(&names[c.nav_dim()..], &coefficients[..], "{:?}", c.kind());
+            let effects = c.effect_names();
+            for e in &effects {
+                let info = c.effect(e).unwrap();
+                assert!(
+                    info.bounds.is_empty() || info.bounds.len() == info.coefficients.len(),
+                    "{e}"
+                );
+                assert!(
+                    info.coefficients.is_empty() || info.noise_density.is_none(),
+                    "{e}"
+                );
+            }
+            let all = c
+                .model(&effects, &none, &noise, Attitude::SmallAngle)
+                .unwrap();
+            let all_names = all.state_names();
+            for p in c.pinned() {
+                assert!(all_names.iter().any(|n| n == p), "{p} is no state");
+            }
+            assert!(c.noise_sources() <= crate::noise::MAX_SOURCES);
+        }
+    }
+}

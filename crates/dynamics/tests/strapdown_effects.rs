@@ -447,7 +447,14 @@ fn effect_lists_refuse_what_they_cannot_mean() {
     assert!(err("s_gx=1e-3, s_gx=2e-3").contains("twice"));
     assert!(err("gyro-bias-instability=3").contains("T_g"));
     assert!(err("T_g").contains("needs a value"));
-    assert!(err("T_g=-5").contains("> 0"));
+    assert!(err("T_g=-5").contains("correlation time"));
+    assert!(err("T_g=1e-300").contains("correlation time"));
+    assert!(
+        err("sigma_bg=1e300").contains("deg/s"),
+        "{}",
+        err("sigma_bg=1e300")
+    );
+    assert!(err("sigma_ba=NaN").contains("finite") || err("sigma_ba=NaN").contains("number"));
     assert!(err("heading=0.1").contains("navigation state"));
     assert!(err("kod=abc").contains("not a number"));
     // A platform effect is not a strapdown one.
@@ -476,6 +483,26 @@ fn effect_lists_refuse_what_they_cannot_mean() {
     .to_string();
     assert!(
         e.contains("truth.coefficients.s_gz") && e.contains("real instrument"),
+        "{e}"
+    );
+    // A bias too: a fixed gyro bias of 1e300 rad/s is no gyro's.
+    let traj = Arc::new(Trajectory::build(&TrajectoryConfig::default()).unwrap());
+    let model = Arc::new(StrapdownModel::base(&noise));
+    let mut fixed = BTreeMap::new();
+    fixed.insert("bgz".to_string(), navkf_dynamics::Prior::fixed(1e300));
+    let e = StrapdownSimulator::new(
+        model,
+        traj,
+        10.0,
+        1.0,
+        UnitClass::Mems.errors(),
+        &fixed,
+        noise,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("truth.coefficients.bgz") && e.contains("real instrument"),
         "{e}"
     );
 }

@@ -12,6 +12,7 @@ use super::state::{NAV_DIM, STATE_NAMES};
 use super::unit_class::UnitClass;
 use crate::error::DynamicsError;
 use crate::input_file::printable;
+use crate::sensor_classes::{ACCEL_BIAS, GYRO_DRIFT};
 use crate::simulate::Prior;
 use std::collections::BTreeMap;
 
@@ -115,8 +116,22 @@ impl StrapdownEffectList {
         }
         if let Some(owner) = registry.owner_of_parameter(name) {
             let v = needs_value("the parameter")?;
-            if v <= 0.0 {
-                return Err(format!("{v}: expected a value > 0"));
+            let [time, _] = owner.instability.map_or(["", ""], |l| l.parameter_names);
+            // A correlation time is between a second (shorter is white noise, the unit's
+            // density) and a year; a steady sigma within what a real sensor's bias reaches.
+            let (lo, hi, what) = if name == time {
+                (
+                    1.0,
+                    3.2e7,
+                    "a correlation time from 1 s to a year (3.2e7 s)",
+                )
+            } else if owner.instability.is_some_and(|l| l.triad == Triad::Gyro) {
+                (0.0, GYRO_DRIFT.limit, GYRO_DRIFT.reason)
+            } else {
+                (0.0, ACCEL_BIAS.limit, ACCEL_BIAS.reason)
+            };
+            if !(v > lo && v <= hi) {
+                return Err(format!("{v}: expected a value in ({lo}, {hi}]: {what}"));
             }
             self.ensure(owner);
             if self.parameters.insert(name.to_string(), v).is_some() {

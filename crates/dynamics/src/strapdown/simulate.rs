@@ -171,21 +171,26 @@ impl StrapdownSimulator {
                     ),
                 ));
             }
-            if let Some(c) = model
-                .effects()
-                .iter()
-                .flat_map(|e| e.coefficients.iter())
-                .find(|c| c.name == name)
-            {
-                if !(c.bound.contains(p.mean) && c.bound.contains(p.sigma)) {
-                    return Err(cfg_err(
-                        &key,
-                        format!(
-                            "mean {} sigma {}: beyond what a real instrument gives ({})",
-                            p.mean, p.sigma, c.bound.reason
-                        ),
-                    ));
-                }
+            // The biases' bounds are the platform's drift and accelerometer bias; an
+            // effect's, its own.
+            let bound = match i {
+                i if i < BA_X => Some(crate::sensor_classes::GYRO_DRIFT),
+                i if i < BASE_DIM => Some(crate::sensor_classes::ACCEL_BIAS),
+                _ => model
+                    .effects()
+                    .iter()
+                    .flat_map(|e| e.coefficients.iter())
+                    .find(|c| c.name == name)
+                    .map(|c| c.bound),
+            };
+            if let Some(b) = bound.filter(|b| !(b.contains(p.mean) && b.contains(p.sigma))) {
+                return Err(cfg_err(
+                    &key,
+                    format!(
+                        "mean {} sigma {}: beyond what a real instrument gives ({})",
+                        p.mean, p.sigma, b.reason
+                    ),
+                ));
             }
             priors[i] = *p;
         }

@@ -3,7 +3,8 @@
 //! CPU (the strapdown issue's bound: at most 1.5x). Both windows are 1 s with 10 input
 //! sub-steps; the strapdown update has the five rows of a moving vehicle (speed, GPS, two NHC;
 //! the two zero-velocity rows are a standstill's), the platform's four.
-//! `cargo run --release -p navkf-benches --example strapdown_step [-- SECONDS]`
+//! `cargo run --release -p navkf-benches --example strapdown_step [-- SECONDS [FILTER]]`
+//! (a FILTER name times that filter alone, for a profiler).
 
 use navkf_benches::{all_filters, Scenario};
 use navkf_dynamics::strapdown::model::{measurement, StrapdownModel, MEAS_DIM};
@@ -45,6 +46,7 @@ fn main() {
         .nth(1)
         .and_then(|s| s.parse().ok())
         .unwrap_or(1.0);
+    let only = std::env::args().nth(2);
     // The platform: the benchmarks' scenario, warmed up.
     let sc = Scenario::new();
     let (pw, pz, ps, pa) = sc.window_at(300.0);
@@ -93,6 +95,9 @@ fn main() {
         "filter", "platform", "strapdown", "ratio"
     );
     for mut pf in all_filters(&sc.model) {
+        if only.as_deref().is_some_and(|name| name != pf.name()) {
+            continue;
+        }
         sc.warm_up(&mut *pf, 300.0);
         let (px, pp) = (pf.state().to_vec(), pf.covariance().to_vec());
         let kind: FilterKind = pf.name().parse().unwrap();

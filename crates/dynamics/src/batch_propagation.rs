@@ -62,9 +62,10 @@ pub const MAX_OFFSET: f64 = 0.03;
 
 /// `sin(d)` and `cos(d)` by their Taylor series in Horner form, for `|d| < MAX_OFFSET`
 /// (coefficients are reciprocal factorials, multiplied rather than divided: a vector divide
-/// costs ten multiplies).
+/// costs ten multiplies). The first omitted terms, `d^11/11!` and `d^12/12!`, stay below
+/// 3e-19 up to `|d| = 0.1`.
 #[inline(always)]
-fn small_sin_cos(d: f64) -> (f64, f64) {
+pub(crate) fn small_sin_cos(d: f64) -> (f64, f64) {
     const S3: f64 = -1.0 / 6.0;
     const S5: f64 = 1.0 / 120.0;
     const S7: f64 = -1.0 / 5040.0;
@@ -106,14 +107,44 @@ fn block_latitude(x: &[Lanes], reference: (f64, f64, f64)) -> LatitudeTerms<Lane
     LatitudeTerms::new(sin_l, cos_l)
 }
 
+/// `(sin L, cos L)` of a block's latitudes `lat` from `reference` = `(L_ref, sin L_ref,
+/// cos L_ref)` by the angle-addition formula and the series of the offset: valid while
+/// every lane is within [`MAX_OFFSET`] of `L_ref` ([`latitudes_near`]). Shared by both
+/// families' batches.
+#[inline(always)]
+pub(crate) fn sin_cos_near(lat: Lanes, reference: (f64, f64, f64)) -> (Lanes, Lanes) {
+    let (lat_ref, s0, c0) = reference;
+    let mut sin_l = Lanes::default();
+    let mut cos_l = Lanes::default();
+    for l in 0..LANES {
+        let (sd, cd) = small_sin_cos(lat.0[l] - lat_ref);
+        sin_l.0[l] = s0 * cd + c0 * sd;
+        cos_l.0[l] = c0 * cd - s0 * sd;
+    }
+    (sin_l, cos_l)
+}
+
 /// Whether the batched path applies to these points over this window: every latitude within
 /// reach of the reference for the whole window.
 pub fn applicable(points: &[f64], n: usize, window: &InputWindow, lat_ref: f64) -> bool {
+    latitudes_near(points, n, (LAT, V_Y), window, lat_ref)
+}
+
+/// Whether every latitude of `points` (`n` values each, the latitude and the North velocity
+/// at the indices `(lat, v_north)`) stays within [`MAX_OFFSET`] of `lat_ref` for the whole window, so that [`sin_cos_near`]
+/// holds at every stage.
+pub(crate) fn latitudes_near(
+    points: &[f64],
+    n: usize,
+    (lat, v_north): (usize, usize),
+    window: &InputWindow,
+    lat_ref: f64,
+) -> bool {
     let mut max_d: f64 = 0.0;
     let mut max_v: f64 = 0.0;
     for x in points.chunks_exact(n) {
-        max_d = max_d.max((x[LAT] - lat_ref).abs());
-        max_v = max_v.max(x[V_Y].abs());
+        max_d = max_d.max((x[lat] - lat_ref).abs());
+        max_v = max_v.max(x[v_north].abs());
     }
     // Latitude cannot move faster than |v_y| / RM (RM > 6.3e6 m) plus what the velocity can
     // gain within the window; allow a factor of 2 on the distance and 50 km slack.

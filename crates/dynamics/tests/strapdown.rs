@@ -323,7 +323,9 @@ fn dual_values_and_batches_are_the_scalar_rates_bit_for_bit() {
 /// The batched propagation (eight points a block) lands where each point lands alone
 /// (`propagate_generic`, the one-state RK4), noise held over the window included, for a
 /// count of points that is not a multiple of the block: to the rounding the batch's one
-/// division for three reciprocals allows.
+/// division for three reciprocals allows. Twice: latitudes all over the globe (the batch
+/// evaluates their sines in full) and latitudes as close as a filter's sigma points (it takes
+/// them from a series about the first point's).
 #[test]
 fn batched_propagation_matches_one_point_at_a_time() {
     use navkf_dynamics::strapdown::model::StrapdownModel;
@@ -341,16 +343,23 @@ fn batched_propagation_matches_one_point_at_a_time() {
     }
     let count = 11;
     let nw = model.noise_channels().len();
-    let points: Vec<f64> = (0..count).flat_map(|_| random_state(&mut rng)).collect();
-    let noise: Vec<f64> = (0..count * nw)
-        .map(|_| rng.gen_range(-1e-3..1e-3))
-        .collect();
-    let alone = common::batch_matches_one_point(&model, &points, &noise, &w);
-    for p in 0..count {
-        assert!(
-            (alone[p * BASE_DIM + HEADING] - points[p * BASE_DIM + HEADING]).abs() > 1e-6,
-            "it moved"
-        );
+    for near in [false, true] {
+        let mut points: Vec<f64> = (0..count).flat_map(|_| random_state(&mut rng)).collect();
+        if near {
+            for p in 0..count {
+                points[p * BASE_DIM + LAT] = 0.84 + rng.gen_range(-1e-5..1e-5);
+            }
+        }
+        let noise: Vec<f64> = (0..count * nw)
+            .map(|_| rng.gen_range(-1e-3..1e-3))
+            .collect();
+        let alone = common::batch_matches_one_point(&model, &points, &noise, &w);
+        for p in 0..count {
+            assert!(
+                (alone[p * BASE_DIM + HEADING] - points[p * BASE_DIM + HEADING]).abs() > 1e-6,
+                "it moved"
+            );
+        }
     }
 }
 

@@ -17,7 +17,8 @@ use crate::real::Real;
 /// [`body_to_nav_of`] and [`euler_rates_of`].
 #[inline(always)]
 pub fn angle_trig<T: Real>(euler: [T; 3]) -> [(T, T); 3] {
-    euler.map(|a| a.sin_cos())
+    // Written out: `array::map`'s closure stayed a call per angle on the batch path.
+    [euler[0].sin_cos(), euler[1].sin_cos(), euler[2].sin_cos()]
 }
 
 /// `C_b^n` from `[roll, pitch, heading]`: rows East, North, Up; columns forward, left, up.

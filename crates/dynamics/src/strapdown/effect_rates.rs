@@ -15,8 +15,22 @@ use crate::real::Real;
 #[inline(always)]
 pub fn rates_with_effects<T: Real>(layout: &ErrorLayout, x: &[T], imu: &ImuReading, dx: &mut [T]) {
     let trig = angle_trig([x[ROLL], x[PITCH], x[HEADING]]);
+    rates_with_effects_at(layout, x, imu, &trig, x[LAT].sin_cos(), dx)
+}
+
+/// [`rates_with_effects`] with the sines and cosines of the angles ([`angle_trig`]) and of
+/// the latitude already evaluated (a batch takes them from series about reference values).
+#[inline(always)]
+pub fn rates_with_effects_at<T: Real>(
+    layout: &ErrorLayout,
+    x: &[T],
+    imu: &ImuReading,
+    trig: &[(T, T); 3],
+    lat_trig: (T, T),
+    dx: &mut [T],
+) {
     let (w, f) = corrected_reading(layout, imu, x);
-    nav_rates_corrected(x, w, f, &trig, x[LAT].sin_cos(), dx);
+    nav_rates_corrected(x, w, f, trig, lat_trig, dx);
     if layout.biases_wander() {
         for (first, decay) in [(BG_X, layout.gyro_decay), (BA_X, layout.accel_decay)] {
             for i in first..first + 3 {

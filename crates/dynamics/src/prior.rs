@@ -32,7 +32,7 @@ use std::collections::BTreeMap;
 /// Typical one-sigma sizes of the 13 base coefficients for a navigation-grade platform:
 /// gyro drift 0.02 deg/h, acceleration-sensitive drift 0.02 deg/h per g, accelerometer bias
 /// 50 micro-g, accelerometer scale factor 50 ppm. The paper gives none; these are stated in
-/// the study files and README.
+/// the study files and docs/diagnosis.md (its priors table).
 pub fn base_coefficient_sigma(index: usize) -> f64 {
     const DEG_PER_H: f64 = std::f64::consts::PI / 180.0 / 3600.0;
     const G: f64 = 9.80665;

@@ -1,12 +1,12 @@
 //! Small dense kernels on column-major slices, written for the sizes of this problem
 //! (n = 20 to 40, measurement size up to 4) and for not allocating.
 //!
-//! They are not the fastest code for these sizes on every CPU: on the AMD Zen 4 of README's
-//! Speed section, nalgebra's Cholesky (0.73 us at n = 20, a copy included) and faer's
+//! They are not the fastest code for these sizes on every CPU: on the AMD Zen 4 of
+//! docs/speed.md, nalgebra's Cholesky (0.73 us at n = 20, a copy included) and faer's
 //! product for the UKF covariance (0.85 us for 41 points) beat [`cholesky_in_place`]
 //! (1.02 us) and [`row_dots`] (1.45 us) (`cargo bench -p navkf-benches --bench linalg`).
 //! They are kept because they allocate nothing and work on the filters' flat buffers; moving
-//! to a library call that does neither is an open lead (README, Speed).
+//! to a library call that does neither is an open lead (docs/speed.md).
 
 use crate::view::RowMajor;
 

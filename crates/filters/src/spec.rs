@@ -61,7 +61,7 @@ impl FilterSpec {
 impl Default for FilterSpec {
     /// The EKF on the small-angle model: on the platform model it gives the UKFs' likelihood
     /// to 1e-3 of 7e4 (the paper study finds the filters equal to four digits), and with
-    /// effects that add rates it costs about half a sigma-point filter's step (README, Speed).
+    /// effects that add rates it costs about half a sigma-point filter's step (docs/speed.md).
     fn default() -> Self {
         FilterSpec::new(FilterKind::Ekf)
     }

@@ -6,7 +6,7 @@
 //!
 //! The QR and `S S^T` are hand kernels on `F64x4` (`simd.rs`) because they beat faer's at the
 //! square-root UKF's sizes (`cargo bench -p navkf-benches --bench linalg -- square_root`;
-//! README, Speed). Grouping columns or rows changes no result: every entry keeps the
+//! docs/speed.md). Grouping columns or rows changes no result: every entry keeps the
 //! arithmetic of the scalar `dot`, which the tests check bit for bit.
 
 use crate::simd::F64x4;

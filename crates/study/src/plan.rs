@@ -7,7 +7,7 @@
 //! test (run 0 of its seed). On this model the information hardly depends on the particular
 //! truth: the coefficients enter linearly (docs/model.md eqs. (5), (6)), and the rest of the
 //! Jacobian depends on the path, which every run shares. So one recursion predicts what the
-//! Monte Carlo RMS of the same study will be (README, "Plan a test", states the agreement for
+//! Monte Carlo RMS of the same study will be (README's "Plan a test" states the agreement for
 //! the paper study).
 //!
 //! Per coefficient: the predicted final sigma and its ratio to the prior, when it first falls

@@ -2,7 +2,7 @@
 
 /// The swept key as a figure's axis: its path in words, in the unit engineers quote, and
 /// the factor from the key's unit to it. Angles (`_rad`) are shown in degrees, as the study
-/// files' comments and README speak of them; a list index counts from 1.
+/// files' comments and docs speak of them; a list index counts from 1.
 ///
 /// ```
 /// use navkf_study::sweep::axis;

@@ -5,7 +5,9 @@
 //!
 //! `cargo run --release -p navkf-diagnose --example strapdown_error_rates [-- PER_CLASS]`
 //! (default 30 datasets per class; each draws its run, its biases and its sizes), or
-//! `-- clean SEED` for one clean dataset's findings.
+//! `-- clean SEED` for one clean dataset's findings, or `-- study FILE INDEX` for the
+//! findings and first round of dataset INDEX of a diagnosis study file (what it hid, each
+//! candidate's evidence).
 
 use navkf_diagnose::catalogue::strapdown::StrapdownCatalogue;
 use navkf_diagnose::{diagnose, Options};
@@ -155,6 +157,49 @@ fn main() {
             );
         }
         let (d, _) = diagnose(&ds, &catalogue, &Options::default()).unwrap();
+        for f in &d.findings {
+            println!("- {f}");
+        }
+        return;
+    }
+    // `-- study FILE INDEX`: one dataset of a diagnosis study, as the study diagnosed it.
+    if std::env::args().nth(1).as_deref() == Some("study") {
+        use navkf_diagnose::diagnosis_study::{content, DiagnosisStudyConfig};
+        let path = std::env::args().nth(2).expect("study FILE INDEX");
+        let index: usize = std::env::args()
+            .nth(3)
+            .and_then(|s| s.parse().ok())
+            .expect("INDEX");
+        let config = DiagnosisStudyConfig::load(std::path::Path::new(&path)).unwrap();
+        let planned = content::plan(&config).unwrap();
+        let trajectory = Arc::new(Trajectory::build(&config.trajectory).unwrap());
+        let p = &planned[index];
+        println!("hidden: {:?}", p.hidden);
+        let ds = content::simulate(&config, &trajectory, p).unwrap();
+        let catalogue = navkf_diagnose::catalogue::of(&ds);
+        let (d, _) = diagnose(&ds, &*catalogue, &config.options()).unwrap();
+        for r in &d.rounds {
+            println!(
+                "round: model {:?}, NIS {:.3}, named {:?}",
+                r.model, r.nis.mean, r.named
+            );
+            for c in r.candidates.iter().take(6) {
+                let coefficients: Vec<String> = c
+                    .coefficients
+                    .iter()
+                    .map(|k| format!("{} {:.2e}+-{:.1e}", k.name, k.estimate, k.sigma))
+                    .collect();
+                println!(
+                    "  {:24} bic {:8.1} k {} excess {:5.2} {:?} {}",
+                    c.effect,
+                    c.bic_gain,
+                    c.parameters,
+                    c.excess_removed,
+                    c.outcome,
+                    coefficients.join(", ")
+                );
+            }
+        }
         for f in &d.findings {
             println!("- {f}");
         }

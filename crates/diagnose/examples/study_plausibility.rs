@@ -1,9 +1,10 @@
-//! The false-alarm rate of the data checks on clean data: every dataset of
-//! `studies/diagnosis.toml` (980 simulated vehicle tests hiding effects, pairs, effects outside
-//! the catalogue and mis-stated noise) through `Dataset::implausibilities`, with how close the
-//! clean data come to the bounds. None may be implausible: the study's diagnoses would change.
+//! The false-alarm rate of the data checks on clean data: every dataset of a diagnosis study
+//! (`studies/diagnosis.toml` unless another is given: simulated vehicle tests hiding effects,
+//! pairs, effects outside the catalogue and mis-stated noise) through
+//! `Dataset::implausibilities`, with how close the clean data come to the bounds. None may be
+//! implausible: the study's diagnoses would change.
 //!
-//!     cargo run --release -p navkf-study --example study_plausibility
+//!     cargo run --release -p navkf-diagnose --example study_plausibility [-- STUDY]
 
 use navkf_diagnose::diagnosis_study::{content, DiagnosisStudyConfig};
 use navkf_dynamics::dataset::Dataset;
@@ -41,8 +42,10 @@ fn extremes(ds: &Dataset) -> [f64; 4] {
 }
 
 fn main() {
-    let config =
-        DiagnosisStudyConfig::load(std::path::Path::new("studies/diagnosis.toml")).unwrap();
+    let path = std::env::args()
+        .nth(1)
+        .unwrap_or_else(|| "studies/diagnosis.toml".into());
+    let config = DiagnosisStudyConfig::load(std::path::Path::new(&path)).unwrap();
     let planned = content::plan(&config).unwrap();
     let trajectory = Arc::new(Trajectory::build(&config.trajectory).unwrap());
     let rows: Vec<(usize, Vec<String>, [f64; 4])> = planned

@@ -19,6 +19,14 @@
 use crate::dataset::{Dataset, Truth};
 use crate::earth::{meridian_radius, prime_vertical_radius};
 use crate::state::{LAT, V_X, V_Y};
+
+// Both families' truths keep East and North velocity and latitude at the same indices, so a
+// fault reads either's.
+const _: () = assert!(
+    V_X == crate::strapdown::state::V_E
+        && V_Y == crate::strapdown::state::V_N
+        && LAT == crate::strapdown::state::LAT
+);
 use serde::{Deserialize, Serialize};
 
 /// A fault of the recorded measurements (as a diagnosis study's `summary.json` records it,
@@ -109,9 +117,13 @@ impl SensorFault {
                     }
                 }
                 SensorFault::OdometerSlip { gain_s2_m } => {
+                    // The platform's odometer reads a velocity, a strapdown unit's a speed.
+                    let k = 1.0 + gain_s2_m * accel.max(0.0);
                     if let Some(v) = m.velocity.as_mut() {
-                        let k = 1.0 + gain_s2_m * accel.max(0.0);
                         *v = [v[0] * k, v[1] * k];
+                    }
+                    if let Some(s) = m.speed.as_mut() {
+                        *s *= k;
                     }
                 }
                 SensorFault::GpsLeverArm { forward_m, right_m } => {

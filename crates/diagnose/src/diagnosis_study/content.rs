@@ -14,7 +14,9 @@ use navkf_dynamics::outside::{AccelWarmUp, Drag};
 use navkf_dynamics::rng::{stream, Purpose};
 use navkf_dynamics::sensor_faults::SensorFault;
 use navkf_dynamics::simulate::Prior;
-use navkf_dynamics::{NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TruthConfig};
+use navkf_dynamics::{
+    ModelKind, NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TruthConfig,
+};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -63,8 +65,9 @@ pub enum Hidden {
     /// The stated noise is not the truth's: each source's stated sigma is the true one
     /// divided by its factor.
     MisstatedNoise {
-        /// Per source (gyro, accelerometer, odometer, GPS): true sigma over stated sigma.
-        factors: [f64; 4],
+        /// Per source (gyro, accelerometer, odometer, GPS, and a strapdown study's constraint
+        /// tolerance): true sigma over stated sigma.
+        factors: Vec<f64>,
     },
 }
 
@@ -125,11 +128,11 @@ pub struct Planned {
     pub hidden: Vec<Hidden>,
 }
 
-fn log_uniform<R: Rng>(rng: &mut R, [lo, hi]: [f64; 2]) -> f64 {
+pub(super) fn log_uniform<R: Rng>(rng: &mut R, [lo, hi]: [f64; 2]) -> f64 {
     (lo.ln() + rng.gen::<f64>() * (hi.ln() - lo.ln())).exp()
 }
 
-fn sign<R: Rng>(rng: &mut R) -> f64 {
+pub(super) fn sign<R: Rng>(rng: &mut R) -> f64 {
     if rng.gen::<bool>() {
         1.0
     } else {
@@ -170,13 +173,23 @@ fn draw_effect<R: Rng>(
 /// Every dataset of the study, in index order.
 pub fn plan(config: &DiagnosisStudyConfig) -> Result<Vec<Planned>, DiagnoseError> {
     let registry = Registry::catalogue();
-    let catalogue = registry.names();
+    let catalogue = config.effect_names();
+    let strapdown = config.model.kind == ModelKind::Strapdown;
+    let draw = |rng: &mut _, name: &str, range: [f64; 2]| {
+        if strapdown {
+            super::strapdown::draw_effect(rng, name, range, config.model.unit_class())
+        } else {
+            draw_effect(rng, name, range, &registry)
+        }
+    };
+    // Noise sources a mis-stated noise may put off: the family's.
+    let sources = if strapdown { 5 } else { 4 };
     let range = |name: &str| config.size_range(name);
     let mut out = Vec::new();
     let seed = config.study.seed;
     let trajectory_s = config.trajectory.duration_s;
     for class in &config.content {
-        let n = class.count();
+        let n = class.count(catalogue.len());
         for k in 0..n {
             let index = out.len();
             let mut rng = stream(seed, index as u64, CONTENT);
@@ -185,7 +198,7 @@ pub fn plan(config: &DiagnosisStudyConfig) -> Result<Vec<Planned>, DiagnoseError
                 ContentClass::Single { .. } => {
                     // Every catalogued effect in turn, `count` datasets each.
                     let name = &catalogue[k % catalogue.len()];
-                    let h = draw_effect(&mut rng, name, range(name), &registry)?;
+                    let h = draw(&mut rng, name, range(name))?;
                     (Class::Single, vec![h])
                 }
                 ContentClass::Pair { effects, sizes, .. } => {
@@ -200,8 +213,8 @@ pub fn plan(config: &DiagnosisStudyConfig) -> Result<Vec<Planned>, DiagnoseError
                         b += 1;
                     }
                     let range = |name: &str| sizes.get(name).copied().unwrap_or(range(name));
-                    let ha = draw_effect(&mut rng, &pool[a], range(&pool[a]), &registry)?;
-                    let hb = draw_effect(&mut rng, &pool[b], range(&pool[b]), &registry)?;
+                    let ha = draw(&mut rng, &pool[a], range(&pool[a]))?;
+                    let hb = draw(&mut rng, &pool[b], range(&pool[b]))?;
                     (Class::Pair, vec![ha, hb])
                 }
                 ContentClass::Outside { effect, sizes, .. } => {
@@ -257,11 +270,11 @@ pub fn plan(config: &DiagnosisStudyConfig) -> Result<Vec<Planned>, DiagnoseError
                 }
                 ContentClass::MisstatedNoise { sizes, .. } => {
                     // One or two sources off, up or down.
-                    let mut factors = [1.0; 4];
-                    let first = rng.gen_range(0..4);
+                    let mut factors = vec![1.0; sources];
+                    let first = rng.gen_range(0..sources);
                     factors[first] = log_uniform(&mut rng, *sizes).powf(sign(&mut rng));
                     if rng.gen::<bool>() {
-                        let second = (first + rng.gen_range(1..4)) % 4;
+                        let second = (first + rng.gen_range(1..sources)) % sources;
                         factors[second] = log_uniform(&mut rng, *sizes).powf(sign(&mut rng));
                     }
                     (
@@ -280,8 +293,20 @@ pub fn plan(config: &DiagnosisStudyConfig) -> Result<Vec<Planned>, DiagnoseError
     Ok(out)
 }
 
-/// Simulates planned dataset `p`.
+/// Simulates planned dataset `p`, with the study's family.
 pub fn simulate(
+    config: &DiagnosisStudyConfig,
+    trajectory: &Arc<Trajectory>,
+    p: &Planned,
+) -> Result<Dataset, DiagnoseError> {
+    match config.model.kind {
+        ModelKind::Platform => simulate_platform(config, trajectory, p),
+        ModelKind::Strapdown => super::strapdown::simulate(config, trajectory, p),
+    }
+}
+
+/// Simulates planned dataset `p` on the platform.
+fn simulate_platform(
     config: &DiagnosisStudyConfig,
     trajectory: &Arc<Trajectory>,
     p: &Planned,
@@ -323,7 +348,7 @@ pub fn simulate(
                 });
             }
             Hidden::Fault { fault, .. } => faults.push(*fault),
-            Hidden::MisstatedNoise { factors } => stated = misstate(&noise, *factors),
+            Hidden::MisstatedNoise { factors } => stated = misstate(&noise, factors),
         }
     }
     let model = Arc::new(PlatformModel::new(effects, &noise)?);
@@ -349,15 +374,17 @@ pub fn simulate(
 }
 
 /// `truth` as a user would state it who has each source's sigma off by `factors` (true over
-/// stated).
-pub fn misstate(truth: &NoiseConfig, factors: [f64; 4]) -> NoiseConfig {
+/// stated): gyro, accelerometer, odometer, GPS and, when given, the constraints' tolerance
+/// (both the non-holonomic and the zero-velocity one).
+pub fn misstate(truth: &NoiseConfig, factors: &[f64]) -> NoiseConfig {
+    let f = |i: usize| factors.get(i).copied().unwrap_or(1.0);
     NoiseConfig {
-        gyro_psd: truth.gyro_psd / (factors[0] * factors[0]),
-        accel_psd: truth.accel_psd / (factors[1] * factors[1]),
-        odometer_rel: truth.odometer_rel / factors[2],
-        odometer_floor: truth.odometer_floor / factors[2],
-        gps_m: truth.gps_m / factors[3],
-        nhc_m_s: truth.nhc_m_s,
-        zupt_m_s: truth.zupt_m_s,
+        gyro_psd: truth.gyro_psd / (f(0) * f(0)),
+        accel_psd: truth.accel_psd / (f(1) * f(1)),
+        odometer_rel: truth.odometer_rel / f(2),
+        odometer_floor: truth.odometer_floor / f(2),
+        gps_m: truth.gps_m / f(3),
+        nhc_m_s: truth.nhc_m_s.map(|v| v / f(4)),
+        zupt_m_s: truth.zupt_m_s.map(|v| v / f(4)),
     }
 }

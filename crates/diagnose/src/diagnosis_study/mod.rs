@@ -16,13 +16,15 @@ pub mod plots;
 pub mod rates;
 pub mod report;
 pub mod shard;
+pub mod strapdown;
 
 use crate::error::DiagnoseError;
 use crate::{diagnose, Options, Verdict};
 use content::{Class, Hidden, Planned};
 use navkf_dynamics::input_file::{printable, read_text, toml_error, toml_message, TextFile};
 use navkf_dynamics::simulate::{Alignment, InitialTilt};
-use navkf_dynamics::{NoiseConfig, Registry, Trajectory, TrajectoryConfig};
+use navkf_dynamics::strapdown::unit_class::UnitClass;
+use navkf_dynamics::{ModelKind, NoiseConfig, Registry, Trajectory, TrajectoryConfig};
 use navkf_report::executor::Executor;
 use navkf_report::StudyKind;
 use serde::{Deserialize, Serialize};
@@ -154,10 +156,10 @@ pub enum ContentClass {
 }
 
 impl ContentClass {
-    /// Number of datasets it makes.
-    pub fn count(&self) -> usize {
+    /// Number of datasets it makes, in a family of `catalogued` effects.
+    pub fn count(&self, catalogued: usize) -> usize {
         match self {
-            ContentClass::Single { count } => count * Registry::catalogue().names().len(),
+            ContentClass::Single { count } => count * catalogued,
             ContentClass::Nothing { count }
             | ContentClass::Pair { count, .. }
             | ContentClass::Outside { count, .. }
@@ -170,12 +172,38 @@ impl ContentClass {
 /// a tenth of it to a hundred times it, three decades around the typical size.
 pub const DEFAULT_SIZES: [f64; 2] = [0.1, 100.0];
 
+/// `[model]`: the family the study's datasets are of (the platform unless set).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct StudyModel {
+    /// `platform` or `strapdown`.
+    pub kind: ModelKind,
+    /// The strapdown unit's class (MEMS if left out): the sizes of its biases, reading noise
+    /// and effects.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unit: Option<UnitClass>,
+}
+
+impl StudyModel {
+    /// Whether the table says nothing (the platform, whose summaries do not write it).
+    pub fn is_platform_default(&self) -> bool {
+        *self == StudyModel::default()
+    }
+    /// The strapdown unit's class.
+    pub fn unit_class(&self) -> UnitClass {
+        self.unit.unwrap_or_default()
+    }
+}
+
 /// A whole diagnosis study file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DiagnosisStudyConfig {
     /// `[study]`.
     pub study: Section,
+    /// `[model]`.
+    #[serde(default, skip_serializing_if = "StudyModel::is_platform_default")]
+    pub model: StudyModel,
     /// `[trajectory]`.
     #[serde(default)]
     pub trajectory: TrajectoryConfig,
@@ -226,6 +254,38 @@ impl DiagnosisStudyConfig {
         self.sizes.get(name).copied().unwrap_or(DEFAULT_SIZES)
     }
 
+    /// The catalogued effects of the study's family.
+    pub fn effect_names(&self) -> Vec<String> {
+        match self.model.kind {
+            ModelKind::Platform => Registry::catalogue().names(),
+            ModelKind::Strapdown => strapdown::effect_names(),
+        }
+    }
+
+    /// Refuses what the study's family does not read (by key).
+    fn validate_family(&self) -> Result<(), String> {
+        match self.model.kind {
+            ModelKind::Platform => {
+                if self.model.unit.is_some() {
+                    return Err(
+                        "model.unit: a unit class is a strapdown study's; expected no \
+                                `unit` with kind = \"platform\""
+                            .into(),
+                    );
+                }
+                if self.noise.nhc_m_s.is_some() || self.noise.zupt_m_s.is_some() {
+                    return Err(
+                        "noise.nhc_m_s, noise.zupt_m_s: the constraints are a strapdown \
+                                study's; expected neither with kind = \"platform\""
+                            .into(),
+                    );
+                }
+                Ok(())
+            }
+            ModelKind::Strapdown => strapdown::validate(self),
+        }
+    }
+
     fn validate(&self) -> Result<(), String> {
         if self.study.kind != StudyKind::Diagnosis {
             return Err(
@@ -237,7 +297,8 @@ impl DiagnosisStudyConfig {
         if self.content.is_empty() {
             return Err("content: no [[content]] table; expected at least one".into());
         }
-        let names = Registry::catalogue().names();
+        self.validate_family()?;
+        let names = self.effect_names();
         let bounds = |key: String, [lo, hi]: [f64; 2]| {
             if lo.is_finite() && hi.is_finite() && lo > 0.0 && hi >= lo {
                 Ok(())
@@ -260,7 +321,7 @@ impl DiagnosisStudyConfig {
             bounds(format!("sizes.{name}"), *r)?;
         }
         for (i, c) in self.content.iter().enumerate() {
-            if c.count() == 0 {
+            if c.count(names.len()) == 0 {
                 return Err(format!("content[{i}].count = 0: expected at least one"));
             }
             match c {
@@ -357,7 +418,7 @@ fn run_one(
         error: None,
     };
     let result = content::simulate(config, trajectory, p)
-        .and_then(|ds| diagnose(&ds, &Registry::catalogue(), options));
+        .and_then(|ds| diagnose(&ds, &*crate::catalogue::of(&ds), options));
     match result {
         Ok((d, _)) => {
             record.verdict = Some(d.verdict);
@@ -365,7 +426,13 @@ fn run_one(
             record.withdrawn = d.withdrawn.iter().map(|w| w.effect.clone()).collect();
             record.rounds = d.rounds.len();
             record.noise_named = d.rounds.iter().any(|r| r.named_noise_levels());
-            for c in &d.model.coefficients {
+            // A pinned coefficient is not estimated (held at zero): no error to judge.
+            for c in d
+                .model
+                .coefficients
+                .iter()
+                .filter(|c| !d.pinned.contains(&c.name))
+            {
                 let hidden_named = p.hidden.iter().any(|h| match h {
                     Hidden::Effect { name, values, .. } => {
                         d.effects.contains(name) && values.contains_key(&c.name)
@@ -418,7 +485,28 @@ pub fn run(
     Ok(records)
 }
 
+/// The study family's catalogued effects with their typical sizes (the detection curves'
+/// scale).
+pub fn effect_scales(config: &DiagnosisStudyConfig) -> Vec<rates::EffectScale> {
+    match config.model.kind {
+        ModelKind::Platform => rates::platform_scales(),
+        ModelKind::Strapdown => strapdown::effect_names()
+            .into_iter()
+            .map(|name| {
+                let (typical, unit) = strapdown::typical(&name, config.model.unit_class())
+                    .unwrap_or((f64::NAN, String::new()));
+                rates::EffectScale {
+                    name,
+                    typical,
+                    unit,
+                }
+            })
+            .collect(),
+    }
+}
+
 /// Number of datasets the study makes.
 pub fn dataset_count(config: &DiagnosisStudyConfig) -> usize {
-    config.content.iter().map(ContentClass::count).sum()
+    let catalogued = config.effect_names().len();
+    config.content.iter().map(|c| c.count(catalogued)).sum()
 }

@@ -37,8 +37,21 @@ pub fn markdown(s: &Summary, command: &str, timing: Option<Timing>) -> String {
     let _ = writeln!(out, "Command: `{command}`\n");
     let _ = writeln!(
         out,
-        "{} simulated 2400 s vehicle tests on the paper's trajectory, seed {}, each diagnosed as a user would (default priors, noise check on, filter `{}`). {} diagnoses stopped with an error.{}\n",
+        "{} simulated {:.0} s vehicle tests{} on {} trajectory, seed {}, each diagnosed as a user would (default priors, noise check on, filter `{}`). {} diagnoses stopped with an error.{}\n",
         r.datasets,
+        s.config.trajectory.duration_s,
+        match s.config.model.kind {
+            navkf_dynamics::ModelKind::Platform => String::new(),
+            navkf_dynamics::ModelKind::Strapdown => format!(
+                " of a strapdown {} unit",
+                s.config.model.unit_class().name()
+            ),
+        },
+        if s.config.trajectory == navkf_dynamics::TrajectoryConfig::default() {
+            "the paper's"
+        } else {
+            "the study's"
+        },
         s.config.study.seed,
         s.config.diagnosis.filter,
         r.errors,
@@ -220,7 +233,7 @@ pub fn write(
 ) -> Result<Summary, DiagnoseError> {
     let summary = Summary {
         config: config.clone(),
-        rates: rates(&records),
+        rates: rates(&records, &super::effect_scales(config)),
         records,
     };
     let json = serde_json::to_string_pretty(&summary)

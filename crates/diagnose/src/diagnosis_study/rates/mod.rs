@@ -276,24 +276,52 @@ fn logistic(points: &[(f64, bool)]) -> Option<[f64; 2]> {
     (a.is_finite() && b.is_finite()).then_some([a, b])
 }
 
-/// The detection curve of `effect` from the single-effect records.
-fn detection(effect: &str, records: &[&Record]) -> Detection {
+/// A catalogued effect with the size its detection curve is scaled by: its first
+/// coefficient's typical sigma (a noise-only term's `sqrt(density)`), and that one's unit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EffectScale {
+    /// The effect's name.
+    pub name: String,
+    /// Its typical size (NaN when unknown).
+    pub typical: f64,
+    /// The unit of `typical`.
+    pub unit: String,
+}
+
+/// The platform catalogue's effects with their typical sizes.
+pub fn platform_scales() -> Vec<EffectScale> {
     let catalogue = Registry::catalogue();
-    let (typical, unit) = catalogue
-        .build(effect)
-        .ok()
-        .map(|e| {
-            let t =
-                e.coefficient_sigma().first().copied().unwrap_or_else(|| {
-                    e.process_noise().first().map_or(f64::NAN, |c| c.psd.sqrt())
-                });
-            let u = e
-                .coefficient_units()
-                .first()
-                .map_or("sqrt(density)".to_string(), |u| u.to_string());
-            (t, u)
+    catalogue
+        .names()
+        .into_iter()
+        .map(|name| {
+            let (typical, unit) = catalogue
+                .build(&name)
+                .ok()
+                .map(|e| {
+                    let t = e.coefficient_sigma().first().copied().unwrap_or_else(|| {
+                        e.process_noise().first().map_or(f64::NAN, |c| c.psd.sqrt())
+                    });
+                    let u = e
+                        .coefficient_units()
+                        .first()
+                        .map_or("sqrt(density)".to_string(), |u| u.to_string());
+                    (t, u)
+                })
+                .unwrap_or((f64::NAN, String::new()));
+            EffectScale {
+                name,
+                typical,
+                unit,
+            }
         })
-        .unwrap_or((f64::NAN, String::new()));
+        .collect()
+}
+
+/// The detection curve of `scale`'s effect from the single-effect records.
+fn detection(scale: &EffectScale, records: &[&Record]) -> Detection {
+    let effect = scale.name.as_str();
+    let (typical, unit) = (scale.typical, scale.unit.clone());
     let points: Vec<(f64, bool)> = records
         .iter()
         .filter_map(|r| {
@@ -400,8 +428,8 @@ fn match_name(m: Match) -> String {
         .unwrap_or_default()
 }
 
-/// The rates of `records`.
-pub fn rates(records: &[Record]) -> Rates {
+/// The rates of `records`, of a family whose catalogued effects are `scales`.
+pub fn rates(records: &[Record], scales: &[EffectScale]) -> Rates {
     let of_class = |c: Class| records.iter().filter(move |r| r.class == c);
     let count = |it: &mut dyn Iterator<Item = &Record>, f: &dyn Fn(&Record) -> bool| {
         let mut k = 0;
@@ -450,10 +478,10 @@ pub fn rates(records: &[Record]) -> Rates {
         let e = r.hidden.first().and_then(Hidden::effect).unwrap_or("");
         r.named.iter().any(|n| n != e)
     });
-    let catalogue = Registry::catalogue().names();
-    let detection: Vec<Detection> = catalogue
+    let catalogue: Vec<&str> = scales.iter().map(|s| s.name.as_str()).collect();
+    let detection: Vec<Detection> = scales
         .iter()
-        .map(|e| detection(e, &single))
+        .map(|s| detection(s, &single))
         .filter(|d| d.n > 0)
         .collect();
     let limit = |e: &str| {

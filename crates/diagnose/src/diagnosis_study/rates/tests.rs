@@ -1,10 +1,18 @@
-//! The numbers behind README's target table, against cases worked out by hand: Wilson
+//! The numbers behind docs/diagnosis.md's target tables, against cases worked out by hand: Wilson
 //! intervals from their closed forms, a logistic fit whose maximum-likelihood answer is known
 //! exactly, the detection limit read off it, and the targets' flags on either side of their
 //! thresholds.
 
 use super::*;
 use crate::diagnosis_study::content::{Class, Hidden};
+
+/// The platform catalogue's scale of `effect`.
+fn scale_of(effect: &str) -> EffectScale {
+    platform_scales()
+        .into_iter()
+        .find(|s| s.name == effect)
+        .unwrap()
+}
 
 const Z: f64 = 1.959_963_984_540_054;
 
@@ -100,7 +108,7 @@ fn the_detection_limit_is_read_off_the_fitted_curve() {
     let mut records: Vec<Record> = (0..20).map(|i| single(i, 1.0, i < 5)).collect();
     records.extend((0..20).map(|i| single(20 + i, e2, i < 19)));
     let refs: Vec<&Record> = records.iter().collect();
-    let d = detection("gps-latency", &refs);
+    let d = detection(&scale_of("gps-latency"), &refs);
     assert_eq!(d.n, 40);
     let expected = ((9.0f64.ln() + 3.0f64.ln()) / ((19.0f64.ln() + 3.0f64.ln()) / 2.0)).exp();
     assert!(close(expected, 5.105_769, 1e-6));
@@ -108,7 +116,7 @@ fn the_detection_limit_is_read_off_the_fitted_curve() {
     assert!(close(m, expected, 1e-4), "limit {m}");
     let above = d.above_limit.expect("a rate above the limit");
     assert_eq!((above.k, above.n), (19, 20));
-    let r = rates(&records);
+    let r = rates(&records, &platform_scales());
     let t = r
         .targets
         .iter()
@@ -119,7 +127,7 @@ fn the_detection_limit_is_read_off_the_fitted_curve() {
     let mut records: Vec<Record> = (0..20).map(|i| single(i, 1.0, i < 1)).collect();
     records.extend((0..20).map(|i| single(20 + i, e2, i < 5)));
     let refs: Vec<&Record> = records.iter().collect();
-    let d = detection("gps-latency", &refs);
+    let d = detection(&scale_of("gps-latency"), &refs);
     assert!(d.limit_multiple.is_none());
     assert!(
         d.no_limit
@@ -129,7 +137,7 @@ fn the_detection_limit_is_read_off_the_fitted_curve() {
         d.no_limit
     );
     // ... and its target is missed, whatever the rate at the top.
-    let t = rates(&records)
+    let t = rates(&records, &platform_scales())
         .targets
         .into_iter()
         .find(|t| t.what.contains("`gps-latency`"))
@@ -159,7 +167,7 @@ fn the_false_attribution_flags_turn_at_their_thresholds() {
                 )
             })
             .collect();
-        let r = rates(&records);
+        let r = rates(&records, &platform_scales());
         assert_eq!((r.clean_named.k, r.clean_named.n), (named, 50));
         let t = &r.targets[0];
         assert!(t.what.starts_with("clean data"), "{t:?}");
@@ -190,9 +198,9 @@ fn an_effect_named_at_nearly_every_size_has_the_smallest_size_as_its_limit() {
         .map(|(i, &m)| single(i, m, !(i == 50 || i == 57)))
         .collect();
     let refs: Vec<&Record> = records.iter().collect();
-    let d = detection("gps-latency", &refs);
+    let d = detection(&scale_of("gps-latency"), &refs);
     assert_eq!(d.limit_multiple, Some(0.1), "{:?}", d.no_limit);
-    let t = rates(&records)
+    let t = rates(&records, &platform_scales())
         .targets
         .into_iter()
         .find(|t| t.what.contains("`gps-latency`"))

@@ -1,0 +1,198 @@
+//! A diagnosis study of the strapdown family: the committed file parses and hides what its
+//! comments say, what the family does not read is refused by key, and the datasets it makes
+//! carry the drawn content (effects at their drawn values, faults in the readings, a noise
+//! stated off in the fifth source too).
+
+use navkf_diagnose::diagnosis_study::content::{plan, simulate, Class, Hidden};
+use navkf_diagnose::diagnosis_study::DiagnosisStudyConfig;
+use navkf_dynamics::strapdown::effects::StrapdownRegistry;
+use navkf_dynamics::strapdown::unit_class::UnitClass;
+use navkf_dynamics::{ModelKind, Trajectory};
+use std::sync::Arc;
+
+const HEAD: &str = r#"
+[study]
+name = "t"
+kind = "diagnosis"
+seed = 7
+
+[model]
+kind = "strapdown"
+
+[noise]
+nhc_m_s = 0.1
+"#;
+
+fn parse(rest: &str) -> Result<DiagnosisStudyConfig, String> {
+    DiagnosisStudyConfig::parse(&format!("{HEAD}{rest}"))
+}
+
+fn committed() -> DiagnosisStudyConfig {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../studies/strapdown-diagnosis.toml"
+    );
+    DiagnosisStudyConfig::parse(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn the_committed_study_hides_every_effect_and_300_things_outside_the_catalogue() {
+    let config = committed();
+    assert_eq!(config.model.kind, ModelKind::Strapdown);
+    let planned = plan(&config).unwrap();
+    let outside = planned.iter().filter(|p| p.class == Class::Outside).count();
+    assert!(outside >= 300, "{outside} outside");
+    let registry = StrapdownRegistry::catalogue();
+    for name in registry.names() {
+        let singles: Vec<_> = planned
+            .iter()
+            .filter(|p| p.class == Class::Single && p.hidden[0].effect() == Some(name))
+            .collect();
+        assert!(singles.len() >= 20, "{name}: {}", singles.len());
+        let effect = registry.get(name).unwrap();
+        for p in singles {
+            let Hidden::Effect { values, .. } = &p.hidden[0] else {
+                panic!("{name}: not an effect")
+            };
+            // Every coefficient drawn, each within its bound; an instability's sigma set.
+            assert_eq!(
+                values.len(),
+                effect.coefficients.len() + usize::from(effect.instability.is_some()),
+                "{name}: {values:?}"
+            );
+            for c in effect.coefficients {
+                assert!(
+                    c.bound.contains(values[c.name]),
+                    "{}: {}",
+                    c.name,
+                    values[c.name]
+                );
+            }
+        }
+    }
+    for p in planned.iter().filter(|p| p.class == Class::MisstatedNoise) {
+        let Hidden::MisstatedNoise { factors } = &p.hidden[0] else {
+            panic!("not a noise")
+        };
+        assert_eq!(factors.len(), 5, "five sources: {factors:?}");
+    }
+    // The fifth source (the constraints' tolerance) is drawn off in some of them.
+    assert!(planned.iter().any(|p| matches!(
+        p.hidden.first(),
+        Some(Hidden::MisstatedNoise { factors }) if factors[4] != 1.0
+    )));
+}
+
+#[test]
+fn what_a_strapdown_study_does_not_read_is_refused_by_key() {
+    let cases = [
+        (
+            "[[content]]\nkind = \"outside\"\neffect = \"drag\"\ncount = 2\nsizes = [1.0, 2.0]\n",
+            "content[0].effect",
+        ),
+        (
+            "[[content]]\nkind = \"outside\"\neffect = \"gps-lever-arm\"\ncount = 2\nsizes = [1.0, 2.0]\n",
+            "content[0].effect",
+        ),
+        (
+            "[sizes]\ngyro-fz = [0.1, 1.0]\n[[content]]\nkind = \"nothing\"\ncount = 1\n",
+            "sizes.gyro-fz",
+        ),
+        (
+            "[truth]\nrate_hz = 50.0\n[[content]]\nkind = \"nothing\"\ncount = 1\n",
+            "truth.rate_hz",
+        ),
+        (
+            "[truth.initial_tilt]\nalignment = \"gyrocompass\"\nlevel_rad = 0.01\n[[content]]\nkind = \"nothing\"\ncount = 1\n",
+            "truth.initial_tilt.alignment",
+        ),
+        (
+            "[diagnosis]\nattitude = \"exact\"\n[[content]]\nkind = \"nothing\"\ncount = 1\n",
+            "diagnosis.attitude",
+        ),
+    ];
+    for (rest, key) in cases {
+        let e = parse(rest).unwrap_err();
+        assert!(e.contains(key), "{key}: {e}");
+    }
+    // The noise table: the readings' densities are the unit class's.
+    let e = DiagnosisStudyConfig::parse(&format!(
+        "{}gyro_psd = 1e-9\n[[content]]\nkind = \"nothing\"\ncount = 1\n",
+        HEAD
+    ))
+    .unwrap_err();
+    assert!(e.contains("noise.gyro_psd"), "{e}");
+    // And the platform refuses the strapdown's keys.
+    let platform = "[study]\nname = \"t\"\nkind = \"diagnosis\"\nseed = 1\n";
+    for (extra, key) in [
+        ("[model]\nunit = \"mems\"\n", "model.unit"),
+        ("[noise]\nnhc_m_s = 0.1\n", "noise.nhc_m_s"),
+    ] {
+        let e = DiagnosisStudyConfig::parse(&format!(
+            "{platform}{extra}[[content]]\nkind = \"nothing\"\ncount = 1\n"
+        ))
+        .unwrap_err();
+        assert!(e.contains(key), "{key}: {e}");
+    }
+    // A strapdown file with the family's own names parses.
+    parse("[sizes]\ngyro-scale = [0.1, 1.0]\n[[content]]\nkind = \"single\"\ncount = 1\n").unwrap();
+}
+
+#[test]
+fn its_datasets_carry_what_was_drawn() {
+    let config = parse(
+        "[[content]]\nkind = \"nothing\"\ncount = 1\n\
+         [[content]]\nkind = \"pair\"\ncount = 1\neffects = [\"odometer-scale\", \"gps-latency\"]\n\
+         [[content]]\nkind = \"outside\"\neffect = \"odometer-slip\"\ncount = 1\nsizes = [5.0, 5.0]\n\
+         [[content]]\nkind = \"misstated-noise\"\ncount = 1\nsizes = [4.0, 4.0]\n",
+    )
+    .unwrap();
+    assert_eq!(config.model.unit_class(), UnitClass::Mems);
+    let planned = plan(&config).unwrap();
+    let trajectory = Arc::new(Trajectory::build(&config.trajectory).unwrap());
+    let datasets: Vec<_> = planned
+        .iter()
+        .map(|p| simulate(&config, &trajectory, p).unwrap())
+        .collect();
+    let clean = &datasets[0];
+    assert_eq!(clean.model, ModelKind::Strapdown);
+    assert!(clean.initial.is_some(), "a stated start attitude");
+    // The pair's effects are in the truth with their drawn values.
+    let truth = datasets[1].truth.as_ref().unwrap();
+    let Hidden::Effect { values, .. } = &planned[1].hidden[0] else {
+        panic!()
+    };
+    let (name, value) = values.iter().next().unwrap();
+    let i = truth.names.iter().position(|n| n == name).unwrap();
+    assert!((truth.states[0][i] - value).abs() <= 1e-12 * value.abs().max(1e-12));
+    // Slip: while the vehicle accelerates the odometer reads well above the true speed (the
+    // MEMS odometer's own errors are centimetres per second).
+    let slip = &datasets[2];
+    let t = slip.truth.as_ref().unwrap();
+    let over = slip
+        .measurements
+        .iter()
+        .filter_map(|m| {
+            let k = t.t.iter().position(|&tt| (tt - m.t).abs() < 1e-9)?;
+            let x = &t.states[k];
+            Some(m.speed? - x[3].hypot(x[4]))
+        })
+        .fold(0.0f64, f64::max);
+    assert!(over > 0.5, "slip adds at most {over} m/s");
+    // Mis-stated noise: the stated noise differs from the truth's in the drawn sources.
+    let Hidden::MisstatedNoise { factors } = &planned[3].hidden[0] else {
+        panic!()
+    };
+    let stated = datasets[3].noise;
+    let true_noise = clean.noise;
+    let off = [
+        stated.gyro_psd != true_noise.gyro_psd,
+        stated.accel_psd != true_noise.accel_psd,
+        stated.odometer_rel != true_noise.odometer_rel,
+        stated.gps_m != true_noise.gps_m,
+        stated.nhc_m_s != true_noise.nhc_m_s,
+    ];
+    for (k, f) in factors.iter().enumerate() {
+        assert_eq!(off[k], *f != 1.0, "source {k}: factor {f}");
+    }
+}

@@ -46,12 +46,40 @@ pub struct Grid {
 }
 
 const TITLE_H: u32 = 50;
+/// The legend strip's width at least; wider when a label needs it.
 const LEGEND_W: u32 = 290;
+/// Size of the legend's text.
+const LEGEND_TEXT: u32 = 15;
+
+/// Width of `text` at `size` in the bundled font, pixels (an estimate of 0.6 em a character
+/// if the font cannot measure it).
+pub fn text_width(text: &str, size: u32) -> u32 {
+    (FONT, size)
+        .into_font()
+        .box_size(text)
+        .map(|(w, _)| w)
+        .unwrap_or((0.6 * size as f64 * text.chars().count() as f64) as u32)
+}
+
+impl Grid {
+    /// The legend strip's width: [`LEGEND_W`], or what the widest label needs (its mark is
+    /// 52 pixels, and 16 are left at the right edge).
+    fn legend_width(&self) -> u32 {
+        if self.legend.is_empty() {
+            return 0;
+        }
+        let widest = self
+            .legend
+            .iter()
+            .map(|e| text_width(&e.label, LEGEND_TEXT));
+        LEGEND_W.max(52 + 16 + widest.max().unwrap_or(0))
+    }
+}
 
 impl Figure for Grid {
     fn size(&self) -> (u32, u32) {
         let rows = self.panels.len().div_ceil(self.cols).max(1) as u32;
-        let legend = if self.legend.is_empty() { 0 } else { LEGEND_W };
+        let legend = self.legend_width();
         (
             self.cols as u32 * self.cell.0 + legend,
             rows * self.cell.1 + TITLE_H,
@@ -71,7 +99,7 @@ impl Figure for Grid {
             draw_panel(cell, p)?;
         }
         if !self.legend.is_empty() {
-            draw_legend(&side, &self.legend, 15, 40)?;
+            draw_legend(&side, &self.legend, LEGEND_TEXT, 40)?;
         }
         Ok(())
     }

@@ -13,7 +13,7 @@ mod grid;
 mod panel;
 mod style;
 
-pub use grid::{draw_legend, Grid};
+pub use grid::{draw_legend, text_width, Grid};
 pub use panel::{draw_notes, draw_panel, entry, Band, Entry, Line, Mark, Panel, Scale};
 pub use style::{color, filter_line, text_style, tick, Msg, Sizes, BIG, GREY, SMALL};
 

@@ -55,6 +55,9 @@ pub struct Panel {
     pub labels: Vec<(f64, f64, String)>,
     /// Said in the panel's top-left corner (why something is missing).
     pub notes: Vec<String>,
+    /// The notes in a strip of their own under the caption, above the plot, instead of over
+    /// its top-left corner (where they would cross curves that reach it).
+    pub notes_above: bool,
     /// Limits the y axis (a filter far off would squash the others).
     pub y_limit: Option<(f64, f64)>,
     /// Forces the axes to include these values (only with other data to draw).
@@ -63,6 +66,9 @@ pub struct Panel {
     pub y_include: Vec<f64>,
     /// No numbers on the x axis (categorical bars).
     pub hide_x_ticks: bool,
+    /// Names written under the x axis at these abscissae, in place of its ticks (the
+    /// categories of bars).
+    pub x_names: Vec<(f64, String)>,
     pub sizes: Sizes,
 }
 
@@ -85,10 +91,12 @@ impl Panel {
             bars: Vec::new(),
             labels: Vec::new(),
             notes: Vec::new(),
+            notes_above: false,
             y_limit: None,
             x_include: Vec::new(),
             y_include: Vec::new(),
             hide_x_ticks: false,
+            x_names: Vec::new(),
             sizes,
         }
     }
@@ -245,6 +253,27 @@ pub fn draw_panel<DB: DrawingBackend>(
             p.sizes.note,
         );
     };
+    // Notes above the plot: the caption and the notes in a strip, the chart under it.
+    let strip = (p.notes_above && !p.notes.is_empty())
+        .then(|| p.sizes.caption + 14 + p.notes.len() as u32 * (p.sizes.note + 4));
+    let (area, caption) = match strip {
+        Some(h) => {
+            let (top, rest) = area.split_vertically(h);
+            let w = top.dim_in_pixel().0 as i32;
+            let cap = text_style(p.sizes.caption, BLACK).pos(Pos::new(HPos::Center, VPos::Top));
+            top.draw_text(&p.caption, &cap, (w / 2, 6)).m()?;
+            let left = (p.sizes.tick * 4 + p.sizes.desc + 30) as i32;
+            draw_notes(
+                &top,
+                &p.notes,
+                (left, p.sizes.caption as i32 + 12),
+                p.sizes.note,
+            )?;
+            (rest, None)
+        }
+        None => (area.clone(), Some(p.caption.as_str())),
+    };
+    let area = &area;
     let xr = axis_range(x_ext, p.x_scale, false);
     let mut yr = axis_range(y_ext, p.y_scale, true);
     if let Some((a, b)) = p.y_limit {
@@ -256,8 +285,10 @@ pub fn draw_panel<DB: DrawingBackend>(
     let x_fmt = |v: &f64| tick(*v, xr.1 - xr.0);
     let blank = |_: &f64| String::new();
     let mut b = ChartBuilder::on(area);
-    b.caption(&p.caption, (FONT, p.sizes.caption))
-        .margin(8)
+    if let Some(caption) = caption {
+        b.caption(caption, (FONT, p.sizes.caption));
+    }
+    b.margin(8)
         .margin_right(18)
         .x_label_area_size(p.sizes.tick * 2 + p.sizes.desc + 8)
         .y_label_area_size(p.sizes.tick * 4 + p.sizes.desc + 12);
@@ -274,13 +305,24 @@ pub fn draw_panel<DB: DrawingBackend>(
                 .axis_desc_style((FONT, p.sizes.desc))
                 .bold_line_style(RGBColor(215, 215, 215))
                 .light_line_style(RGBColor(240, 240, 240));
-            if p.hide_x_ticks {
+            if !p.x_names.is_empty() {
+                mesh.x_labels(0).disable_x_mesh();
+            } else if p.hide_x_ticks {
                 mesh.x_label_formatter(&blank).disable_x_mesh();
             } else {
                 mesh.x_label_formatter(&x_fmt);
             }
             mesh.draw().m()?;
             draw_content(&mut chart, p, xr, yr)?;
+            let style = text_style(p.sizes.tick, BLACK).pos(Pos::new(HPos::Center, VPos::Top));
+            let base = area.get_base_pixel();
+            for (x, name) in &p.x_names {
+                if usable(*x, p.x_scale) {
+                    let (px, py) = chart.backend_coord(&(*x, yr.0));
+                    area.draw_text(name, &style, (px - base.0, py - base.1 + 6))
+                        .m()?;
+                }
+            }
         }};
     }
     match (p.x_scale, p.y_scale) {
@@ -294,6 +336,9 @@ pub fn draw_panel<DB: DrawingBackend>(
         (Scale::Log, Scale::Log) => {
             finish!(b.build_cartesian_2d((xr.0..xr.1).log_scale(), (yr.0..yr.1).log_scale()))
         }
+    }
+    if strip.is_some() {
+        return Ok(());
     }
     let left = (p.sizes.tick * 4 + p.sizes.desc + 30) as i32;
     draw_notes(

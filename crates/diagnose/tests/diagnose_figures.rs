@@ -1,6 +1,11 @@
-//! The diagnosis figures: every one is written as PNG and SVG with text, `report.md` links
-//! each of them, nothing temporary is left behind, and a dataset too short for windows or
-//! whiteness lags still draws (with notes) instead of panicking.
+//! The diagnosis figures: every one is written as PNG and SVG with text, is not blank, keeps
+//! its text on the canvas and off other text (measured with the bundled font,
+//! [`figure_text`]), `report.md` links each of them, nothing temporary is left behind, and a
+//! dataset too short for windows or whiteness lags still draws (with notes) instead of
+//! panicking. The two tests draw every kind: before and after with the truth (the path in two
+//! panels, the coefficient errors), and a base model alone (the path in one).
+
+mod figure_text;
 
 use navkf_diagnose::{diagnose, plots, report, Options};
 use navkf_dynamics::simulate::Prior;
@@ -37,13 +42,37 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
-fn check_figure(dir: &Path, name: &str) {
+/// Checks figure `name` in `dir`: a PNG and an SVG with text that draw data. Returns what
+/// of its text does not fit (off the canvas, over other text, over the data), so that a test
+/// reports every figure's misfits at once.
+fn check_figure(dir: &Path, name: &str) -> Vec<String> {
     let png = std::fs::read(dir.join(format!("{name}.png")))
         .unwrap_or_else(|e| panic!("{name}.png: {e}"));
     assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"), "{name}.png");
     assert!(png.len() > 5_000, "{name}.png is nearly empty");
     let svg = std::fs::read_to_string(dir.join(format!("{name}.svg"))).unwrap();
     assert!(svg.contains("<svg") && svg.contains("<text"), "{name}.svg");
+    assert!(
+        figure_text::has_coloured_mark(&svg),
+        "{name}.svg draws no data"
+    );
+    let mut misfits = figure_text::misfits(&svg, 2.0);
+    misfits.extend(figure_text::over_data(&svg, 2.0));
+    misfits.iter().map(|m| format!("{name}: {m}")).collect()
+}
+
+/// Draws-checks every figure of `figs` in `dir`, failing with all their misfits.
+fn check_figures(dir: &Path, figs: &[navkf_report::figure::FigureOutcome]) {
+    let mut misfits = Vec::new();
+    for f in figs {
+        assert!(f.result.is_ok(), "{}: {:?}", f.name, f.result);
+        misfits.extend(check_figure(dir, &f.name));
+    }
+    assert!(
+        misfits.is_empty(),
+        "text that does not fit:\n{}",
+        misfits.join("\n")
+    );
 }
 
 fn no_temporaries(dir: &Path) {
@@ -57,7 +86,8 @@ fn no_temporaries(dir: &Path) {
 fn before_and_after_figures_are_drawn_and_linked() {
     let ds = odometer_dataset();
     let opts = Options {
-        with: vec!["odometer-scale".into()],
+        // Two effects, so that labels are as long as the walk-through's.
+        with: vec!["odometer-scale".into(), "gps-latency".into()],
         ..Default::default()
     };
     let (d, fits) = diagnose(&ds, &Registry::catalogue(), &opts).unwrap();
@@ -75,11 +105,23 @@ fn before_and_after_figures_are_drawn_and_linked() {
     ];
     let names: Vec<&str> = figs.iter().map(|f| f.name.as_str()).collect();
     assert_eq!(names, expected);
-    for f in &figs {
-        assert!(f.result.is_ok(), "{}: {:?}", f.name, f.result);
-        check_figure(&dir, &f.name);
+    check_figures(&dir, &figs);
+    // The errors are in the sigma each coefficient started from (the priors table's, else
+    // the typical one), which no fit's widening changes.
+    for c in &d.model.coefficients {
+        let s0 = plots::errors::initial_sigma(&d, &fits, &c.name).unwrap();
+        if let Some(p) = d.priors.iter().find(|p| p.name == c.name) {
+            assert_eq!(s0, p.sigma, "{}", c.name);
+        }
+        for s in d.before.iter().chain([&d.model]) {
+            if let Some(q) = s.coefficients.iter().find(|q| q.name == c.name) {
+                assert!(q.prior_sigma >= s0 * (1.0 - 1e-12), "{}", c.name);
+            }
+        }
     }
-    // The before/after figures carry both models.
+    // The before/after figures carry both models, and the path shows the base model's misfit.
+    let path = std::fs::read_to_string(dir.join("path_misfit.svg")).unwrap();
+    assert!(path.contains("base model (no effects)") && path.contains("final model"));
     let nis = std::fs::read_to_string(dir.join("nis.svg")).unwrap();
     assert!(nis.contains("before: base model") && nis.contains("after: with odometer-scale"));
     let md = report::markdown(&d, "navkf diagnose test", &figs);
@@ -108,10 +150,7 @@ fn a_dataset_too_short_for_windows_still_draws() {
         figs.iter().all(|f| f.name != "coefficient_errors"),
         "no truth, no error figure"
     );
-    for f in &figs {
-        assert!(f.result.is_ok(), "{}: {:?}", f.name, f.result);
-        check_figure(&dir, &f.name);
-    }
+    check_figures(&dir, &figs);
     no_temporaries(&dir);
     std::fs::remove_dir_all(&dir).unwrap();
     // One update fewer is refused, saying how many it needs.

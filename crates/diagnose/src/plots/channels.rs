@@ -1,7 +1,7 @@
 //! The figures of the innovations: every measured channel against the model's prediction of
 //! it, and each channel's innovations inside their predicted +-2 sigma band.
 
-use super::style::{stride, Geo, AFTER, BEFORE, MEASURED};
+use super::style::{quantity, stride, Geo, AFTER, BEFORE, MEASURED};
 use crate::catalogue::MAX_CHANNELS;
 use crate::fit::pass::Fit;
 use navkf_report::figure::*;
@@ -12,8 +12,10 @@ pub fn measured_vs_predicted(fit: &Fit, geo: &Geo, label: &str) -> Grid {
     let step = stride(fit.t.len());
     let panels = (0..fit.channels.len())
         .map(|c| {
-            let (title, unit) = (fit.channels[c].title, fit.channels[c].unit());
-            let mut p = Panel::new(title.into(), "time (s)", unit.into(), Scale::Linear, SMALL);
+            let title = fit.channels[c].title;
+            let y = quantity(fit.channels[c].kind);
+            let mut p = Panel::new(title.into(), "time (s)", y.into(), Scale::Linear, SMALL);
+            p.notes_above = true;
             let series = |v: &[[f64; MAX_CHANNELS]]| -> Vec<(f64, f64)> {
                 fit.t
                     .iter()
@@ -72,10 +74,11 @@ pub fn innovations(fit: &Fit, geo: &Geo, label: &str) -> Grid {
             let mut p = Panel::new(
                 format!("{} innovation", title.split(',').next().unwrap_or(title)),
                 "time (s)",
-                unit.into(),
+                format!("measured - predicted ({unit})"),
                 Scale::Linear,
                 SMALL,
             );
+            p.notes_above = true;
             let (mut outside, mut count) = (0usize, 0usize);
             let mut band = Vec::new();
             let mut line = Vec::new();

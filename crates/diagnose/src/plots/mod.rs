@@ -3,20 +3,26 @@
 //! - `measured_vs_predicted`: every measured channel against the filter's prediction of it.
 //! - `innovations`: each channel's innovations inside their predicted +-2 sigma band;
 //!   `innovations_before` the same for the base model when `--with` added effects.
-//! - `path_misfit`: the vehicle's path (from the GPS fixes) coloured by the local NIS per
-//!   degree of freedom, so that the places where the model fails show on the map.
+//! - `path_misfit`: the vehicle's path (the filter's predicted positions) coloured by the
+//!   local NIS per degree of freedom of the base model (before any effect was named), so that
+//!   the places where the model under test fails show on the map; beside it the final model's
+//!   when effects were named.
 //! - `nis`: NIS per degree of freedom in sliding windows and per motion phase, against the
-//!   95 % chi-square bounds; before and after when `--with` is given.
+//!   95 % chi-square bounds, on linear axes; before and after when effects were named.
 //! - `whiteness`: each channel's innovation autocorrelation with its white-noise band.
 //! - `coefficient_errors` (when the dataset has `truth.csv`): each coefficient's error divided
-//!   by its initial sigma, before and after.
+//!   by the prior sigma it started from (before any widening), before and after.
 //!
 //! Positions are shown in metres north and east of the first fix and velocities in m/s, so
-//! that a misfit reads in the units a navigation engineer thinks in. A figure that cannot be
+//! that a misfit reads in the units a navigation engineer thinks in; axes are named in words
+//! with their units. Legends are as wide as their longest label, and notes stand in a strip
+//! above the plot, not over its curves (`tests/diagnose_figures.rs` checks that no text runs
+//! off the canvas or over other text). A figure that cannot be
 //! drawn is reported in its [`FigureOutcome`]; the others are still drawn.
 
 pub mod channels;
 pub mod consistency;
+pub mod errors;
 pub mod path;
 pub mod style;
 
@@ -24,12 +30,13 @@ pub use path::PATH_MISFIT_HALF_WINDOW_S;
 
 use crate::diagnosis::{Diagnosis, Fits};
 use channels::{innovations, measured_vs_predicted};
-use consistency::{coefficient_errors, nis, whiteness};
+use consistency::{nis, whiteness};
+use errors::coefficient_errors;
 use navkf_report::figure::FigureOutcome;
 use navkf_report::figure::{render, Grid};
 use path::path_misfit;
 use std::path::Path;
-use style::{model_label, Geo};
+use style::{base_label, model_label, Geo};
 
 /// Draws every figure of a diagnosis into `dir`.
 pub fn draw(d: &Diagnosis, fits: &Fits, dir: &Path) -> Vec<FigureOutcome> {
@@ -41,6 +48,7 @@ pub fn draw(d: &Diagnosis, fits: &Fits, dir: &Path) -> Vec<FigureOutcome> {
         }));
     };
     let model_label = model_label(&fits.model.effects);
+    let base_name = base_label(d);
     run(
         "measured_vs_predicted",
         "Measured channels against the model's prediction".into(),
@@ -55,13 +63,25 @@ pub fn draw(d: &Diagnosis, fits: &Fits, dir: &Path) -> Vec<FigureOutcome> {
         run(
             "innovations_before",
             "Innovations with their +-2 sigma bands (base model, before)".into(),
-            &|| innovations(b, &geo, "base model"),
+            &|| innovations(b, &geo, &base_name),
         );
     }
+    // Where the model under test fails: the base model's misfit, and the final model's
+    // beside it when effects were named.
+    let (base, fin) = match &fits.before {
+        Some(b) => (b, Some((&fits.model, model_label.as_str()))),
+        None => (&fits.model, None),
+    };
     run(
         "path_misfit",
-        "The path coloured by how badly the model fits there".into(),
-        &|| path_misfit(&fits.model, &geo, &model_label),
+        match fin {
+            Some(_) => format!(
+                "The path coloured by how badly the {base_name} fits there; \
+                 beside it the final model ({model_label})"
+            ),
+            None => format!("The path coloured by how badly the {base_name} fits there"),
+        },
+        &|| path_misfit((base, &base_name), fin, &geo),
     );
     run(
         "nis",
@@ -77,8 +97,10 @@ pub fn draw(d: &Diagnosis, fits: &Fits, dir: &Path) -> Vec<FigureOutcome> {
     if has_truth {
         run(
             "coefficient_errors",
-            "Coefficient errors against the truth, divided by the initial sigma".into(),
-            &|| coefficient_errors(d),
+            "Coefficient errors against the truth, divided by the prior sigma each started \
+             from (before any widening)"
+                .into(),
+            &|| coefficient_errors(d, fits),
         );
     }
     out

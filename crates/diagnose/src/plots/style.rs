@@ -3,6 +3,7 @@
 //! series.
 
 use crate::catalogue::ChannelKind;
+use crate::diagnosis::Diagnosis;
 use crate::fit::pass::Fit;
 use navkf_dynamics::earth::{meridian_radius, prime_vertical_radius};
 use plotters::prelude::*;
@@ -25,6 +26,25 @@ pub fn model_label(effects: &[String]) -> String {
         "base model".into()
     } else {
         format!("with {}", effects.join(", "))
+    }
+}
+
+/// How an axis names what channel `kind` measures, in words with its display unit.
+pub fn quantity(kind: ChannelKind) -> &'static str {
+    match kind {
+        ChannelKind::Velocity | ChannelKind::Constraint => "velocity (m/s)",
+        ChannelKind::Latitude => "north of the first fix (m)",
+        ChannelKind::Longitude => "east of the first fix (m)",
+    }
+}
+
+/// How a legend or caption names the base model of `d` (the model before any effect was
+/// named), saying when it is fitted at noise levels the diagnosis refitted.
+pub fn base_label(d: &Diagnosis) -> String {
+    if d.rounds.iter().any(|r| r.named_noise_levels()) {
+        "base model (no effects), at the refitted noise levels".into()
+    } else {
+        "base model (no effects)".into()
     }
 }
 

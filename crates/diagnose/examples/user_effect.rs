@@ -1,6 +1,6 @@
 //! Walk-through: an effect of your own, outside the catalogue.
 //!
-//! `cargo run --release -p navkf-study --example user_effect`
+//! `cargo run --release -p navkf-diagnose --example user_effect`
 //!
 //! 1. Write the effect: one type implementing `Effect` (its coefficients, what it adds to the
 //!    derivatives, and the partial derivatives the EKF needs).
@@ -99,13 +99,18 @@ fn walk_through() -> (f64, f64, f64, f64, f64) {
         with: vec!["drag".into()],
         ..Default::default()
     };
-    let (after, _) = diagnose(&ds, &registry, &opts).unwrap();
+    let (after, fits) = diagnose(&ds, &registry, &opts).unwrap();
     let before = after.before.clone().unwrap();
+    // Each error in the prior sigma its coefficient started from: a fit may widen a prior,
+    // and an error over the widened sigma reads smaller than it is.
     let err = |f: &navkf_diagnose::FitSummary| {
         let e: Vec<f64> = f
             .coefficients
             .iter()
-            .filter_map(|c| c.truth.map(|t| ((c.estimate - t) / c.prior_sigma).powi(2)))
+            .filter_map(|c| {
+                let s0 = navkf_diagnose::plots::errors::initial_sigma(&after, &fits, &c.name)?;
+                c.truth.map(|t| ((c.estimate - t) / s0).powi(2))
+            })
             .collect();
         (e.iter().sum::<f64>() / e.len() as f64).sqrt()
     };

@@ -18,6 +18,14 @@
 //! **No stand-ins.** When the misfit is explained decisively better by a candidate that
 //! cannot be named (its coefficients confounded, or its values no real sensor's), nothing is
 //! named in the round: a lesser candidate would only stand in for it.
+//!
+//! **No coin tosses.** When another structured candidate explains the misfit within
+//! [`DECISIVE_BIC`] of the chosen one, counting only the coefficients the data inform
+//! ([`effective_bic`]; the plain BIC charges an effect for coefficients the trajectory
+//! leaves at their prior, which decided between equals), nothing is named in the round and
+//! both are suggested. Measured on strapdown MEMS drives: a hidden gyro misalignment was named
+//! `odometer-misalignment` in 13 of 25 (every one above 1.2 times its typical size), its own
+//! fit within 20 of the BIC with four uninformed coefficients charged.
 
 use crate::candidates::evidence::{
     Candidate, CandidateKind, Evaluated, Named, Outcome, DECISIVE_BIC,
@@ -209,10 +217,77 @@ pub fn select(cands: &mut [Candidate], not_specific: &[usize]) -> (Option<usize>
             (None, _) => break None,
         }
     };
+    if let Some(i) = named.filter(|&i| cands[i].kind == CandidateKind::Structured) {
+        let rivals = structured_rivals(cands, i);
+        if !rivals.is_empty() {
+            let mut tied: Vec<String> = vec![format!("`{}`", cands[i].effect)];
+            tied.extend(rivals.iter().map(|&j| format!("`{}`", cands[j].effect)));
+            let gains: Vec<String> = std::iter::once(i)
+                .chain(rivals.iter().copied())
+                .map(|j| format!("{:.0}", effective_bic(&cands[j])))
+                .collect();
+            notes.push(format!(
+                "{} explain the misfit equally well (BIC gains {}, each counting only the \
+                 coefficients the data inform): the data cannot tell them apart, so none is \
+                 named. They are suggested; a test that excites one and not the others (turns \
+                 both ways, a second mounting of the unit) would decide.",
+                tied.join(" and "),
+                gains.join(", ")
+            ));
+            for j in std::iter::once(i).chain(rivals) {
+                cands[j].outcome = Outcome::Indistinguishable;
+            }
+            return (None, notes);
+        }
+    }
     if let Some(i) = named {
         cands[i].outcome = Outcome::Named;
     }
     (named, notes)
+}
+
+/// A candidate's BIC gain with only the coefficients the data inform counted: each
+/// coefficient counts `1 - (sigma / prior sigma)^2`, the share of its prior the data
+/// removed (the effective number of parameters of a Gaussian fit). An effect with six
+/// coefficients of which the trajectory informs two pays for two.
+pub fn effective_bic(c: &Candidate) -> f64 {
+    let k = c.parameters as f64;
+    if c.coefficients.is_empty() || k == 0.0 {
+        return c.bic_gain;
+    }
+    // BIC gain = 2 dLL - k ln N, so ln N is recovered from the candidate.
+    let ln_n = (2.0 * c.delta_loglik - c.bic_gain) / k;
+    let informed: f64 = c
+        .coefficients
+        .iter()
+        .map(|q| {
+            let r = q.sigma / q.prior_sigma;
+            if r.is_finite() {
+                (1.0 - r * r).clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        })
+        .sum();
+    2.0 * c.delta_loglik - informed * ln_n
+}
+
+/// The structured candidates other than `chosen` that could be named and explain the misfit
+/// within [`DECISIVE_BIC`] of it, on the BIC that counts informed coefficients only
+/// ([`effective_bic`]): rival explanations the data cannot tell from the chosen one.
+fn structured_rivals(cands: &[Candidate], chosen: usize) -> Vec<usize> {
+    let bar = effective_bic(&cands[chosen]) - DECISIVE_BIC;
+    cands
+        .iter()
+        .enumerate()
+        .filter(|&(j, c)| {
+            j != chosen
+                && c.kind == CandidateKind::Structured
+                && c.outcome == Outcome::Outranked
+                && effective_bic(c) > bar
+        })
+        .map(|(j, _)| j)
+        .collect()
 }
 
 /// The note when a noise explanation `n` fits about as well as a structured effect `s`.
@@ -229,4 +304,98 @@ fn competition(n: &Candidate, bn: f64, s: &Candidate, bs: f64) -> String {
          path) or a longer record would tell them apart.",
         s.effect
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::consistency::NisStat;
+    use crate::summary::Coefficient;
+
+    /// A structured candidate with log-likelihood gain `dll` over `n` updates whose
+    /// coefficients end at `sigma / prior` ratios `ratios` (1: the data left it at its prior).
+    fn structured(effect: &str, dll: f64, ratios: &[f64]) -> Candidate {
+        let k = ratios.len();
+        let ln_n = (2400.0f64).ln();
+        Candidate {
+            effect: effect.into(),
+            kind: CandidateKind::Structured,
+            delta_loglik: dll,
+            parameters: k,
+            bic_gain: 2.0 * dll - k as f64 * ln_n,
+            excess_removed: 0.5,
+            nis: NisStat::of(&[], &[]),
+            consistent: true,
+            coefficients: ratios
+                .iter()
+                .enumerate()
+                .map(|(i, r)| Coefficient {
+                    name: format!("{effect}{i}"),
+                    estimate: 0.0,
+                    sigma: r * 1e-3,
+                    prior_sigma: 1e-3,
+                    truth: None,
+                })
+                .collect(),
+            density: None,
+            noise: None,
+            widened: Vec::new(),
+            confused_with: Vec::new(),
+            separable_bic: None,
+            beyond_bounds: Vec::new(),
+            outcome: Outcome::Outranked,
+            failure: None,
+        }
+    }
+
+    #[test]
+    fn the_effective_bic_charges_only_what_the_data_inform() {
+        let ln_n = (2400.0f64).ln();
+        // Two coefficients pinned down, four left at their priors: two are charged.
+        let c = structured("g", 100.0, &[0.0, 0.0, 1.0, 1.0, 1.0, 1.0]);
+        assert!((effective_bic(&c) - (200.0 - 2.0 * ln_n)).abs() < 1e-9);
+        assert!((c.bic_gain - (200.0 - 6.0 * ln_n)).abs() < 1e-9);
+        // Halved sigma: three quarters of the prior removed.
+        let c = structured("h", 100.0, &[0.5]);
+        assert!((effective_bic(&c) - (200.0 - 0.75 * ln_n)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn equals_on_the_informed_count_are_both_suggested_and_neither_named() {
+        // The measured case: the plain BIC prefers the two-coefficient effect by 20 because
+        // the other pays for four coefficients the drive cannot inform.
+        let mut cands = vec![
+            structured("odometer-misalignment", 2085.0, &[0.01, 0.02]),
+            structured(
+                "gyro-misalignment",
+                2092.0,
+                &[0.01, 0.02, 1.0, 1.0, 1.0, 1.0],
+            ),
+        ];
+        assert!(cands[0].bic_gain > cands[1].bic_gain + 10.0);
+        let (named, notes) = select(&mut cands, &[]);
+        assert_eq!(named, None);
+        assert!(cands
+            .iter()
+            .all(|c| c.outcome == Outcome::Indistinguishable));
+        assert!(
+            notes[0].contains("`odometer-misalignment` and `gyro-misalignment`"),
+            "{notes:?}"
+        );
+    }
+
+    #[test]
+    fn a_decisive_lead_on_the_informed_count_is_named() {
+        let mut cands = vec![
+            structured("odometer-scale", 2085.0, &[0.01]),
+            structured("gps-latency", 2070.0, &[0.01]),
+            structured("gyro-scale", 5.0, &[0.9]),
+        ];
+        let (named, notes) = select(&mut cands, &[]);
+        assert_eq!(named, Some(0));
+        assert!(notes.is_empty(), "{notes:?}");
+        assert_eq!(cands[0].outcome, Outcome::Named);
+        assert_eq!(cands[1].outcome, Outcome::Outranked);
+        assert_eq!(cands[2].outcome, Outcome::NotDecisive);
+    }
 }

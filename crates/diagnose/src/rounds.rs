@@ -47,7 +47,7 @@
 //!
 //! The findings in words ([`crate::report::findings()`]) are made from the typed result last.
 
-use crate::candidates::evidence::{Model, Named};
+use crate::candidates::evidence::{Model, Named, Outcome};
 use crate::candidates::rank::{rank, Confounded};
 use crate::catalogue::first_full_measurement;
 use crate::catalogue::Catalogue;
@@ -165,11 +165,17 @@ pub fn diagnose(
     };
     let kept: Vec<String> = stand_ins.kept.iter().map(Named::to_string).collect();
     // An effect that leaves the model inconsistent is suggested, not named (crate::verdict).
-    let (effects, suggested) = if verdict == Verdict::PartlyExplained {
+    let (effects, mut suggested) = if verdict == Verdict::PartlyExplained {
         (Vec::new(), kept)
     } else {
         (kept, Vec::new())
     };
+    // Explanations the data could not tell apart (crate::naming) are suggested too.
+    for c in rounds.iter().flat_map(|r| &r.candidates) {
+        if c.outcome == Outcome::Indistinguishable && !suggested.contains(&c.effect) {
+            suggested.push(c.effect.clone());
+        }
+    }
     let mut d = Diagnosis {
         dataset: ds.name.clone(),
         family: catalogue.kind(),

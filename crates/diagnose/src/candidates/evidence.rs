@@ -80,6 +80,9 @@ pub enum Outcome {
     Failed,
     /// Decisive, but its fitted values are no real sensor's ([`Candidate::beyond_bounds`]).
     Unphysical,
+    /// Decisive, but another structured candidate explains the misfit as well: none of them
+    /// is named, each is suggested ([`crate::naming`]).
+    Indistinguishable,
 }
 
 impl std::fmt::Display for Outcome {
@@ -96,6 +99,7 @@ impl std::fmt::Display for Outcome {
             Outcome::NoiseNotSpecific => "noise term, no better than another sensor's walk",
             Outcome::Failed => "filter failed",
             Outcome::Unphysical => "decisive, but no real sensor's: not named",
+            Outcome::Indistinguishable => "decisive, but another explains as well: suggested",
         })
     }
 }

@@ -2,8 +2,8 @@
 //! made from the typed result last ([`crate::rounds`]) and kept in `diagnosis.json`.
 
 use super::sentences::{
-    consistency_findings, failing_channels_and_phases, implausible_findings, noise_findings,
-    refusal_findings, unphysical_instead,
+    consistency_findings, failing_channels_and_phases, implausible_findings,
+    indistinguishable_instead, noise_findings, refusal_findings, unphysical_instead,
 };
 use super::words::times;
 use crate::candidates::evidence::{Candidate, CandidateKind, Outcome, DECISIVE_BIC};
@@ -212,7 +212,9 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
                 .filter(|c| c.outcome == Outcome::Confounded)
                 .map(|c| format!("`{}`", c.effect))
                 .collect();
-            if let Some(s) = unphysical_instead(last) {
+            if let Some(s) = indistinguishable_instead(last) {
+                out.push(s);
+            } else if let Some(s) = unphysical_instead(last) {
                 out.push(s);
             } else if confounded.is_empty() {
                 out.push(format!(

@@ -173,3 +173,20 @@ pub fn unphysical_instead(last: &[Candidate]) -> Option<String> {
         )
     })
 }
+
+/// When the last round found decisive explanations it could not tell apart
+/// ([`crate::naming`]'s tie rule): why no catalogued effect is named.
+pub fn indistinguishable_instead(last: &[Candidate]) -> Option<String> {
+    let tied: Vec<String> = last
+        .iter()
+        .filter(|c| c.outcome == Outcome::Indistinguishable)
+        .map(|c| format!("`{}`", c.effect))
+        .collect();
+    (!tied.is_empty()).then(|| {
+        format!(
+            "No catalogued effect can be named: {} each explain the misfit decisively, and \
+             equally well (above), so naming one would be a coin toss. They are suggested.",
+            tied.join(" and ")
+        )
+    })
+}

@@ -13,7 +13,8 @@ use navkf_dynamics::Trajectory;
 use rayon::prelude::*;
 use std::sync::Arc;
 
-/// Smallest and largest `|f| / g`, fastest odometer reading (m/s), largest input interval (s).
+/// Smallest and largest `|f| / g`, fastest odometer reading (m/s; a strapdown unit's odometer
+/// reads a speed), largest input interval (s).
 fn extremes(ds: &Dataset) -> [f64; 4] {
     let lat = ds
         .measurements
@@ -24,15 +25,21 @@ fn extremes(ds: &Dataset) -> [f64; 4] {
     let f: Vec<f64> = ds
         .inputs
         .iter()
-        .map(|i| i.f[0].hypot(i.f[1]).hypot(i.f[2]) / g)
+        .map(|i| {
+            let f = ds.specific_force(i);
+            f[0].hypot(f[1]).hypot(f[2]) / g
+        })
         .collect();
     [
         f.iter().copied().fold(f64::INFINITY, f64::min),
         f.iter().copied().fold(0.0, f64::max),
         ds.measurements
             .iter()
-            .filter_map(|m| m.velocity)
-            .map(|v| v[0].hypot(v[1]))
+            .filter_map(|m| {
+                m.velocity
+                    .map(|v| v[0].hypot(v[1]))
+                    .or(m.speed.map(f64::abs))
+            })
             .fold(0.0, f64::max),
         ds.inputs
             .windows(2)

@@ -156,14 +156,18 @@ fn refusal(round: usize, c: &Candidate) -> String {
     )
 }
 
+/// The effects of the candidates in `last` with `outcome`, quoted as the report quotes them.
+fn quoted_with(last: &[Candidate], outcome: Outcome) -> Vec<String> {
+    last.iter()
+        .filter(|c| c.outcome == outcome)
+        .map(|c| format!("`{}`", c.effect))
+        .collect()
+}
+
 /// When the last round refused decisive candidates as no real sensor's: why no catalogued
 /// effect is named (instead of "none has decisive evidence").
 pub fn unphysical_instead(last: &[Candidate]) -> Option<String> {
-    let refused: Vec<String> = last
-        .iter()
-        .filter(|c| c.outcome == Outcome::Unphysical)
-        .map(|c| format!("`{}`", c.effect))
-        .collect();
+    let refused = quoted_with(last, Outcome::Unphysical);
     (!refused.is_empty()).then(|| {
         format!(
             "No catalogued effect can be named: {} explain the misfit decisively, but only \
@@ -177,11 +181,7 @@ pub fn unphysical_instead(last: &[Candidate]) -> Option<String> {
 /// When the last round found decisive explanations it could not tell apart
 /// ([`crate::naming`]'s tie rule): why no catalogued effect is named.
 pub fn indistinguishable_instead(last: &[Candidate]) -> Option<String> {
-    let tied: Vec<String> = last
-        .iter()
-        .filter(|c| c.outcome == Outcome::Indistinguishable)
-        .map(|c| format!("`{}`", c.effect))
-        .collect();
+    let tied = quoted_with(last, Outcome::Indistinguishable);
     (!tied.is_empty()).then(|| {
         format!(
             "No catalogued effect can be named: {} each explain the misfit decisively, and \

@@ -12,6 +12,7 @@
 //! whatever the thread count.
 
 pub mod content;
+pub mod hidden;
 pub mod plots;
 pub mod rates;
 pub mod report;

@@ -8,7 +8,7 @@
 //! and a bias instability that multiple of its steady sigma. Sizes stop below the smallest
 //! bound of the effect's coefficients (the simulator refuses a value no instrument has).
 
-use super::content::{log_uniform, sign, Hidden, Planned};
+use super::hidden::{log_uniform, misstate, sign, Hidden, Planned};
 use super::{DiagnosisSection, DiagnosisStudyConfig, OutsideEffect, TruthSection};
 use crate::catalogue::strapdown::STATED_HEADING_SIGMA;
 use crate::error::DiagnoseError;
@@ -178,9 +178,7 @@ pub fn simulate(
                 entries.push(entry);
             }
             Hidden::Fault { fault, .. } => faults.push(*fault),
-            Hidden::MisstatedNoise { factors } => {
-                stated = super::content::misstate(&noise, factors)
-            }
+            Hidden::MisstatedNoise { factors } => stated = misstate(&noise, factors),
             other => {
                 return Err(DiagnoseError::Content(format!(
                     "{}: not simulated for a strapdown unit",

@@ -29,6 +29,12 @@ use std::sync::Arc;
 /// 2 deg, a heading taken from a GPS track.
 pub const STATED_HEADING_SIGMA: f64 = 0.035;
 
+/// A level's one-sigma when `[prior]` does not state it, rad: the tilt that levelling on the
+/// accelerometers leaves, the unit class's accelerometer bias over g.
+pub fn stated_level_sigma(class: UnitClass) -> f64 {
+    class.errors().accel_bias / 9.80665
+}
+
 /// The strapdown catalogue at the sizes of a unit class (MEMS unless set).
 #[derive(Debug, Clone, Default)]
 pub struct StrapdownCatalogue {
@@ -95,7 +101,7 @@ impl StrapdownCatalogue {
         if let Some(a) = self.aligned {
             return Ok(a);
         }
-        let level_default = self.class.errors().accel_bias / 9.80665;
+        let level_default = stated_level_sigma(self.class);
         if let Some(a) = ds.initial {
             let level = ds.prior.level_rad.unwrap_or(level_default);
             let heading = ds.prior.azimuth_rad.unwrap_or(STATED_HEADING_SIGMA);
@@ -199,7 +205,7 @@ impl Catalogue for StrapdownCatalogue {
         ["level_rad", "heading_rad"]
     }
     fn default_tilt(&self, ds: &Dataset, _start_lat: f64) -> [f64; 2] {
-        let level = self.class.errors().accel_bias / 9.80665;
+        let level = stated_level_sigma(self.class);
         self.initial(ds)
             .map_or([level, STATED_HEADING_SIGMA], |(_, sigma)| sigma)
     }

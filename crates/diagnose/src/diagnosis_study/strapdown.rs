@@ -10,7 +10,7 @@
 
 use super::hidden::{log_uniform, misstate, sign, Hidden, Planned};
 use super::{DiagnosisSection, DiagnosisStudyConfig, OutsideEffect, TruthSection};
-use crate::catalogue::strapdown::STATED_HEADING_SIGMA;
+use crate::catalogue::strapdown::{stated_level_sigma, STATED_HEADING_SIGMA};
 use crate::error::DiagnoseError;
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::simulate::Alignment;
@@ -111,7 +111,7 @@ pub fn start_sigmas(config: &DiagnosisStudyConfig) -> (f64, f64) {
         (tilt.level_rad, tilt.azimuth_rad)
     } else {
         (
-            config.model.unit_class().errors().accel_bias / 9.80665,
+            stated_level_sigma(config.model.unit_class()),
             STATED_HEADING_SIGMA,
         )
     }

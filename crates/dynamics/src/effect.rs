@@ -201,6 +201,12 @@ pub trait Effect: Send + Sync + fmt::Debug + 'static {
             self.name()
         ))
     }
+    /// The TOML declaration the effect was built from, when it was declared rather than
+    /// written in Rust ([`crate::declared`]): a simulated dataset writes it into its
+    /// `dataset.toml`, so that the folder reads back with the effect known.
+    fn declaration(&self) -> Option<&crate::declared::EffectDeclaration> {
+        None
+    }
 }
 
 /// An [`Effect`] as the model holds it: the same methods, with the generic rates
@@ -243,6 +249,8 @@ pub trait DynEffect: Send + Sync + fmt::Debug {
     fn process_noise(&self) -> Vec<NoiseChannel>;
     /// [`Effect::set_parameter`].
     fn set_parameter(&mut self, value: f64) -> Result<(), String>;
+    /// [`Effect::declaration`].
+    fn declaration(&self) -> Option<&crate::declared::EffectDeclaration>;
 }
 
 impl<E: Effect> DynEffect for E {
@@ -298,6 +306,9 @@ impl<E: Effect> DynEffect for E {
     }
     fn set_parameter(&mut self, value: f64) -> Result<(), String> {
         Effect::set_parameter(self, value)
+    }
+    fn declaration(&self) -> Option<&crate::declared::EffectDeclaration> {
+        Effect::declaration(self)
     }
 }
 

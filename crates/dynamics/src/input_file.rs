@@ -79,6 +79,11 @@ impl TextFile {
         what: "a dataset.toml (TOML: [noise], [prior], [simulation])",
         max_bytes: TOML_MAX_BYTES,
     };
+    /// A file of declared effects (`--effects-file`): `[[effect]]` tables.
+    pub const EFFECTS: TextFile = TextFile {
+        what: "an effects file (TOML: [[effect]] tables)",
+        max_bytes: TOML_MAX_BYTES,
+    };
     /// A file whose `[trajectory]` table `simulate --trajectory` drives.
     pub const TRAJECTORY: TextFile = TextFile {
         what: "a TOML file with a [trajectory] table",

@@ -13,6 +13,7 @@
 pub mod attitude;
 pub mod batch_propagation;
 pub mod dataset;
+pub mod declared;
 pub mod dual;
 pub mod earth;
 pub mod effect;
@@ -31,6 +32,7 @@ pub mod model_kind;
 pub mod noise;
 pub mod outside;
 pub mod partials;
+pub mod partials_check;
 pub mod prior;
 pub mod real;
 pub mod rng;

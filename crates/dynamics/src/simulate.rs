@@ -558,6 +558,7 @@ impl Simulator {
             truth: Some(run.truth.clone()),
             model: Default::default(),
             initial: None,
+            effects: self.model.declarations(),
         }
     }
 }

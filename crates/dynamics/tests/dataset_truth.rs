@@ -138,6 +138,7 @@ fn drive() -> Dataset {
         truth: None,
         model: Default::default(),
         initial: None,
+        effects: Vec::new(),
     }
 }
 
@@ -233,6 +234,7 @@ fn summary_names_truth_columns_and_survives_an_empty_dataset() {
         truth: None,
         model: Default::default(),
         initial: None,
+        effects: Vec::new(),
     };
     let s = empty.summary();
     assert_eq!((s.span, s.speed, s.extent), (None, None, None));

@@ -201,4 +201,16 @@ fn checker_reports_a_dropped_small_partial() {
     let u = random_input(&mut rng);
     let err = check_rate_jacobian(&model, &x, &u).expect_err("the dropped term must be found");
     assert!(err.contains("d(row 1)/d(L)"), "reported: {err}");
+    // The public check a user runs on their own effect finds it too, and names it.
+    let report = navkf_dynamics::partials_check::check_effect(
+        Box::new(TorquerScaleMissingTerm),
+        &NoiseConfig::default(),
+        4,
+        30,
+    )
+    .unwrap();
+    assert!(!report.passes(), "{report}");
+    let (_, row, col, _) = report.worst.as_ref().unwrap();
+    assert_eq!((row.as_str(), col.as_str()), ("phi_y", "L"), "{report}");
+    assert!(report.to_string().contains("DISAGREE"), "{report}");
 }

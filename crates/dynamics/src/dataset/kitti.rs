@@ -235,6 +235,7 @@ pub fn read_kitti(dir: &Path, name: &str, every_s: f64) -> Result<Dataset, Dynam
             pitch_deg: -f(0, "pitch").to_degrees(),
             heading_deg: 90.0 - f(0, "yaw").to_degrees(),
         }),
+        effects: Vec::new(),
     })
 }
 

@@ -181,4 +181,7 @@ pub struct Dataset {
     pub model: crate::model_kind::ModelKind,
     /// `[initial]`: the strapdown unit's first attitude, when the dataset states it.
     pub initial: Option<InitialAttitude>,
+    /// `[[effect]]` tables of dataset.toml: effects the user declared
+    /// ([`crate::declared`]), known to every command that reads the folder.
+    pub effects: Vec<crate::declared::EffectDeclaration>,
 }

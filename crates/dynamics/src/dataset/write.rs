@@ -216,6 +216,22 @@ impl Dataset {
             text.push_str("\n[simulation]\n");
             text.push_str(&body);
         }
+        if !self.effects.is_empty() {
+            // Arrays of tables come last, so that no key above falls into one.
+            #[derive(serde::Serialize)]
+            struct Declared<'a> {
+                effect: &'a [crate::declared::EffectDeclaration],
+            }
+            let body = toml::to_string(&Declared {
+                effect: &self.effects,
+            })
+            .map_err(|e| DynamicsError::File {
+                path: path.clone(),
+                message: format!("cannot write [[effect]]: {e}"),
+            })?;
+            text.push_str("\n# Effects declared in TOML (docs/declared-effects.md).\n");
+            text.push_str(&body);
+        }
         Ok(text.into_bytes())
     }
 }

@@ -23,6 +23,7 @@ pub use odometer_misalignment::OdometerMisalignment;
 pub use odometer_scale::OdometerScale;
 pub use torquer_scale::TorquerScale;
 
+use crate::declared::{DeclaredEffect, EffectDeclaration};
 use crate::effect::DynEffect;
 use crate::error::DynamicsError;
 use std::sync::Arc;
@@ -75,6 +76,25 @@ impl Registry {
         let name = factory().name().to_string();
         self.entries.retain(|(n, _)| *n != name);
         self.entries.push((name, Arc::new(factory)));
+    }
+
+    /// Adds effects declared in TOML ([`crate::declared`]), each checked against the
+    /// effects known before it: a new name, new coefficient names, known features. The error
+    /// names the key (`effect[1].rates[0].feature`) and what was expected; on error nothing
+    /// is added.
+    pub fn declare(&mut self, declarations: &[EffectDeclaration]) -> Result<(), DynamicsError> {
+        let mut extended = self.clone();
+        for (i, d) in declarations.iter().enumerate() {
+            let effect = DeclaredEffect::new(d, &extended).map_err(|(key, message)| {
+                DynamicsError::Config {
+                    key: format!("effect[{i}].{key}"),
+                    message,
+                }
+            })?;
+            extended.register(move || Box::new(effect.clone()));
+        }
+        *self = extended;
+        Ok(())
     }
 
     /// Names, in registration order.

@@ -208,6 +208,15 @@ impl PlatformModel {
         self.effects.iter().map(|e| e.name().to_string()).collect()
     }
 
+    /// The TOML declarations of the effects that were declared rather than written in Rust
+    /// ([`crate::declared`]), in order.
+    pub fn declarations(&self) -> Vec<crate::declared::EffectDeclaration> {
+        self.effects
+            .iter()
+            .filter_map(|e| e.declaration().cloned())
+            .collect()
+    }
+
     /// Index of a state by name.
     pub fn index_of(&self, name: &str) -> Option<usize> {
         self.names.iter().position(|n| n == name)

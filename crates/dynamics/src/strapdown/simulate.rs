@@ -510,6 +510,7 @@ impl StrapdownSimulator {
             truth: Some(run.truth.clone()),
             model: ModelKind::Strapdown,
             initial: Some(initial),
+            effects: Vec::new(),
         }
     }
 }

@@ -179,6 +179,7 @@ pub fn sample(name: &str) -> Dataset {
         truth: Some(truth),
         model: Default::default(),
         initial: None,
+        effects: Vec::new(),
     }
 }
 

@@ -2,6 +2,7 @@
 //! its line.
 
 use super::*;
+use crate::declared::EffectDeclaration;
 
 /// `dataset.toml`: the `[noise]`, `[prior]`, `[simulation]`, `[model]` and `[initial]`
 /// tables, nothing else.
@@ -18,6 +19,9 @@ pub(super) struct ConfigFile {
     pub(super) model: Option<ModelTable>,
     #[serde(default)]
     pub(super) initial: Option<InitialAttitude>,
+    /// `[[effect]]`: effects declared in TOML.
+    #[serde(default)]
+    pub(super) effect: Vec<EffectDeclaration>,
 }
 
 /// `[model]`: the family.
@@ -66,16 +70,36 @@ pub(super) fn known_coefficients(registry: &Registry) -> Vec<String> {
     names
 }
 
-/// Reads and checks `dataset.toml`; `known` gives the coefficient names of the family the
-/// file states.
+/// Reads and checks `dataset.toml`. `registry` holds the platform effects known before the
+/// file's own declarations, which join it (an extended copy is returned with the file).
 pub(super) fn read_config(
     path: &Path,
-    known: impl Fn(ModelKind) -> Vec<String>,
-) -> Result<ConfigFile, DynamicsError> {
+    registry: &Registry,
+) -> Result<(ConfigFile, Registry), DynamicsError> {
     let text = read_text(path, &TextFile::DATASET_CONFIG)?;
     let config: ConfigFile = toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))?;
     let kind = config.kind();
-    let known = known(kind);
+    let mut registry = registry.clone();
+    if kind == ModelKind::Strapdown && !config.effect.is_empty() {
+        return Err(DynamicsError::File {
+            path: path.to_path_buf(),
+            message: "[[effect]]: declared effects are the platform family's; a strapdown \
+                      dataset's effects are the strapdown catalogue's (`navkf effects \
+                      --model strapdown`); expected no [[effect]] with [model] kind = \
+                      \"strapdown\""
+                .into(),
+        });
+    }
+    registry
+        .declare(&config.effect)
+        .map_err(|e| DynamicsError::File {
+            path: path.to_path_buf(),
+            message: printable(&e.to_string().replace("configuration: ", "")),
+        })?;
+    let known = match kind {
+        ModelKind::Platform => known_coefficients(&registry),
+        ModelKind::Strapdown => strapdown_coefficients(),
+    };
     let located = |table: &str, key: &str, message: String| match key_line(&text, table, key) {
         Some(line) => data_error(path, line, &format!("{table}.{key}"), message),
         None => DynamicsError::File {
@@ -163,7 +187,7 @@ pub(super) fn read_config(
             },
         });
     }
-    Ok(config)
+    Ok((config, registry))
 }
 
 /// The 1-based line of `key = ...` inside `[table]`, for the simple layout this project

@@ -66,14 +66,12 @@ impl Dataset {
         }
         // dataset.toml first: it says which family's files to read.
         let config_path = dir.join(CONFIG_FILE);
-        let config = if exists(&config_path)? {
-            read_config(&config_path, |kind| match kind {
-                ModelKind::Platform => known_coefficients(registry),
-                ModelKind::Strapdown => strapdown_coefficients(),
-            })?
+        let (config, registry) = if exists(&config_path)? {
+            read_config(&config_path, registry)?
         } else {
-            ConfigFile::default()
+            (ConfigFile::default(), registry.clone())
         };
+        let registry = &registry;
         const NAV_DIM_STRAPDOWN: usize = crate::strapdown::state::NAV_DIM;
         let kind = config.kind();
         let (inputs, layout, state_names) = match kind {
@@ -116,6 +114,7 @@ impl Dataset {
             truth,
             model: kind,
             initial: config.initial,
+            effects: config.effect,
         })
     }
 }

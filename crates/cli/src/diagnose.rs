@@ -10,7 +10,7 @@
 
 use navkf_diagnose::{diagnose, report, Options, RoundKind};
 use navkf_dynamics::dataset::{Dataset, CONFIG_FILE};
-use navkf_dynamics::{PlatformPrior, Registry};
+use navkf_dynamics::PlatformPrior;
 use navkf_report::write_atomic;
 use std::path::PathBuf;
 
@@ -51,6 +51,10 @@ pub struct Args {
     /// (Euler angles; for a platform that may be misaligned by degrees).
     #[arg(long, default_value = "small-angle", value_parser = crate::attitude_names())]
     attitude: String,
+    /// A TOML file of `[[effect]]` tables: effects declared without Rust
+    /// (docs/declared-effects.md), candidates and `--with` names beside the catalogue's.
+    #[arg(long, value_name = "FILE")]
+    effects_file: Option<PathBuf>,
     /// Most automatic rounds of the forward selection (at least 1).
     #[arg(long, default_value_t = Options::default().max_rounds)]
     max_rounds: usize,
@@ -114,9 +118,10 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     // A large recording takes seconds to read and minutes to diagnose: a spinner with the
     // elapsed time says it is working (drawn only on a terminal).
     let spinner = navkf_report::progress::spinner(format!("reading {}", a.dataset.display()));
-    let ds = Dataset::read_with(&a.dataset, &Registry::catalogue())?;
+    let (registry, declared) = crate::effects::registry_with_file(a.effects_file.as_deref())?;
+    let ds = Dataset::read_with(&a.dataset, &registry)?;
     // The settings that depend on the dataset's family, checked before anything is fitted.
-    let catalogue = navkf_diagnose::catalogue::of(&ds);
+    let catalogue = navkf_diagnose::catalogue::with_declared(&ds, &declared)?;
     let effects = catalogue.effect_names();
     for w in &with {
         if !effects.contains(w) {

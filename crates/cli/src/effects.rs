@@ -6,7 +6,13 @@
 //! `process_noise`): a new effect is listed the moment it is in `Registry::catalogue`, and no
 //! second table can go stale. `docs/glossary.md` says the same in prose. `--model strapdown`
 //! lists the strapdown family's six biases and its declared effects the same way.
+//!
+//! `--effects-file FILE` adds the effects a user declared in TOML (docs/declared-effects.md),
+//! and `--check` compares every listed effect's partial derivatives with finite differences
+//! (`navkf_dynamics::partials_check`), reporting each one's worst entry.
 
+use navkf_dynamics::declared::{read_declarations, EffectDeclaration};
+use navkf_dynamics::partials_check::check_effect;
 use navkf_dynamics::prior::base_coefficient_sigma;
 use navkf_dynamics::state::{BASE_DIM, BASE_MEANINGS, BASE_NAMES, BASE_UNITS, NAV_DIM};
 use navkf_dynamics::strapdown::effects::StrapdownRegistry;
@@ -15,8 +21,9 @@ use navkf_dynamics::strapdown::state::{
     STATE_UNITS as SD_UNITS,
 };
 use navkf_dynamics::strapdown::unit_class::UnitClass;
-use navkf_dynamics::Registry;
+use navkf_dynamics::{DynamicsError, NoiseConfig, Registry};
 use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -28,6 +35,33 @@ pub struct Args {
     /// (MEMS if left out)
     #[arg(long)]
     unit: Option<String>,
+    /// A TOML file of `[[effect]]` tables: effects declared without Rust
+    /// (docs/declared-effects.md), listed after the catalogue's (platform family).
+    #[arg(long, value_name = "FILE")]
+    effects_file: Option<PathBuf>,
+    /// Check every listed effect's partial derivatives against finite differences and report
+    /// each one's worst entry; exit 1 if any disagrees.
+    #[arg(long)]
+    check: bool,
+}
+
+/// The catalogue with the effects declared in `file` (`--effects-file`), and the
+/// declarations; errors name the file and the key.
+pub fn registry_with_file(
+    file: Option<&Path>,
+) -> Result<(Registry, Vec<EffectDeclaration>), Box<dyn std::error::Error>> {
+    let mut registry = Registry::catalogue();
+    let Some(path) = file else {
+        return Ok((registry, Vec::new()));
+    };
+    let declarations = read_declarations(path)?;
+    registry.declare(&declarations).map_err(|e| match e {
+        DynamicsError::Config { key, message } => {
+            format!("{}: {key}: {message}", path.display())
+        }
+        other => format!("{}: {other}", path.display()),
+    })?;
+    Ok((registry, declarations))
 }
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
@@ -40,9 +74,32 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
                 )
                 .into());
             }
-            listing(&Registry::catalogue())?
+            let (registry, _) = registry_with_file(a.effects_file.as_deref())?;
+            let mut text = listing(&registry)?;
+            if a.check {
+                let (report, failed) = checks(&registry)?;
+                text.push_str(&report);
+                if failed > 0 {
+                    say!("{}", text.trim_end());
+                    return Err(format!(
+                        "{failed} effect(s) have partial derivatives that disagree with finite \
+                         differences; the EKF would linearise them wrongly"
+                    )
+                    .into());
+                }
+            }
+            text
         }
-        "strapdown" => strapdown_listing(a.unit.as_deref().unwrap_or("mems").parse()?),
+        "strapdown" => {
+            if a.effects_file.is_some() || a.check {
+                return Err(
+                    "--effects-file and --check: declared effects and the partials \
+                            check are the platform family's; expected --model platform"
+                        .into(),
+                );
+            }
+            strapdown_listing(a.unit.as_deref().unwrap_or("mems").parse()?)
+        }
         other => {
             return Err(format!("--model {other}: expected platform or strapdown").into());
         }
@@ -62,7 +119,7 @@ fn strapdown_listing(class: UnitClass) -> String {
     );
     let _ = writeln!(
         out,
-        "  {:<7} {:<15} {:<10} meaning",
+        "  {:<9} {:<15} {:<10} meaning",
         "name", "unit", "typical"
     );
     for i in SD_NAV_DIM..SD_BASE_DIM {
@@ -108,7 +165,22 @@ fn strapdown_listing(class: UnitClass) -> String {
 
 /// One coefficient's row: name, unit, typical one-sigma, meaning.
 fn row(out: &mut String, name: &str, unit: &str, sigma: f64, meaning: &str) {
-    let _ = writeln!(out, "  {name:<7} {unit:<15} {sigma:<10.3e} {meaning}");
+    let _ = writeln!(out, "  {name:<9} {unit:<15} {sigma:<10.3e} {meaning}");
+}
+
+/// The partials check of every effect of `registry`, one line each, and how many failed.
+fn checks(registry: &Registry) -> Result<(String, usize), Box<dyn std::error::Error>> {
+    let mut out = String::from(
+        "\n\nPartial derivatives against central finite differences (16 random states each; \
+         an entry passes within its tolerance, 1.000):\n",
+    );
+    let mut failed = 0;
+    for name in registry.names() {
+        let report = check_effect(registry.build(&name)?, &NoiseConfig::default(), 16, 1)?;
+        failed += usize::from(!report.passes());
+        let _ = writeln!(out, "  {report}");
+    }
+    Ok((out, failed))
 }
 
 /// The listing of `registry`'s effects, after the base coefficients.
@@ -122,7 +194,7 @@ pub fn listing(registry: &Registry) -> Result<String, Box<dyn std::error::Error>
     );
     let _ = writeln!(
         out,
-        "  {:<7} {:<15} {:<10} meaning",
+        "  {:<9} {:<15} {:<10} meaning",
         "name", "unit", "typical"
     );
     for i in NAV_DIM..BASE_DIM {

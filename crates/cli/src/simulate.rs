@@ -10,7 +10,7 @@
 use crate::simulated_dataset::{read_trajectory, readable};
 use navkf_dynamics::effect_spec::EffectSpec;
 use navkf_dynamics::{
-    NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TrajectoryConfig, TruthConfig,
+    NoiseConfig, PlatformModel, Simulator, Trajectory, TrajectoryConfig, TruthConfig,
 };
 use navkf_report::{FolderKind, ResultsDir};
 use std::path::PathBuf;
@@ -32,6 +32,11 @@ pub struct Args {
     /// name alone draws its coefficients; `name=value` fixes them; `coefficient=value` fixes one).
     #[arg(long, default_value = "")]
     effects: String,
+    /// A TOML file of `[[effect]]` tables: effects declared without Rust
+    /// (docs/declared-effects.md), which `--effects` may then name; the dataset's
+    /// dataset.toml carries the declarations of those it uses.
+    #[arg(long, value_name = "FILE")]
+    effects_file: Option<PathBuf>,
     /// Test duration, s (the path is scaled to fit only through its final standstill).
     #[arg(long)]
     duration: Option<f64>,
@@ -67,6 +72,14 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     if a.model == "strapdown" {
+        if a.effects_file.is_some() {
+            return Err(
+                "--effects-file: declared effects are the platform family's; a \
+                        strapdown unit's effects are the strapdown catalogue's (`navkf effects \
+                        --model strapdown`); expected no --effects-file with --model strapdown"
+                    .into(),
+            );
+        }
         let mut trajectory = match &a.trajectory {
             Some(path) => read_trajectory(path)?,
             None => TrajectoryConfig::default(),
@@ -110,7 +123,8 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             .into());
         }
     }
-    let spec = EffectSpec::parse(&a.effects, &Registry::catalogue())?;
+    let (registry, _) = crate::effects::registry_with_file(a.effects_file.as_deref())?;
+    let spec = EffectSpec::parse(&a.effects, &registry)?;
     let noise = NoiseConfig::default();
     let effect_names = spec.names();
     let attitude: navkf_dynamics::Attitude = a.attitude.parse()?;
@@ -120,7 +134,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             .index_of(name)
             .and_then(|i| model.coefficient_bound(i).map(|b| (b, &model.units()[i])));
         if let Some((b, unit)) = bound.filter(|(b, _)| !b.contains(prior.mean)) {
-            let owner = Registry::catalogue()
+            let owner = registry
                 .owner_of(name)
                 .map(|e| format!(" (of {e})"))
                 .unwrap_or_default();

@@ -176,7 +176,7 @@ fn main() {
         let p = &planned[index];
         println!("hidden: {:?}", p.hidden);
         let ds = content::simulate(&config, &trajectory, p).unwrap();
-        let catalogue = navkf_diagnose::catalogue::of(&ds);
+        let catalogue = navkf_diagnose::catalogue::of(&ds).unwrap();
         let (d, _) = diagnose(&ds, &*catalogue, &config.options()).unwrap();
         for r in &d.rounds {
             println!(

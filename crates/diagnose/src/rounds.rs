@@ -214,6 +214,14 @@ fn judgeable(ds: &Dataset, catalogue: &dyn Catalogue, opts: &Options) -> Result<
             catalogue.kind().name()
         )));
     }
+    let effects = catalogue.effect_names();
+    if let Some(missing) = ds.effects.iter().find(|d| !effects.contains(&d.name)) {
+        return Err(DiagnoseError::Data(format!(
+            "{}: dataset.toml declares the effect `{}`, which the catalogue given does not \
+             hold; expected the dataset's own catalogue (crate::catalogue::of)",
+            ds.name, missing.name
+        )));
+    }
     let updates = ds.measurements.len();
     if updates < MIN_UPDATES {
         return Err(DiagnoseError::Data(format!(

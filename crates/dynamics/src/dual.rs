@@ -185,4 +185,10 @@ impl<const N: usize> Real for Dual<N> {
             d: std::array::from_fn(|i| self.d[i] * a.v + self.v * a.d[i] + b.d[i]),
         }
     }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        let r = self.v.sqrt();
+        // d sqrt(x) = dx / (2 sqrt x); at 0 the slope is infinite, as it is.
+        self.map(r, 0.5 / r)
+    }
 }

@@ -55,6 +55,8 @@ pub trait Real:
     fn sin_cos(self) -> (Self, Self);
     /// `self * a + b` with one rounding (a fused multiply-add instruction).
     fn mul_add(self, a: Self, b: Self) -> Self;
+    /// The square root (correctly rounded, lane by lane).
+    fn sqrt(self) -> Self;
 }
 
 impl<T: Real> crate::trig::PolynomialArithmetic for T {
@@ -84,6 +86,10 @@ impl Real for f64 {
     #[inline(always)]
     fn mul_add(self, a: f64, b: f64) -> f64 {
         f64::mul_add(self, a, b)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> f64 {
+        f64::sqrt(self)
     }
 }
 
@@ -153,6 +159,14 @@ impl Real for Lanes {
         let mut out = self;
         for l in 0..LANES {
             out.0[l] = self.0[l].mul_add(a.0[l], b.0[l]);
+        }
+        out
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Lanes {
+        let mut out = self;
+        for l in 0..LANES {
+            out.0[l] = self.0[l].sqrt();
         }
         out
     }

@@ -6,9 +6,11 @@
 
 mod common;
 
+#[path = "common/markdown.rs"]
+mod markdown;
 use common::*;
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::declared::parse_declarations;
+use navkf_dynamics::declared::{parse_declarations, TermFeature, TermSide};
 use navkf_dynamics::partials_check::check_effect;
 use navkf_dynamics::simulate::Prior;
 use navkf_dynamics::{
@@ -304,4 +306,92 @@ fn malformed_declarations_are_refused_by_key() {
     // An unknown key is the parser's, located.
     let typo = base(good_c, good_t).replace("sigma", "sigmaa");
     assert!(parse_declarations(&typo).is_err());
+}
+
+/// Declaring what is declared already, word for word, is no conflict (a dataset simulated
+/// with an effects file, read with the same file); the same name declared otherwise is.
+#[test]
+fn the_same_declaration_twice_is_one_effect_and_a_different_one_a_conflict() {
+    let declarations = parse_declarations(TWINS).unwrap();
+    let mut registry = registry();
+    registry.declare(&declarations).unwrap();
+    assert_eq!(
+        registry.names().len(),
+        Registry::catalogue().names().len() + 4
+    );
+    let mut changed = declarations[3].clone();
+    changed.coefficients[0].sigma = 0.2;
+    let err = registry.declare(&[changed]).unwrap_err().to_string();
+    assert!(err.contains("effect[0].name"), "{err}");
+}
+
+/// docs/declared-effects.md held to the code: its example and the committed effects file
+/// declare, and its feature table names every feature the code knows, with its unit.
+#[test]
+fn the_page_and_the_example_file_agree_with_the_code() {
+    let md = markdown::doc("declared-effects.md");
+    let blocks = markdown::fenced(&md, "toml effects");
+    assert_eq!(blocks.len(), 1, "one example on the page");
+    let file = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../studies/effects/examples.toml"
+    ))
+    .unwrap();
+    let page = parse_declarations(&blocks[0]).unwrap();
+    assert_eq!(
+        page,
+        parse_declarations(&file).unwrap(),
+        "the page shows the file"
+    );
+    Registry::catalogue().declare(&page).unwrap();
+    let table = md
+        .split("## Features")
+        .nth(1)
+        .and_then(|s| s.split("\n## ").next())
+        .unwrap();
+    for (feature, name, unit, _) in TermFeature::ALL {
+        let row = table
+            .lines()
+            .find(|l| l.starts_with('|') && l.contains(&format!("`{name}`")))
+            .unwrap_or_else(|| panic!("feature `{name}` is not in the page's table"));
+        assert!(row.contains(&format!("| {unit} |")), "{name}: {row}");
+        let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+        let n = cells.len();
+        let (rates, measurement) = (cells[n - 3], cells[n - 2]);
+        assert_eq!(rates == "yes", feature.allowed_on(TermSide::Rate), "{row}");
+        assert_eq!(
+            measurement == "yes",
+            feature.allowed_on(TermSide::Measurement),
+            "{row}"
+        );
+    }
+}
+
+/// The example file's effects (the speed features among them) pass the partials check, and at
+/// a standstill, where `|v|` has no derivative, their Jacobians stay finite.
+#[test]
+fn the_example_effects_pass_the_check_and_stay_finite_at_a_standstill() {
+    let file = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../studies/effects/examples.toml"
+    ))
+    .unwrap();
+    let mut registry = Registry::catalogue();
+    let declarations = parse_declarations(&file).unwrap();
+    registry.declare(&declarations).unwrap();
+    let noise = NoiseConfig::default();
+    for d in &declarations {
+        let report = check_effect(registry.build(&d.name).unwrap(), &noise, 16, 9).unwrap();
+        assert!(report.passes(), "{report}");
+        let model = model(&registry, &d.name);
+        let mut x = random_state(&model, &mut rng(3));
+        x[navkf_dynamics::state::V_X] = 0.0;
+        x[navkf_dynamics::state::V_Y] = 0.0;
+        let n = model.dim();
+        let mut h = vec![0.0; 4 * n];
+        model.measurement_jacobian(&x, &mut h);
+        let mut j = vec![0.0; model.dynamic_dim() * n];
+        model.rate_jacobian(&x, &random_input(&mut rng(4)), &mut j);
+        assert!(h.iter().chain(&j).all(|v| v.is_finite()), "{}", d.name);
+    }
 }

@@ -10,6 +10,7 @@ pub mod strapdown;
 
 use crate::error::DiagnoseError;
 use navkf_dynamics::dataset::{Dataset, Measurement};
+use navkf_dynamics::declared::EffectDeclaration;
 use navkf_dynamics::sensor_classes::PhysicalBound;
 use navkf_dynamics::trajectory::Phase;
 use navkf_dynamics::{
@@ -189,11 +190,32 @@ pub fn first_full_measurement(
         })
 }
 
-/// The catalogue of `ds`'s family: the platform's or the strapdown's.
-pub fn of(ds: &Dataset) -> Box<dyn Catalogue> {
+/// The catalogue of `ds`'s family: the platform's, with the effects its `dataset.toml`
+/// declares ([`navkf_dynamics::declared`]), or the strapdown's.
+pub fn of(ds: &Dataset) -> Result<Box<dyn Catalogue>, DiagnoseError> {
+    with_declared(ds, &[])
+}
+
+/// [`of`], with `more` declared effects beside the dataset's own (`--effects-file`).
+pub fn with_declared(
+    ds: &Dataset,
+    more: &[EffectDeclaration],
+) -> Result<Box<dyn Catalogue>, DiagnoseError> {
     match ds.model {
-        ModelKind::Platform => Box::new(navkf_dynamics::Registry::catalogue()),
-        ModelKind::Strapdown => Box::new(strapdown::StrapdownCatalogue::for_dataset(ds)),
+        ModelKind::Platform => {
+            let mut registry = navkf_dynamics::Registry::catalogue();
+            registry.declare(&ds.effects)?;
+            registry.declare(more)?;
+            Ok(Box::new(registry))
+        }
+        ModelKind::Strapdown if !more.is_empty() || !ds.effects.is_empty() => {
+            Err(DiagnoseError::Data(format!(
+                "{}: declared effects are the platform family's; a strapdown dataset's are \
+                 the strapdown catalogue's (`navkf effects --model strapdown`)",
+                ds.name
+            )))
+        }
+        ModelKind::Strapdown => Ok(Box::new(strapdown::StrapdownCatalogue::for_dataset(ds))),
     }
 }
 

@@ -419,7 +419,7 @@ fn run_one(
         error: None,
     };
     let result = content::simulate(config, trajectory, p)
-        .and_then(|ds| diagnose(&ds, &*crate::catalogue::of(&ds), options));
+        .and_then(|ds| diagnose(&ds, &*crate::catalogue::of(&ds)?, options));
     match result {
         Ok((d, _)) => {
             record.verdict = Some(d.verdict);

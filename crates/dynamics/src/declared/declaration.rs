@@ -4,7 +4,6 @@
 //! what was expected.
 
 use super::feature::{TermFeature, TermSide};
-use crate::effects::Registry;
 use crate::state::{BASE_NAMES, MEASUREMENT_NAMES, NAV_DIM};
 use serde::{Deserialize, Serialize};
 
@@ -70,9 +69,10 @@ fn is_one(v: &f64) -> bool {
     *v == 1.0
 }
 
-/// The rows a rate term may add to: the attitude errors (gyro errors, docs/model.md
-/// eqs. (1)-(3)) and the velocities (accelerometer errors, eqs. (4)-(5)). The position's
-/// derivatives are kinematics, not sensor errors.
+/// The rows a rate term may add to: the attitude errors (gyro errors, joining `eps` in
+/// docs/model.md eq. (8)) and the velocities (accelerometer errors, joining `nab` in
+/// docs/model.md eq. (9)). The position's derivatives (docs/model.md eq. (10)) are
+/// kinematics, not sensor errors.
 pub(crate) const RATE_ROWS: [&str; 5] = ["phi_x", "phi_y", "phi_z", "v_x", "v_y"];
 
 /// A term checked: its row, coefficient index, feature and factor.
@@ -85,12 +85,14 @@ pub(crate) struct CheckedTerm {
 }
 
 impl EffectDeclaration {
-    /// Checks the declaration against `registry` (the effects already known, whose names and
-    /// coefficients it may not take). Returns its terms checked (rates, then measurement), or
-    /// the key at fault, relative to this table (`rates[1].feature`), and what was expected.
+    /// Checks the declaration against the effects already known (`effects`, whose names it may
+    /// not take, and `owner_of`, the effect owning a coefficient name). Returns its terms
+    /// checked (rates, then measurement), or the key at fault, relative to this table
+    /// (`rates[1].feature`), and what was expected.
     pub(crate) fn check(
         &self,
-        registry: &Registry,
+        effects: &[String],
+        owner_of: impl Fn(&str) -> Option<String>,
     ) -> Result<(Vec<CheckedTerm>, Vec<CheckedTerm>), (String, String)> {
         let err = |key: String, message: String| Err((key, message));
         if !is_name(&self.name, true) {
@@ -103,13 +105,13 @@ impl EffectDeclaration {
                 ),
             );
         }
-        if registry.names().contains(&self.name) {
+        if effects.contains(&self.name) {
             return err(
                 "name".into(),
                 format!(
                     "`{}` is an effect already (known effects: {}); expected a new name",
                     self.name,
-                    registry.names().join(", ")
+                    effects.join(", ")
                 ),
             );
         }
@@ -144,7 +146,7 @@ impl EffectDeclaration {
                     ),
                 );
             }
-            if let Some(owner) = registry.owner_of(&c.name) {
+            if let Some(owner) = owner_of(&c.name) {
                 return err(
                     key("name"),
                     format!(

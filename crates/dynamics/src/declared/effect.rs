@@ -6,7 +6,6 @@
 use super::declaration::{CheckedTerm, EffectDeclaration};
 use super::intern;
 use crate::effect::{Effect, MeasurementTerm, Partials, PhysicalBound, Terms};
-use crate::effects::Registry;
 use crate::kinematics::Kinematics;
 use crate::real::Real;
 use crate::state::{MEAS_DIM, NAV_DIM};
@@ -27,14 +26,16 @@ pub struct DeclaredEffect {
 }
 
 impl DeclaredEffect {
-    /// Checks `declaration` against the effects `registry` knows already (its name and its
-    /// coefficients' must be new). The error names the key within the declaration
-    /// (`rates[1].feature`) and says what was expected.
-    pub fn new(
+    /// Checks `declaration` against the effects known already (`effects`, and `owner_of`,
+    /// the effect owning a coefficient name: its name and its coefficients' must be new). The
+    /// error names the key within the declaration (`rates[1].feature`) and says what was
+    /// expected. [`crate::Registry::declare`] calls it with what the registry knows.
+    pub(crate) fn new(
         declaration: &EffectDeclaration,
-        registry: &Registry,
+        effects: &[String],
+        owner_of: impl Fn(&str) -> Option<String>,
     ) -> Result<Self, (String, String)> {
-        let (rates, measurement) = declaration.check(registry)?;
+        let (rates, measurement) = declaration.check(effects, owner_of)?;
         let c = &declaration.coefficients;
         let bounds = if c.iter().any(|c| c.bound.is_some()) {
             c.iter()

@@ -3,8 +3,8 @@
 //! here and one line in [`TermFeature::ALL`]).
 //!
 //! A rate term reads the kinematics of the moment (specific force, commanded rate, velocity;
-//! docs/model.md eqs. (1)-(7)); a measurement term reads only the state, since the predicted
-//! measurement has no input (docs/model.md eq. (21)). Each feature gives its value, generic
+//! docs/model.md eqs. (7)-(9)); a measurement term reads only the state, since the predicted
+//! measurement has no input (docs/model.md eq. (13)). Each feature gives its value, generic
 //! over the number type like the base model, and its partial derivatives with respect to the
 //! navigation states, which the EKF's Jacobian needs.
 
@@ -23,8 +23,8 @@ pub enum TermFeature {
     SpecificForce(usize),
     /// `f_x^2`, `f_y^2`, `f_z^2`: its square, m^2/s^4 (rates only).
     SpecificForceSquared(usize),
-    /// `w_x`, `w_y`, `w_z`: the rate the platform is torqued at, rad/s (docs/model.md
-    /// eq. (7); rates only).
+    /// `w_x`, `w_y`, `w_z`: the rate the platform is torqued at, rad/s (rates only;
+    /// docs/model.md eq. (7)).
     CommandedRate(usize),
     /// `v_x`, `v_y`: the East or North velocity, m/s.
     Velocity(usize),
@@ -32,6 +32,11 @@ pub enum TermFeature {
     LatitudeRate,
     /// `lambda_dot`: the longitude's rate `v_x / (RN cos L)`, rad/s.
     LongitudeRate,
+    /// `speed`: the horizontal speed `|v|`, m/s.
+    Speed,
+    /// `v_x_speed`, `v_y_speed`: a velocity component times the speed, `v_x |v|`, m^2/s^2
+    /// (a quadratic drag, a tyre's radius growing with speed).
+    VelocityTimesSpeed(usize),
 }
 
 /// Where a term adds: to a state derivative, or to the predicted measurement.
@@ -45,7 +50,7 @@ pub enum TermSide {
 
 impl TermFeature {
     /// Every feature, with the name a declaration writes, its unit and one line of meaning.
-    pub const ALL: [(TermFeature, &'static str, &'static str, &'static str); 16] = [
+    pub const ALL: [(TermFeature, &'static str, &'static str, &'static str); 19] = [
         (
             TermFeature::One,
             "1",
@@ -119,6 +124,19 @@ impl TermFeature {
             "lambda_dot",
             "rad/s",
             "longitude rate, v_x/(RN cosL)",
+        ),
+        (TermFeature::Speed, "speed", "m/s", "horizontal speed |v|"),
+        (
+            TermFeature::VelocityTimesSpeed(0),
+            "v_x_speed",
+            "m^2/s^2",
+            "East velocity x speed, v_x |v|",
+        ),
+        (
+            TermFeature::VelocityTimesSpeed(1),
+            "v_y_speed",
+            "m^2/s^2",
+            "North velocity x speed, v_y |v|",
         ),
         // Listed once more under the names a reader of the paper may try first.
         (
@@ -201,6 +219,9 @@ impl TermFeature {
             TermFeature::Velocity(_) => k.v_y,
             TermFeature::LatitudeRate => k.v_y * k.inv_rm,
             TermFeature::LongitudeRate => k.v_x * k.inv_rn * k.inv_cos,
+            TermFeature::Speed => speed(k),
+            TermFeature::VelocityTimesSpeed(0) => k.v_x * speed(k),
+            TermFeature::VelocityTimesSpeed(_) => k.v_y * speed(k),
         }
     }
 
@@ -233,6 +254,29 @@ impl TermFeature {
                 p.add(row, V_Y, scale * k.inv_rm);
                 p.add(row, LAT, scale * k.v_y * k.d_inv_rm);
             }
+            // d|v|/dv = v/|v|: the unit vector, taken as zero at a standstill (where |v| has
+            // no derivative; a filter linearising there sees the speed's smallest slope).
+            TermFeature::Speed => {
+                let s = speed(k);
+                if s > 0.0 {
+                    p.add(row, V_X, scale * k.v_x / s);
+                    p.add(row, V_Y, scale * k.v_y / s);
+                }
+            }
+            // d(v_a |v|)/dv_a = |v| + v_a^2/|v|, d(v_a |v|)/dv_b = v_a v_b / |v|: both
+            // tend to 0 at a standstill, where the function is differentiable.
+            TermFeature::VelocityTimesSpeed(a) => {
+                let s = speed(k);
+                if s > 0.0 {
+                    let (va, vb, ca, cb) = if a == 0 {
+                        (k.v_x, k.v_y, V_X, V_Y)
+                    } else {
+                        (k.v_y, k.v_x, V_Y, V_X)
+                    };
+                    p.add(row, ca, scale * (s + va * va / s));
+                    p.add(row, cb, scale * va * vb / s);
+                }
+            }
             // d(sec L / RN)/dL = sec L (d(1/RN)/dL + tan L / RN)
             TermFeature::LongitudeRate => {
                 p.add(row, V_X, scale * k.inv_rn * k.inv_cos);
@@ -244,4 +288,10 @@ impl TermFeature {
             }
         }
     }
+}
+
+/// The horizontal speed `|v|`.
+#[inline]
+fn speed<T: Real>(k: &Kinematics<T>) -> T {
+    (k.v_x * k.v_x + k.v_y * k.v_y).sqrt()
 }

@@ -5,11 +5,11 @@
 //! Why: the loop the harness exists for ends with "add the missing effect and watch the error
 //! fall", and most effects are data already. The catalogue's rate effects are a coefficient
 //! times a kinematic quantity (docs/model.md eqs. (37)-(40)), its measurement effects a
-//! coefficient times the velocity or the position's rate (eqs. (41)-(42)). A declaration
-//! states those terms; [`DeclaredEffect`] evaluates them and their partials, so a declared
-//! effect serves the simulator, the three filters, the diagnosis, the studies and the planner
-//! like a catalogued one. An effect of another form (a drag `c v |v|`) is still a Rust
-//! [`crate::Effect`].
+//! coefficient times the velocity or the position's rate (docs/model.md eqs. (41)-(42)). A
+//! declaration states those terms; [`DeclaredEffect`] evaluates them and their partials, so a
+//! declared effect serves the simulator, the three filters, the diagnosis, the studies and the
+//! planner like a catalogued one. An effect of another form (its own noise, or non-linear in
+//! its coefficient like `odometer-misalignment`'s rotation) is still a Rust [`crate::Effect`].
 //!
 //! ```
 //! use navkf_dynamics::declared::parse_declarations;

@@ -81,16 +81,25 @@ impl Registry {
     /// Adds effects declared in TOML ([`crate::declared`]), each checked against the
     /// effects known before it: a new name, new coefficient names, known features. The error
     /// names the key (`effect[1].rates[0].feature`) and what was expected; on error nothing
-    /// is added.
+    /// is added. A declaration the registry holds already, word for word, is skipped: a
+    /// dataset simulated with an effects file carries the file's declarations, and reading
+    /// it with the same file is no conflict.
     pub fn declare(&mut self, declarations: &[EffectDeclaration]) -> Result<(), DynamicsError> {
         let mut extended = self.clone();
         for (i, d) in declarations.iter().enumerate() {
-            let effect = DeclaredEffect::new(d, &extended).map_err(|(key, message)| {
-                DynamicsError::Config {
+            let same = extended
+                .build(&d.name)
+                .is_ok_and(|known| known.declaration() == Some(d));
+            if same {
+                continue;
+            }
+            let known = extended.names();
+            let effect = DeclaredEffect::new(d, &known, |c| extended.owner_of(c)).map_err(
+                |(key, message)| DynamicsError::Config {
                     key: format!("effect[{i}].{key}"),
                     message,
-                }
-            })?;
+                },
+            )?;
             extended.register(move || Box::new(effect.clone()));
         }
         *self = extended;

@@ -281,6 +281,10 @@ pub struct StudyConfig {
     /// ([`crate::sweep`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sweep: Option<SweepSection>,
+    /// `[[effect]]`: effects declared in TOML (docs/declared-effects.md), which
+    /// `truth.effects` and `filter.effects` may name like catalogued ones (platform family).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub effect: Vec<navkf_dynamics::declared::EffectDeclaration>,
 }
 
 /// The `[sweep]` table: the dotted key of one numeric setting (`truth.initial_tilt.azimuth_rad`)
@@ -388,6 +392,7 @@ impl StudyConfig {
         }
         self.noise.validate()?;
         model::check_family_keys(self)?;
+        self.registry()?;
         self.trajectory.validate().map_err(|e| e.to_string())?;
         let f = &self.filter;
         let i = &f.initial;

@@ -5,7 +5,7 @@ use super::StudyConfig;
 use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
 use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::unit_class::UnitClass;
-use navkf_dynamics::{Attitude, ModelKind, NoiseConfig};
+use navkf_dynamics::{Attitude, ModelKind, NoiseConfig, Registry};
 use serde::{Deserialize, Serialize};
 
 /// The `[model]` table.
@@ -32,6 +32,17 @@ impl ModelSection {
 }
 
 impl StudyConfig {
+    /// The platform effects the study may name: the catalogue's and its `[[effect]]`
+    /// declarations. The message names the key (`effect[0].rates[1].feature`).
+    pub fn registry(&self) -> Result<Registry, String> {
+        let mut registry = Registry::catalogue();
+        registry.declare(&self.effect).map_err(|e| match e {
+            navkf_dynamics::DynamicsError::Config { key, message } => format!("{key}: {message}"),
+            other => other.to_string(),
+        })?;
+        Ok(registry)
+    }
+
     /// The noise the truth is simulated with: `[noise]`, with the reading noise's densities
     /// of the unit class in a strapdown study.
     pub fn truth_noise(&self) -> NoiseConfig {
@@ -73,6 +84,14 @@ pub(super) fn check_family_keys(config: &StudyConfig) -> Result<(), String> {
         ModelKind::Strapdown => {
             let refuse =
                 |key: &str, why: &str| Err(format!("{key}: {why} (model.kind = \"strapdown\")"));
+            if !config.effect.is_empty() {
+                return refuse(
+                    "effect",
+                    "declared effects are the platform family's; a strapdown study names the \
+                     strapdown catalogue's effects (`navkf effects --model strapdown`), \
+                     expected no [[effect]]",
+                );
+            }
             for (key, effects) in [
                 ("truth.effects", &config.truth.effects),
                 ("filter.effects", &config.filter.effects),

@@ -54,6 +54,7 @@ fn filter_noise(config: &StudyConfig, noise: NoiseConfig) -> NoiseConfig {
 /// The platform model of the effect list at study key `key` (`truth.effects`), with the
 /// coefficients it fixes. A bad entry is refused with its index: `truth.effects[1]: ...`.
 fn platform_model(
+    registry: &Registry,
     key: &str,
     effects: &[String],
     noise: &NoiseConfig,
@@ -65,7 +66,7 @@ fn platform_model(
     ),
     StudyError,
 > {
-    let EffectSpec { effects, fixed } = EffectSpec::parse_entries(effects, &Registry::catalogue())
+    let EffectSpec { effects, fixed } = EffectSpec::parse_entries(effects, registry)
         .map_err(|(i, e)| StudyError::Other(format!("{key}[{i}]: {e}")))?;
     Ok((
         Arc::new(PlatformModel::new(effects, noise)?.with_attitude(attitude)),
@@ -75,7 +76,9 @@ fn platform_model(
 
 fn platform(config: &StudyConfig, trajectory: Arc<Trajectory>) -> Result<FamilyParts, StudyError> {
     let noise = config.noise;
+    let registry = config.registry().map_err(StudyError::Other)?;
     let (truth_model, truth_fixed) = platform_model(
+        &registry,
         "truth.effects",
         &config.truth.effects,
         &noise,
@@ -102,8 +105,14 @@ fn platform(config: &StudyConfig, trajectory: Arc<Trajectory>) -> Result<FamilyP
     let filter_noise = filter_noise(config, noise);
     let effects = config.filter.effects.clone();
     let filter_model_in = move |attitude| {
-        platform_model("filter.effects", &effects, &filter_noise, attitude)
-            .map(|(m, _)| m as Arc<dyn FamilyModel>)
+        platform_model(
+            &registry,
+            "filter.effects",
+            &effects,
+            &filter_noise,
+            attitude,
+        )
+        .map(|(m, _)| m as Arc<dyn FamilyModel>)
     };
     Ok(FamilyParts {
         sim: Box::new(sim),

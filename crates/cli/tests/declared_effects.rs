@@ -1,0 +1,159 @@
+//! Effects declared in TOML, from the command line: `effects --effects-file --check` lists and
+//! checks them; `simulate --effects-file` writes a dataset that carries its declarations, which
+//! `diagnose` then names without the file (and with it, no conflict); a study file's
+//! `[[effect]]` tables reach `study` and `plan`; a malformed file is refused by file and key.
+
+mod common;
+
+use common::{navkf, text};
+use std::path::PathBuf;
+
+const EFFECTS: &str = "../../studies/effects/examples.toml";
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("navkf-declared-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn effects_lists_and_checks_declared_effects() {
+    let o = navkf(["effects", "--effects-file", EFFECTS, "--check"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    for line in [
+        "drag: v_x' += kd v_x, v_y' += kd v_y (velocity-proportional drag; kd < 0 drags)",
+        "  kd        1/s             5.000e-5",
+    ] {
+        assert!(out.lines().any(|l| l == line), "no `{line}` in:\n{out}");
+    }
+    for name in ["drag", "gps-offset", "gps-latency"] {
+        let prefix = format!("  {name}: partials agree with finite differences");
+        assert!(
+            out.lines().any(|l| l.starts_with(&prefix)),
+            "{name}:\n{out}"
+        );
+    }
+    assert!(out.contains("worst entry d(v_x')/d(v_x)") || out.contains("worst entry d(v_y')/d("));
+}
+
+#[test]
+fn a_malformed_effects_file_is_refused_by_file_and_key() {
+    let dir = scratch("bad");
+    let file = dir.join("bad.toml");
+    let good = std::fs::read_to_string(EFFECTS).unwrap();
+    std::fs::write(
+        &file,
+        good.replacen("feature = \"v_x\"", "feature = \"velocity\"", 1),
+    )
+    .unwrap();
+    for args in [
+        vec!["effects", "--effects-file"],
+        vec!["simulate", "--out", "unused", "--effects-file"],
+    ] {
+        let o = navkf(args.iter().map(|s| s.as_ref()).chain([file.as_os_str()]));
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        let err = text(&o.stderr);
+        assert!(
+            err.contains(
+                "bad.toml: effect[0].rates[0].feature: `velocity`: expected one of 1, f_x"
+            ),
+            "{err}"
+        );
+    }
+    // A typo in a key is the parser's, with its line.
+    std::fs::write(&file, good.replacen("sigma = 5e-5", "sigmaa = 5e-5", 1)).unwrap();
+    let o = navkf([
+        "effects".as_ref(),
+        "--effects-file".as_ref(),
+        file.as_os_str(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o.stderr).contains("bad.toml:"), "{}", text(&o.stderr));
+    assert!(!PathBuf::from("unused").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_dataset_simulated_with_a_declared_effect_is_diagnosed_with_it() {
+    let dir = scratch("loop");
+    let data = dir.join("drag");
+    let o = navkf([
+        "simulate".as_ref(),
+        "--out".as_ref(),
+        data.as_os_str(),
+        "--effects-file".as_ref(),
+        EFFECTS.as_ref(),
+        "--effects".as_ref(),
+        "drag,kd=-2e-4".as_ref(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let toml = std::fs::read_to_string(data.join("dataset.toml")).unwrap();
+    assert!(
+        toml.contains("name = \"drag\"") && !toml.contains("gps-offset"),
+        "{toml}"
+    );
+    // Without the file: dataset.toml declares it. With the same file: no conflict.
+    for with_file in [false, true] {
+        let out = dir.join(format!("diagnosis-{with_file}"));
+        let mut args = vec![
+            "diagnose".into(),
+            data.clone().into_os_string(),
+            "--out".into(),
+            out.into_os_string(),
+        ];
+        if with_file {
+            args.extend(["--effects-file".into(), EFFECTS.into()]);
+        }
+        let o = navkf(&args);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let report = text(&o.stdout);
+        assert!(
+            report.contains("The evidence supports adding `drag`"),
+            "{report}"
+        );
+        // The file's second effect is a candidate only when the file is given.
+        assert_eq!(report.contains("gps-offset"), with_file, "{report}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_study_file_declares_effects_for_study_and_plan() {
+    let dir = scratch("study");
+    let file = dir.join("drag-study.toml");
+    let declarations = std::fs::read_to_string(EFFECTS).unwrap();
+    std::fs::write(
+        &file,
+        format!(
+            "[study]\nname = \"drag-study\"\nruns = 4\nseed = 7\nfilters = [\"ekf\", \
+             \"simplified_ukf\"]\n\n[trajectory]\nduration_s = 900.0\nleg_north_m = 1500.0\nleg_east_m = 1000.0\n\n[truth]\neffects = \
+             [\"drag\"]\n\n[filter]\neffects = [\"drag\"]\n\n{declarations}"
+        ),
+    )
+    .unwrap();
+    let out = dir.join("study");
+    let o = navkf([
+        "study".as_ref(),
+        file.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(
+        summary.contains("\"kd\""),
+        "kd is not among the summary's states"
+    );
+    let plan = dir.join("plan");
+    let o = navkf([
+        "plan".as_ref(),
+        file.as_os_str(),
+        "--out".as_ref(),
+        plan.as_os_str(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("kd"), "{}", text(&o.stdout));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -13,6 +13,7 @@
 //! gives an empty or partial panel with a note, never a panic.
 
 mod consistency;
+mod curve_labels;
 mod estimates;
 mod layout;
 pub mod plan;

@@ -3,6 +3,8 @@
 //! drifts, accelerometer biases, scale factors, each effect's), with the line at half the
 //! prior that counts as identified.
 
+use super::curve_labels::{place, Plot};
+use super::units::display_unit;
 use super::{outcome, FigureOutcome};
 use crate::plan::{Plan, IDENTIFIED_BELOW};
 use navkf_report::figure::*;
@@ -11,6 +13,15 @@ use std::path::Path;
 
 /// Title of `plan_sigma`.
 pub const TITLE: &str = "Predicted sigma / prior against time (below the dashed line: identified)";
+
+/// The caption of the panel of the coefficients in `unit` (the model's, SI): named in the
+/// unit the other figures show them in (deg/h, not rad/s; ppm, not 1).
+fn caption_of(unit: &str) -> String {
+    match display_unit(unit).1.as_str() {
+        "-" => "coefficients without a unit".into(),
+        u => format!("coefficients in {u}"),
+    }
+}
 
 /// Draws `plan_sigma` into `dir`.
 pub fn draw(p: &Plan, dir: &Path) -> FigureOutcome {
@@ -24,11 +35,12 @@ pub fn draw(p: &Plan, dir: &Path) -> FigureOutcome {
         p.t.first().copied().unwrap_or(0.0),
         p.t.last().copied().unwrap_or(1.0),
     );
+    let cell = (560, 400);
     let panels: Vec<Panel> = units
         .iter()
         .map(|unit| {
             let mut panel = Panel::new(
-                format!("coefficients in {unit}"),
+                caption_of(unit),
                 "time (s)",
                 "sigma / prior".into(),
                 Scale::Log,
@@ -37,28 +49,39 @@ pub fn draw(p: &Plan, dir: &Path) -> FigureOutcome {
             let members: Vec<usize> = (0..p.coefficients.len())
                 .filter(|&i| p.coefficients[i].unit == *unit)
                 .collect();
-            for (k, &i) in members.iter().enumerate() {
-                let style = color(k).stroke_width(2);
-                let dashed = k >= 6;
-                let pts =
-                    p.t.iter()
-                        .copied()
-                        .zip(p.sigma_over_prior[i].iter().copied())
-                        .collect();
-                panel.line(style, dashed, pts);
-                // Each curve named on itself, the names spread along the time axis (a legend
-                // would repeat the colours of the other panels).
-                let at = (k + 1) * p.t.len() / (members.len() + 1);
-                if let (Some(&x), Some(&y)) = (p.t.get(at), p.sigma_over_prior[i].get(at)) {
-                    panel.labels.push((x, y, p.coefficients[i].name.clone()));
+            let curves: Vec<(&str, Vec<(f64, f64)>)> = members
+                .iter()
+                .map(|&i| {
+                    let pts =
+                        p.t.iter()
+                            .copied()
+                            .zip(p.sigma_over_prior[i].iter().copied());
+                    (p.coefficients[i].name.as_str(), pts.collect())
+                })
+                .collect();
+            // The y axis as the figure kit would pad it (a decade at least, 15 % beyond the
+            // data, the prior and the identified line), fixed so that the names' places are
+            // known: from the lowest ratio, or 0.1, to the highest, or 1.
+            let (lo, hi) = curves
+                .iter()
+                .flat_map(|c| c.1.iter().map(|q| q.1))
+                .filter(|r| r.is_finite() && *r > 0.0)
+                .fold((0.1f64, 1.0f64), |(lo, hi), r| (lo.min(r), hi.max(r)));
+            let y = (lo / 1.15, hi * 1.15);
+            panel.y_include.extend([y.0, y.1]);
+            panel.y_limit = Some(y);
+            let identified = vec![(t0, IDENTIFIED_BELOW), (t1, IDENTIFIED_BELOW)];
+            // Each curve named on itself, the names spread along the time axis, clear of the
+            // lines (a legend would repeat the colours of the other panels).
+            let plot = Plot::in_cell(cell, BIG, (t0, t1), y);
+            let places = place(&plot, &curves, std::slice::from_ref(&identified), BIG.note);
+            for (k, ((name, pts), at)) in curves.into_iter().zip(places).enumerate() {
+                panel.line(color(k).stroke_width(2), k >= 6, pts);
+                if let Some((x, y)) = at {
+                    panel.labels.push((x, y, name.to_string()));
                 }
             }
-            panel.line(
-                GREY.stroke_width(1),
-                true,
-                vec![(t0, IDENTIFIED_BELOW), (t1, IDENTIFIED_BELOW)],
-            );
-            panel.y_include.extend([IDENTIFIED_BELOW, 1.0]);
+            panel.line(GREY.stroke_width(1), true, identified);
             panel
         })
         .collect();
@@ -66,7 +89,7 @@ pub fn draw(p: &Plan, dir: &Path) -> FigureOutcome {
         title: TITLE.into(),
         cols: panels.len().min(2),
         panels,
-        cell: (560, 400),
+        cell,
         legend: Vec::new(),
     };
     outcome("plan_sigma", TITLE, || render(dir, "plan_sigma", &grid))
@@ -83,7 +106,7 @@ pub const SWEEP_TITLE: &str =
 /// Designs without a value are left out.
 pub fn draw_sweep(c: &crate::plan::Comparison, dir: &Path) -> FigureOutcome {
     let key = c.key.clone().unwrap_or_default();
-    let (words, factor) = crate::sweep::axis(&key);
+    let (words, factor) = super::units::swept_axis(&key);
     let points: Vec<(f64, &crate::plan::Design)> = c
         .designs
         .iter()

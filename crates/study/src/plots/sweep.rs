@@ -10,8 +10,9 @@
 //! The swept axis is logarithmic when every value is positive and they span more than a
 //! factor of 20 (an initial misalignment from arcminutes to tens of degrees).
 
+use super::units::swept_axis;
 use super::{outcome, FigureOutcome};
-use crate::sweep::{axis, PointFilter, SweepSummary};
+use crate::sweep::{PointFilter, SweepSummary};
 use navkf_report::figure::*;
 use plotters::prelude::*;
 use std::path::Path;
@@ -52,7 +53,7 @@ fn per_filter(
     y_scale: Scale,
     y: impl Fn(&PointFilter) -> f64,
 ) -> Panel {
-    let (words, factor) = axis(&s.key);
+    let (words, factor) = swept_axis(&s.key);
     // A strapdown unit's "azimuth" prior is its heading's.
     let words = if s.model.is_platform() {
         words
@@ -76,7 +77,7 @@ fn per_filter(
 /// Adds the 95 % band of a consistent filter's average NEES / dimension (the widest over
 /// the filters at each point: runs excluded as diverged widen it) and the line at 1.
 fn nees_band(p: &mut Panel, s: &SweepSummary, dim: f64, bounds: impl Fn(&PointFilter) -> [f64; 2]) {
-    let factor = axis(&s.key).1;
+    let factor = swept_axis(&s.key).1;
     let pts: Vec<(f64, f64, f64)> = s
         .points
         .iter()

@@ -30,3 +30,33 @@ pub(super) fn unit_of(study: &Study, i: usize) -> (f64, String) {
             .map_or("", String::as_str),
     )
 }
+
+/// Settings whose key does not say their unit ([`crate::sweep::axis`] reads it from the key's
+/// suffix), or says only part of it (a turn rate's `_deg` is deg/s): the unit a swept axis
+/// shows them in.
+const UNSAID_UNITS: [(&str, &str); 9] = [
+    ("to", "m/s"),
+    ("cruise_speed", "m/s"),
+    ("turn_speed", "m/s"),
+    ("odometer_floor", "m/s"),
+    ("velocity_sigma", "m/s"),
+    ("accel", "m/s^2"),
+    ("peak_accel", "m/s^2"),
+    ("rate_deg", "deg/s"),
+    ("peak_turn_rate_deg", "deg/s"),
+];
+
+/// The swept `key` as a figure's x axis: [`crate::sweep::axis`] (its path in words, in the
+/// unit engineers quote, and the factor to it), with the unit of the settings whose key does
+/// not say it: a segment's `to` is a speed, "trajectory: segment 2: to (m/s)".
+pub(super) fn swept_axis(key: &str) -> (String, f64) {
+    let (words, factor) = crate::sweep::axis(key);
+    let leaf = key.rsplit('.').next().unwrap_or(key);
+    match UNSAID_UNITS.iter().find(|(name, _)| *name == leaf) {
+        Some((_, unit)) => {
+            let bare = words.strip_suffix(" (deg)").unwrap_or(&words);
+            (format!("{bare} ({unit})"), factor)
+        }
+        None => (words, factor),
+    }
+}

@@ -116,6 +116,34 @@ pub enum NoiseVerdict {
     Unresolved,
 }
 
+/// Why the data cannot fix a source's level ([`NoiseVerdict::Unresolved`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum WhyUnresolved {
+    /// Its channel has this few updates (fewer than [`FEW_UPDATES`]).
+    FewUpdates {
+        /// Updates of the channel.
+        updates: usize,
+    },
+    /// It trades off against another source's level: the data fix a combination of the two
+    /// (their log-scales' correlation at the optimum is at least [`TRADE_OFF`] in size).
+    TradesOff {
+        /// The other source.
+        with: NoiseSource,
+        /// The correlation of the two log-scales.
+        correlation: f64,
+    },
+    /// The likelihood is flat in it: no measurement resolves its noise on this record.
+    Flat,
+    /// None of these: the record resolves it, but only coarsely.
+    Weak,
+}
+
+/// A measurement source with fewer updates than this is unresolved for that reason.
+pub const FEW_UPDATES: usize = 30;
+/// Log-scales correlated at least this much (in size) trade off.
+pub const TRADE_OFF: f64 = 0.7;
+
 /// One source's fit.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SourceFit {
@@ -131,6 +159,9 @@ pub struct SourceFit {
     pub stated: BTreeMap<String, f64>,
     /// Fitted values by key (the maximum-likelihood ones, used only when mis-stated).
     pub fitted: BTreeMap<String, f64>,
+    /// Why the level is unresolved, when it is.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unresolved_because: Option<WhyUnresolved>,
 }
 
 /// The noise check of one model.

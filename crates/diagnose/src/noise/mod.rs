@@ -37,13 +37,15 @@
 //! candidate like an effect, which the diagnosis weighs against the structured ones
 //! ([`crate::candidates`]).
 //!
-//! [`levels`] holds what a check finds ([`NoiseFit`]); [`search`] how ([`check`]).
+//! [`levels`] holds what a check finds ([`NoiseFit`]); [`search`] how ([`check`]); `grid`
+//! the restarts that find process noise stated far off.
 
+mod grid;
 pub mod levels;
 pub mod search;
 
 pub use levels::{
-    scaled, NoiseFit, NoiseSource, NoiseVerdict, SourceFit, Theta, MAX_SOURCES,
-    RESOLVED_SIGMA_FACTOR, SOURCES, Z_FLAG,
+    scaled, NoiseFit, NoiseSource, NoiseVerdict, SourceFit, Theta, WhyUnresolved, FEW_UPDATES,
+    MAX_SOURCES, RESOLVED_SIGMA_FACTOR, SOURCES, TRADE_OFF, Z_FLAG,
 };
 pub use search::{check, MAX_STEP, Z_ACTIVE};

@@ -3,8 +3,8 @@
 //! process-noise densities, and the resolution at the optimum.
 
 use super::levels::{
-    scaled, NoiseFit, NoiseVerdict, SourceFit, Theta, MAX_SOURCES, RESOLVED_SIGMA_FACTOR, SOURCES,
-    Z_FLAG,
+    scaled, NoiseFit, NoiseVerdict, SourceFit, Theta, WhyUnresolved, FEW_UPDATES, MAX_SOURCES,
+    RESOLVED_SIGMA_FACTOR, SOURCES, TRADE_OFF, Z_FLAG,
 };
 use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
@@ -44,6 +44,9 @@ struct Surface<'a> {
     catalogue: &'a dyn Catalogue,
     filter: &'a FilterSpec,
     passes: std::sync::atomic::AtomicUsize,
+    /// Filter passes after which Newton stops where it is ([`PASS_BUDGET`], raised by the
+    /// restarts of the process-noise grid).
+    budget: std::sync::atomic::AtomicUsize,
     /// The family's sources: the first this many of [`SOURCES`].
     sources: usize,
 }
@@ -52,6 +55,17 @@ impl Surface<'_> {
     /// Filter passes made so far.
     fn spent(&self) -> usize {
         self.passes.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// Whether Newton has used up its passes.
+    fn exhausted(&self) -> bool {
+        self.spent() >= self.budget.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// Allows `more` passes beyond those spent so far.
+    fn allow(&self, more: usize) {
+        self.budget
+            .store(self.spent() + more, std::sync::atomic::Ordering::Relaxed);
     }
 
     fn at(&self, thetas: &[Theta]) -> Result<Vec<f64>, DiagnoseError> {
@@ -121,6 +135,23 @@ impl Surface<'_> {
             hess[j][i] = h;
         }
         Ok((g, hess))
+    }
+}
+
+impl super::grid::Landscape for Surface<'_> {
+    fn values(&self, points: &[Theta]) -> Result<Vec<f64>, DiagnoseError> {
+        self.at(points)
+    }
+    fn climb(
+        &self,
+        start: Theta,
+        value: f64,
+        active: &mut Vec<usize>,
+        g: &mut Theta,
+        hess: &mut super::grid::Hessian,
+    ) -> Result<(Theta, f64), DiagnoseError> {
+        self.allow(PASS_BUDGET);
+        optimise(self, start, value, active, g, hess)
     }
 }
 
@@ -225,7 +256,7 @@ fn newton(
     active: &[usize],
 ) -> Result<NewtonEnd, DiagnoseError> {
     for _ in 0..MAX_ITERATIONS {
-        if surface.spent() >= PASS_BUDGET {
+        if surface.exhausted() {
             break;
         }
         let (g, hess) = surface.derivatives(theta, f, active, true)?;
@@ -327,6 +358,7 @@ pub fn check(
         catalogue,
         filter,
         passes: Default::default(),
+        budget: PASS_BUDGET.into(),
         sources: catalogue.noise_sources(),
     };
     let k = surface.sources;
@@ -423,10 +455,30 @@ pub fn check(
             active.sort_unstable();
             (theta, f) = optimise(&surface, best.1, best.0, &mut active, &mut g, &mut hess)?;
         }
+        // Noise stated far off leaves local optima along the ridge where one process noise
+        // stands in for the other: a gyro density raised 10^4 times in sigma explains the
+        // velocity misfit of an accelerometer noise 500 times the stated one, and from there
+        // the accelerometer's own level is flat (MEMS data diagnosed with the defaults,
+        // `examples/noise_from_afar.rs`). So when anything was refitted, the pair is also
+        // tried on a grid of absolute levels, 1 to 10^4 times the stated sigma each, at the
+        // measurement levels found; a decisively better point restarts the search.
+        if refitted && (probed || active.contains(&0) || active.contains(&1)) {
+            (theta, f) = super::grid::restart(
+                &surface,
+                PROBE_GAIN,
+                theta,
+                f,
+                theta_start,
+                &mut active,
+                &mut g,
+                &mut hess,
+            )?;
+        }
     }
     // Standard errors: the inverse information over the active sources; the axis curvature
     // for the others.
     let mut se = [0.0; MAX_SOURCES];
+    let mut correlation = [[0.0; MAX_SOURCES]; MAX_SOURCES];
     if !active.is_empty() {
         let info = information(&hess, &active);
         let cov = info.try_inverse().unwrap_or_else(|| {
@@ -434,6 +486,12 @@ pub fn check(
         });
         for (a, &j) in active.iter().enumerate() {
             se[j] = cov[(a, a)].max(0.0).sqrt();
+        }
+        for (a, &i) in active.iter().enumerate() {
+            for (b, &j) in active.iter().enumerate() {
+                let d = (cov[(a, a)] * cov[(b, b)]).sqrt();
+                correlation[i][j] = if d > 0.0 { cov[(a, b)] / d } else { 0.0 };
+            }
         }
     }
     for j in all.iter().copied().filter(|j| !active.contains(j)) {
@@ -446,6 +504,26 @@ pub fn check(
     }
     let mut used_theta = [0.0; MAX_SOURCES];
     let ml = scaled(stated, theta);
+    let updates = channel_updates(ds);
+    let why = |j: usize| -> WhyUnresolved {
+        if let Some(&n) = updates.get(j).filter(|&&n| n < FEW_UPDATES) {
+            return WhyUnresolved::FewUpdates { updates: n };
+        }
+        let partner = (0..k)
+            .filter(|&i| i != j)
+            .max_by(|&a, &b| correlation[j][a].abs().total_cmp(&correlation[j][b].abs()));
+        if let Some(i) = partner.filter(|&i| correlation[j][i].abs() >= TRADE_OFF) {
+            return WhyUnresolved::TradesOff {
+                with: SOURCES[i],
+                correlation: correlation[j][i],
+            };
+        }
+        if se[j] >= 0.99 / MIN_CURVATURE.sqrt() {
+            WhyUnresolved::Flat
+        } else {
+            WhyUnresolved::Weak
+        }
+    };
     let sources = SOURCES[..k]
         .iter()
         .enumerate()
@@ -463,6 +541,7 @@ pub fn check(
             } else {
                 NoiseVerdict::Fits
             };
+            let unresolved_because = (verdict == NoiseVerdict::Unresolved).then(|| why(j));
             SourceFit {
                 source,
                 verdict,
@@ -473,6 +552,7 @@ pub fn check(
                 ],
                 stated: source.values(stated),
                 fitted: source.values(&ml),
+                unresolved_because,
             }
         })
         .collect();
@@ -489,4 +569,19 @@ pub fn check(
         loglik_gain: f - loglik_start,
         passes: surface.passes.into_inner(),
     })
+}
+
+/// Updates of each source's channel, in the order of [`SOURCES`]: `usize::MAX` for the
+/// process noises, which have no channel of their own.
+fn channel_updates(ds: &Dataset) -> [usize; MAX_SOURCES] {
+    let count = |f: &dyn Fn(&navkf_dynamics::dataset::Measurement) -> bool| {
+        ds.measurements.iter().filter(|m| f(m)).count()
+    };
+    [
+        usize::MAX,
+        usize::MAX,
+        count(&|m| m.velocity.is_some() || m.speed.is_some()),
+        count(&|m| m.position_deg.is_some()),
+        count(&|m| m.nhc.is_some() || m.zupt.is_some()),
+    ]
 }

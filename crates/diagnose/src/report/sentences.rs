@@ -5,7 +5,7 @@
 use super::words::{capitalise, times};
 use crate::candidates::evidence::{Candidate, Outcome};
 use crate::diagnosis::{Diagnosis, Round};
-use crate::noise::levels::{NoiseFit, NoiseVerdict};
+use crate::noise::levels::{NoiseFit, NoiseVerdict, WhyUnresolved};
 use crate::summary::FitSummary;
 use navkf_report::stats::Consistency;
 
@@ -40,13 +40,33 @@ pub fn noise_findings(check: &NoiseFit, out: &mut Vec<String>) {
             }
             NoiseVerdict::Unresolved => out.push(format!(
                 "The data cannot fix the {} level: anything from {} to {} of the stated one \
-                 fits (95 %). The stated level is kept.",
+                 fits (95 %){}. The stated level is kept.",
                 s.source.label(),
                 times(lo),
-                times(hi)
+                times(hi),
+                s.unresolved_because.map(why_unresolved).unwrap_or_default()
             )),
             NoiseVerdict::Fits => {}
         }
+    }
+}
+
+/// Why a level is unresolved, as a clause after the interval.
+fn why_unresolved(why: WhyUnresolved) -> String {
+    match why {
+        WhyUnresolved::FewUpdates { updates } => {
+            format!(", because its channel has only {updates} updates")
+        }
+        WhyUnresolved::TradesOff { with, correlation } => format!(
+            ", because it trades off against the {} level (their log-scales correlate {:+.2}): \
+             the data fix a combination of the two, not each",
+            with.label(),
+            correlation
+        ),
+        WhyUnresolved::Flat => ", because the likelihood is flat in it: no measurement of this \
+                                record resolves that noise under the others"
+            .to_string(),
+        WhyUnresolved::Weak => String::new(),
     }
 }
 

@@ -8,7 +8,6 @@
 //! over the number type like the base model, and its partial derivatives with respect to the
 //! navigation states, which the EKF's Jacobian needs.
 
-use crate::earth::WIE;
 use crate::kinematics::Kinematics;
 use crate::partials::Partials;
 use crate::real::Real;
@@ -233,20 +232,9 @@ impl TermFeature {
             TermFeature::One
             | TermFeature::SpecificForce(_)
             | TermFeature::SpecificForceSquared(_) => {}
-            // w_x = -v_y / RM
-            TermFeature::CommandedRate(0) => {
-                p.add(row, V_Y, -scale * k.inv_rm);
-                p.add(row, LAT, -scale * k.v_y * k.d_inv_rm);
-            }
-            // w_y = wie cosL + v_x / RN
-            TermFeature::CommandedRate(1) => {
-                p.add(row, V_X, scale * k.inv_rn);
-                p.add(row, LAT, scale * (-WIE * k.sin_l + k.v_x * k.d_inv_rn));
-            }
-            // w_z = wie sinL + v_x tanL / RN
-            TermFeature::CommandedRate(_) => {
-                p.add(row, V_X, scale * k.tan_over_rn);
-                p.add(row, LAT, scale * (WIE * k.cos_l + k.v_x * k.d_tan_over_rn));
+            // The commanded rate's partials are the catalogue's linear rates' (written once).
+            TermFeature::CommandedRate(a) => {
+                crate::linear_rates::Feature::CommandedRate(a).add_state_partials(k, scale, row, p)
             }
             TermFeature::Velocity(0) => p.add(row, V_X, scale),
             TermFeature::Velocity(_) => p.add(row, V_Y, scale),

@@ -96,6 +96,14 @@ fn shards_of_a_diagnosis_study_merge_to_the_single_machine_summary() {
         read(&merged),
         "merged shards must give the single machine's summary.json"
     );
+    // The report embeds its detection figure under the question it answers.
+    let md = std::fs::read_to_string(whole.join("report.md")).unwrap();
+    assert!(md.contains("](detection.png)"), "{md}");
+    let unasked = navkf_report::figure::embeds_without_question(&md);
+    assert!(
+        unasked.is_empty(),
+        "embedded without a question: {unasked:?}"
+    );
 
     // A shard missing, or given twice, is refused.
     let o = navkf([Path::new("merge"), &files[0], &files[1]]);

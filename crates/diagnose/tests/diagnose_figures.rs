@@ -129,6 +129,11 @@ fn before_and_after_figures_are_drawn_and_linked() {
     for n in expected {
         assert!(md.contains(&format!("({n}.png)")), "report.md lacks {n}");
     }
+    let unasked = navkf_report::figure::embeds_without_question(&md);
+    assert!(
+        unasked.is_empty(),
+        "embedded without a question: {unasked:?}"
+    );
     no_temporaries(&dir);
     std::fs::remove_dir_all(&dir).unwrap();
 }

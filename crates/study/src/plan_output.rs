@@ -32,9 +32,7 @@ pub fn write_plan(
     let mut figures = Vec::new();
     if figure {
         let f = draw(p, dir);
-        if f.result.is_ok() {
-            md.push_str(&format!("\n![{}]({}.png)\n", f.caption, f.name));
-        }
+        md.push_str(&format!("\n{}", f.markdown(2)));
         figures.push(f);
     }
     write_atomic(&dir.join("plan.md"), md.as_bytes())?;
@@ -58,9 +56,7 @@ pub fn write_comparison(
     let mut figures = Vec::new();
     if comparison.key.is_some() {
         let f = draw_sweep(comparison, dir);
-        if f.result.is_ok() {
-            md.push_str(&format!("\n![{}]({}.png)\n", f.caption, f.name));
-        }
+        md.push_str(&format!("\n{}", f.markdown(2)));
         figures.push(f);
     }
     write_atomic(&dir.join("designs.json"), json(comparison)?.as_bytes())?;

@@ -328,7 +328,6 @@ fn diverged(study: &crate::monte_carlo::Study, tally: &crate::tally::Tally) -> S
 
 fn figures(figs: &[navkf_report::figure::FigureOutcome]) -> String {
     let mut out = String::new();
-    let ok = |n: &str| figs.iter().any(|f| f.name == n && f.result.is_ok());
     let sections = [
         (
             "rms_over_time",
@@ -352,8 +351,8 @@ fn figures(figs: &[navkf_report::figure::FigureOutcome]) -> String {
         ),
     ];
     for (name, heading, text) in sections {
-        if ok(name) {
-            let _ = writeln!(out, "\n### {heading}\n\n{text}\n\n![{heading}]({name}.png)");
+        if let Some(f) = figs.iter().find(|f| f.name == name && f.result.is_ok()) {
+            let _ = write!(out, "\n### {heading}\n\n{text}\n\n{}", f.embed());
         }
     }
     let per: Vec<String> = figs

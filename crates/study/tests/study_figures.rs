@@ -215,6 +215,11 @@ fn links_pngs(dir: &Path, md: &str, names: &[String]) {
         assert!(dir.join(format!("{n}.png")).is_file());
     }
     assert!(!md.contains(".svg)"), "{file}: links an SVG");
+    let unasked = navkf_report::figure::embeds_without_question(md);
+    assert!(
+        unasked.is_empty(),
+        "{file}: figures embedded without the question they answer: {unasked:?}"
+    );
 }
 
 fn no_temporaries(dir: &Path) {

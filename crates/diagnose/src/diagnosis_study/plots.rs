@@ -11,6 +11,10 @@ const RATE: RGBColor = RGBColor(31, 119, 180);
 const CURVE: RGBColor = RGBColor(214, 39, 40);
 const TARGET: RGBColor = RGBColor(150, 150, 150);
 
+/// What `detection` answers.
+pub const DETECTION_QUESTION: &str =
+    "From what size is each catalogued effect named, and how sharply does naming rise?";
+
 /// Draws the detection curves into `dir` (`detection.png` and `.svg`).
 pub fn detection(rates: &Rates, dir: &Path) -> Result<(), navkf_report::ReportError> {
     let panels: Vec<Panel> = rates

@@ -3,6 +3,7 @@
 use super::rates::{rates, sig, Rates};
 use super::{DiagnosisStudyConfig, Record};
 use crate::error::DiagnoseError;
+use navkf_report::figure::FigureOutcome;
 use navkf_report::markdown::{cell, number, Number, Table};
 use navkf_report::write_atomic;
 use serde::{Deserialize, Serialize};
@@ -29,8 +30,13 @@ pub struct Timing {
     pub threads: usize,
 }
 
-/// The report's text.
-pub fn markdown(s: &Summary, command: &str, timing: Option<Timing>) -> String {
+/// The report's text; `figure` is the detection figure's outcome, shown under its table.
+pub fn markdown(
+    s: &Summary,
+    command: &str,
+    timing: Option<Timing>,
+    figure: &FigureOutcome,
+) -> String {
     let r = &s.rates;
     let mut out = String::new();
     let _ = writeln!(out, "# Diagnosis study `{}`\n", s.config.study.name);
@@ -108,7 +114,7 @@ pub fn markdown(s: &Summary, command: &str, timing: Option<Timing>) -> String {
     );
     let _ = writeln!(
         out,
-        "## Detection\n\nPer catalogued effect, over the datasets that hid it alone (sizes log-uniform, as multiples of its typical size): the size named 90 % of the time on a logistic fit, and the share named above it. ![detection](detection.png)\n"
+        "## Detection\n\nPer catalogued effect, over the datasets that hid it alone (sizes log-uniform, as multiples of its typical size): the size named 90 % of the time on a logistic fit, and the share named above it.\n"
     );
     let mut detection = Table::new([
         "effect",
@@ -152,9 +158,10 @@ pub fn markdown(s: &Summary, command: &str, timing: Option<Timing>) -> String {
         ]);
     }
     out.push_str(&detection.render());
+    let _ = writeln!(out, "\n{}", figure.embed());
     let _ = writeln!(
         out,
-        "\nPairs of catalogued effects: both named in one command {} over all sizes, {} when both sizes are above their limits.\n",
+        "## Pairs\n\nPairs of catalogued effects: both named in one command {} over all sizes, {} when both sizes are above their limits.\n",
         r.pairs_both, r.pairs_both_above
     );
     let _ = writeln!(out, "## Confusion matrix\n");
@@ -239,11 +246,13 @@ pub fn write(
     let json = serde_json::to_string_pretty(&summary)
         .map_err(|e| DiagnoseError::Content(format!("summary.json: {e}")))?;
     write_atomic(&dir.join("summary.json"), json.as_bytes())?;
-    let figure = super::plots::detection(&summary.rates, dir);
-    let mut md = markdown(&summary, command, timing);
-    if let Err(e) = figure {
-        let _ = writeln!(md, "\nThe detection figure could not be drawn: {e}");
-    }
+    let figure = navkf_report::figure::outcome(
+        "detection",
+        "The share of datasets that named each effect, against its size",
+        super::plots::DETECTION_QUESTION,
+        || super::plots::detection(&summary.rates, dir),
+    );
+    let md = markdown(&summary, command, timing, &figure);
     write_atomic(&dir.join("report.md"), md.as_bytes())?;
     Ok(summary)
 }

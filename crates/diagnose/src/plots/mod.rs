@@ -42,27 +42,33 @@ use style::{base_label, model_label, Geo};
 pub fn draw(d: &Diagnosis, fits: &Fits, dir: &Path) -> Vec<FigureOutcome> {
     let geo = Geo::of(&fits.model);
     let mut out = Vec::new();
-    let mut run = |name: &str, caption: String, fig: &dyn Fn() -> Grid| {
-        out.push(navkf_report::figure::outcome(name, caption, || {
-            render(dir, name, &fig())
-        }));
+    let mut run = |name: &str, caption: String, question: &str, fig: &dyn Fn() -> Grid| {
+        out.push(navkf_report::figure::outcome(
+            name,
+            caption,
+            question,
+            || render(dir, name, &fig()),
+        ));
     };
     let model_label = model_label(&fits.model.effects);
     let base_name = base_label(d);
     run(
         "measured_vs_predicted",
         "Measured channels against the model's prediction".into(),
+        "Does the model predict what was measured, channel by channel?",
         &|| measured_vs_predicted(&fits.model, &geo, &model_label),
     );
     run(
         "innovations",
         format!("Innovations with their +-2 sigma bands ({model_label})"),
+        "Do the innovations stay inside the bands the filter predicts, and where do they leave?",
         &|| innovations(&fits.model, &geo, &model_label),
     );
     if let Some(b) = &fits.before {
         run(
             "innovations_before",
             "Innovations with their +-2 sigma bands (base model, before)".into(),
+            "Where did the base model's innovations leave their bands, before any effect?",
             &|| innovations(b, &geo, &base_name),
         );
     }
@@ -81,16 +87,19 @@ pub fn draw(d: &Diagnosis, fits: &Fits, dir: &Path) -> Vec<FigureOutcome> {
             ),
             None => format!("The path coloured by how badly the {base_name} fits there"),
         },
+        "Where along the path does the model under test fail?",
         &|| path_misfit((base, &base_name), fin, &geo),
     );
     run(
         "nis",
         "NIS in sliding windows and per motion phase, with 95 % bounds".into(),
+        "Is the model consistent throughout the test and in every motion phase?",
         &|| nis(d, fits),
     );
     run(
         "whiteness",
         "Autocorrelation of each channel's innovations".into(),
+        "Are the innovations white, or is structure left in them that a model could explain?",
         &|| whiteness(d),
     );
     let has_truth = d.model.coefficients.iter().any(|c| c.truth.is_some());
@@ -100,6 +109,7 @@ pub fn draw(d: &Diagnosis, fits: &Fits, dir: &Path) -> Vec<FigureOutcome> {
             "Coefficient errors against the truth, divided by the prior sigma each started \
              from (before any widening)"
                 .into(),
+            "How far is each coefficient from the truth, before and after, in its starting sigmas?",
             &|| coefficient_errors(d, fits),
         );
     }

@@ -274,18 +274,7 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
     if !figures.is_empty() {
         let _ = writeln!(out, "## Figures\n");
         for f in figures {
-            match &f.result {
-                Ok(()) => {
-                    let _ = writeln!(
-                        out,
-                        "### {}\n\n![{}]({}.png)\n",
-                        f.caption, f.caption, f.name
-                    );
-                }
-                Err(e) => {
-                    let _ = writeln!(out, "### {}\n\nNot drawn: {e}\n", f.caption);
-                }
-            }
+            let _ = writeln!(out, "{}", f.markdown(3));
         }
     }
     out

@@ -10,11 +10,14 @@
 //! and registered with plotters once, so figures render the same on a machine without fonts.
 
 mod grid;
+mod joins;
 mod panel;
+mod section;
 mod style;
 
 pub use grid::{draw_legend, text_width, Grid};
 pub use panel::{draw_notes, draw_panel, entry, Band, Entry, Line, Mark, Panel, Scale};
+pub use section::{embeds_without_question, ANSWERS};
 pub use style::{color, filter_line, text_style, tick, Msg, Sizes, BIG, GREY, SMALL};
 
 use crate::atomic_write::write_atomic;
@@ -43,13 +46,16 @@ pub fn register_font() -> Result<(), ReportError> {
         .map_err(ReportError::Figure)
 }
 
-/// A figure written (or not): its name, caption, and why it failed if it did.
+/// A figure written (or not): its name, caption, the question it answers, and why it failed
+/// if it did. [`FigureOutcome::markdown`] writes its section of a report.
 #[derive(Debug, Clone)]
 pub struct FigureOutcome {
     /// File stem: the figure is `<name>.png` and `<name>.svg`.
     pub name: String,
     /// What it shows, in words.
     pub caption: String,
+    /// The one question it answers, ending in `?`.
+    pub question: String,
     /// `Err(reason)` when it could not be drawn.
     pub result: Result<(), String>,
 }
@@ -59,6 +65,7 @@ pub struct FigureOutcome {
 pub fn outcome<E: std::fmt::Display>(
     name: impl Into<String>,
     caption: impl Into<String>,
+    question: impl Into<String>,
     draw: impl FnOnce() -> Result<(), E>,
 ) -> FigureOutcome {
     let result = match std::panic::catch_unwind(std::panic::AssertUnwindSafe(draw)) {
@@ -68,6 +75,7 @@ pub fn outcome<E: std::fmt::Display>(
     FigureOutcome {
         name: name.into(),
         caption: caption.into(),
+        question: question.into(),
         result,
     }
 }

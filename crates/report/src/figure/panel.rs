@@ -402,6 +402,29 @@ fn draw_content<DB: DrawingBackend, CT: CoordTranslate<From = (f64, f64)>>(
                         seg, 7, 4, line.style,
                     )))
                     .m()?;
+            } else if line.style.stroke_width > 1 {
+                // Thick: cut where it turns back, each cut joined round (super::joins).
+                let px: Vec<(i32, i32)> = seg
+                    .iter()
+                    .map(|q| chart.as_coord_spec().translate(q))
+                    .collect();
+                let pieces = super::joins::pieces(&px);
+                let dot = (line.style.stroke_width / 2).max(1);
+                for (k, piece) in pieces.iter().enumerate() {
+                    let pts: Vec<(f64, f64)> = piece.iter().map(|&i| seg[i]).collect();
+                    if k > 0 {
+                        chart
+                            .draw_series(std::iter::once(Circle::new(
+                                pts[0],
+                                dot,
+                                line.style.filled(),
+                            )))
+                            .m()?;
+                    }
+                    chart
+                        .draw_series(std::iter::once(PathElement::new(pts, line.style)))
+                        .m()?;
+                }
             } else {
                 chart
                     .draw_series(std::iter::once(PathElement::new(seg, line.style)))

@@ -43,6 +43,18 @@ pub const NEES_NIS_TITLE: &str = "Average NEES and NIS over time, with 95 % band
 /// Title of `estimates_all` (followed by the run index).
 pub const ESTIMATES_ALL_TITLE: &str = "Coefficient estimates against the truth";
 
+/// What `estimates_all` and each `estimates_<coefficient>` answer.
+pub const ESTIMATES_QUESTION: &str =
+    "Does each filter's estimate reach the truth, and does its +-1 sigma band cover it?";
+/// What `rms_over_time` answers.
+pub const RMS_QUESTION: &str =
+    "How fast does each filter's error fall, and does it reach the truth-linearised bound?";
+/// What `nees_nis_over_time` answers.
+pub const NEES_NIS_QUESTION: &str =
+    "Do the filters know their own error: do NEES and NIS stay inside the 95 % band?";
+/// What `step_cost` answers.
+pub const STEP_COST_QUESTION: &str = "What does one predict + update cost with each filter?";
+
 /// Draws every figure into `dir`. A figure that fails (or panics) is reported in its outcome;
 /// the others are still drawn.
 pub fn write_all(
@@ -53,9 +65,10 @@ pub fn write_all(
     dir: &Path,
 ) -> Vec<FigureOutcome> {
     let mut out = Vec::new();
-    let mut run = |name: String, caption: String, f: &dyn Fn() -> Result<(), ReportError>| {
-        out.push(outcome(name, caption, f));
-    };
+    let mut run =
+        |name: String, caption: String, question: &str, f: &dyn Fn() -> Result<(), ReportError>| {
+            out.push(outcome(name, caption, question, f));
+        };
     if let Some(ex) = example {
         run(
             "estimates_all".into(),
@@ -63,12 +76,14 @@ pub fn write_all(
                 "Estimates of every coefficient against the truth, run {}",
                 ex.run
             ),
+            ESTIMATES_QUESTION,
             &|| estimates_all(study, ex, dir),
         );
         for i in NAV_DIM..ex.names.len() {
             run(
                 format!("estimates_{}", ex.names[i]),
                 format!("{} in run {}", ex.names[i], ex.run),
+                ESTIMATES_QUESTION,
                 &|| estimates(study, ex, i, dir),
             );
         }
@@ -76,16 +91,19 @@ pub fn write_all(
     run(
         "rms_over_time".into(),
         "RMS error over time / initial sigma, with the bound".into(),
+        RMS_QUESTION,
         &|| rms_over_time(study, tally, dir),
     );
     run(
         "nees_nis_over_time".into(),
         "Average NEES and NIS over time with 95 % bands".into(),
+        NEES_NIS_QUESTION,
         &|| nees_nis_over_time(study, tally, dir),
     );
     run(
         "step_cost".into(),
         "Cost of one filter step".into(),
+        STEP_COST_QUESTION,
         &|| step_cost(study, tally, summary, dir),
     );
     out

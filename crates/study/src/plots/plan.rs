@@ -13,6 +13,8 @@ use std::path::Path;
 
 /// Title of `plan_sigma`.
 pub const TITLE: &str = "Predicted sigma / prior against time (below the dashed line: identified)";
+/// What `plan_sigma` answers.
+pub const QUESTION: &str = "Which coefficients does this test identify, and when in the test?";
 
 /// The caption of the panel of the coefficients in `unit` (the model's, SI): named in the
 /// unit the other figures show them in (deg/h, not rad/s; ppm, not 1).
@@ -92,8 +94,14 @@ pub fn draw(p: &Plan, dir: &Path) -> FigureOutcome {
         cell,
         legend: Vec::new(),
     };
-    outcome("plan_sigma", TITLE, || render(dir, "plan_sigma", &grid))
+    outcome("plan_sigma", TITLE, QUESTION, || {
+        render(dir, "plan_sigma", &grid)
+    })
 }
+
+/// What `plan_sweep` answers.
+pub const SWEEP_QUESTION: &str =
+    "Which coefficients does the swept setting make identifiable, and from what value?";
 
 /// Title of `plan_sweep`.
 pub const SWEEP_TITLE: &str =
@@ -196,7 +204,7 @@ pub fn draw_sweep(c: &crate::plan::Comparison, dir: &Path) -> FigureOutcome {
         cell: (900, 520),
         legend,
     };
-    outcome("plan_sweep", SWEEP_TITLE, || {
+    outcome("plan_sweep", SWEEP_TITLE, SWEEP_QUESTION, || {
         render(dir, "plan_sweep", &grid)
     })
 }

@@ -155,11 +155,21 @@ pub fn draw(s: &SweepSummary, dim: usize, dir: &Path) -> Vec<FigureOutcome> {
         cell: (560, 420),
         legend: nees_legend,
     };
-    for (name, caption, fig) in [
-        ("sweep_accuracy", ACCURACY_TITLE, &accuracy),
-        ("sweep_nees", NEES_TITLE, &nees),
+    for (name, caption, question, fig) in [
+        (
+            "sweep_accuracy",
+            ACCURACY_TITLE,
+            "Along the sweep, which filter stays closest to its bound, and where does each fail?",
+            &accuracy,
+        ),
+        (
+            "sweep_nees",
+            NEES_TITLE,
+            "Along the sweep, which filter still knows its own error, and where does each stop?",
+            &nees,
+        ),
     ] {
-        out.push(outcome(name, caption, || render(dir, name, fig)));
+        out.push(outcome(name, caption, question, || render(dir, name, fig)));
     }
     out
 }

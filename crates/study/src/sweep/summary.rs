@@ -251,14 +251,7 @@ pub fn markdown(s: &SweepSummary, command: &str, figures: &[FigureOutcome]) -> S
         s.runs
     );
     for f in figures {
-        match &f.result {
-            Ok(()) => {
-                let _ = writeln!(out, "![{}]({}.png)\n", f.caption, f.name);
-            }
-            Err(e) => {
-                let _ = writeln!(out, "Figure `{}` could not be drawn: {e}\n", f.name);
-            }
-        }
+        let _ = writeln!(out, "{}", f.markdown(2));
     }
     type Column = fn(&PointFilter) -> String;
     let tables: [(&str, Column); 8] = [

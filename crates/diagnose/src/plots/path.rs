@@ -165,6 +165,7 @@ fn path_panel(fit: &Fit, geo: &Geo, label: &str) -> Panel {
         e0 + 30.0 * px * away.0,
         n0 + 30.0 * px * away.1 - 7.0 * px,
         "start".into(),
+        BLACK,
     ));
     p.notes.push(format!(
         "colour: NIS per degree of freedom averaged over +-{PATH_MISFIT_HALF_WINDOW_S:.0} s \

@@ -18,7 +18,7 @@ mod style;
 pub use grid::{draw_legend, text_width, Grid};
 pub use panel::{draw_notes, draw_panel, entry, Band, Entry, Line, Mark, Panel, Scale};
 pub use section::{embeds_without_question, ANSWERS};
-pub use style::{color, filter_line, text_style, tick, Msg, Sizes, BIG, GREY, SMALL};
+pub use style::{color, filter_line, text_color, text_style, tick, Msg, Sizes, BIG, GREY, SMALL};
 
 use crate::atomic_write::write_atomic;
 use crate::error::ReportError;

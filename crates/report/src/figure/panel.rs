@@ -51,8 +51,8 @@ pub struct Panel {
     pub bands: Vec<Band>,
     /// Bars `(x_lo, x_hi, height, style)` from y = 0.
     pub bars: Vec<(f64, f64, f64, ShapeStyle)>,
-    /// Text at data coordinates (centre, bottom).
-    pub labels: Vec<(f64, f64, String)>,
+    /// Text at data coordinates (centre, bottom), in its colour.
+    pub labels: Vec<(f64, f64, String, RGBColor)>,
     /// Said in the panel's top-left corner (why something is missing).
     pub notes: Vec<String>,
     /// The notes in a strip of their own under the caption, above the plot, instead of over
@@ -432,15 +432,11 @@ fn draw_content<DB: DrawingBackend, CT: CoordTranslate<From = (f64, f64)>>(
             }
         }
     }
-    let style = text_style(p.sizes.note, BLACK).pos(Pos::new(HPos::Center, VPos::Bottom));
-    for (x, y, s) in &p.labels {
+    for (x, y, s, colour) in &p.labels {
         if usable(*x, xs) && usable(*y, ys) {
+            let style = text_style(p.sizes.note, *colour).pos(Pos::new(HPos::Center, VPos::Bottom));
             chart
-                .draw_series(std::iter::once(Text::new(
-                    s.clone(),
-                    inside(*x, *y),
-                    style.clone(),
-                )))
+                .draw_series(std::iter::once(Text::new(s.clone(), inside(*x, *y), style)))
                 .m()?;
         }
     }

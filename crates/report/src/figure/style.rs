@@ -47,6 +47,13 @@ pub fn color(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
 }
 
+/// `c` darkened to read as text on white while still naming the curve drawn in `c`: curves
+/// that lie on one another are told apart by their names' colours.
+pub fn text_color(c: RGBColor) -> RGBColor {
+    let dark = |v: u8| (f64::from(v) * 0.7).round() as u8;
+    RGBColor(dark(c.0), dark(c.1), dark(c.2))
+}
+
 /// The line of filter `k` of `n`: earlier filters wider, so that filters whose curves
 /// coincide show as nested stripes instead of hiding one another. Widths step by 2 pixels
 /// (a pixel each side) up to [`WIDEST_LINE`], so seven filters all show; a cap of 7 gave

@@ -80,7 +80,9 @@ pub fn draw(p: &Plan, dir: &Path) -> FigureOutcome {
             for (k, ((name, pts), at)) in curves.into_iter().zip(places).enumerate() {
                 panel.line(color(k).stroke_width(2), k >= 6, pts);
                 if let Some((x, y)) = at {
-                    panel.labels.push((x, y, name.to_string()));
+                    panel
+                        .labels
+                        .push((x, y, name.to_string(), text_color(color(k))));
                 }
             }
             panel.line(GREY.stroke_width(1), true, identified);

@@ -59,8 +59,9 @@ pub(super) fn step_cost_panels(study: &Study, tally: &Tally, summary: &Summary) 
                 x,
                 h + top * 0.01,
                 format!("{} / {} µs", tick(med, 0.0), tick(p90, 0.0)),
+                BLACK,
             ));
-            bars.labels.push((x, h + top * 0.1, fname.clone()));
+            bars.labels.push((x, h + top * 0.1, fname.clone(), BLACK));
         } else {
             bars.notes.push(format!("{fname}: no steps timed"));
         }

@@ -91,6 +91,11 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     let build = |i: usize, label: &str, c: StudyConfig| {
         Study::new(c).map_err(|e| format!("design {i} ({label}): {e}"))
     };
+    // A sweep's points share one model family; files compared side by side are labelled
+    // by the first's.
+    let model = designs
+        .first()
+        .map_or(navkf_dynamics::ModelKind::Platform, |d| d.2.model.kind);
     for (i, (label, _, c)) in designs.iter().enumerate() {
         if navkf_report::interrupt::requested() {
             return Err("interrupted while checking the designs".into());
@@ -119,6 +124,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         .collect::<Result<Vec<Design>, String>>()?;
     let comparison = Comparison {
         key,
+        model,
         designs: planned,
     };
     let figures = write_comparison(&comparison, dir, &command)?;

@@ -212,6 +212,13 @@ pub struct Design {
 pub struct Comparison {
     /// The swept key, for a sweep.
     pub key: Option<String>,
+    /// The model family of the designs (the platform unless said): a strapdown sweep's
+    /// axis calls the azimuth prior the heading's.
+    #[serde(
+        default,
+        skip_serializing_if = "navkf_dynamics::ModelKind::is_platform"
+    )]
+    pub model: navkf_dynamics::ModelKind,
     /// The designs, in order.
     pub designs: Vec<Design>,
 }

@@ -474,6 +474,7 @@ fn compare(mut config: StudyConfig, key: &str, values: &[f64], dir: &Path) -> Ve
         .collect();
     let c = Comparison {
         key: Some(key.into()),
+        model: navkf_dynamics::ModelKind::Platform,
         designs,
     };
     let figs = write_comparison(&c, dir, COMMAND).unwrap();

@@ -116,7 +116,7 @@ pub const SWEEP_TITLE: &str =
 /// Designs without a value are left out.
 pub fn draw_sweep(c: &crate::plan::Comparison, dir: &Path) -> FigureOutcome {
     let key = c.key.clone().unwrap_or_default();
-    let (words, factor) = super::units::swept_axis(&key);
+    let (words, factor) = super::units::swept_axis(&key, c.model);
     let points: Vec<(f64, &crate::plan::Design)> = c
         .designs
         .iter()

@@ -53,13 +53,7 @@ fn per_filter(
     y_scale: Scale,
     y: impl Fn(&PointFilter) -> f64,
 ) -> Panel {
-    let (words, factor) = swept_axis(&s.key);
-    // A strapdown unit's "azimuth" prior is its heading's.
-    let words = if s.model.is_platform() {
-        words
-    } else {
-        words.replace("azimuth", "heading")
-    };
+    let (words, factor) = swept_axis(&s.key, s.model);
     let mut p = Panel::new(caption.into(), &words, y_desc.into(), y_scale, BIG);
     p.x_scale = x_scale(s);
     let n = s.filters.len();
@@ -77,7 +71,7 @@ fn per_filter(
 /// Adds the 95 % band of a consistent filter's average NEES / dimension (the widest over
 /// the filters at each point: runs excluded as diverged widen it) and the line at 1.
 fn nees_band(p: &mut Panel, s: &SweepSummary, dim: f64, bounds: impl Fn(&PointFilter) -> [f64; 2]) {
-    let factor = swept_axis(&s.key).1;
+    let factor = swept_axis(&s.key, s.model).1;
     let pts: Vec<(f64, f64, f64)> = s
         .points
         .iter()

@@ -2,6 +2,7 @@
 //! ppm), not the model's SI.
 
 use crate::monte_carlo::Study;
+use navkf_dynamics::ModelKind;
 
 const G: f64 = 9.80665;
 
@@ -48,15 +49,37 @@ const UNSAID_UNITS: [(&str, &str); 9] = [
 
 /// The swept `key` as a figure's x axis: [`crate::sweep::axis`] (its path in words, in the
 /// unit engineers quote, and the factor to it), with the unit of the settings whose key does
-/// not say it: a segment's `to` is a speed, "trajectory: segment 2: to (m/s)".
-pub(super) fn swept_axis(key: &str) -> (String, f64) {
+/// not say it: a segment's `to` is a speed, "trajectory: segment 2: to (m/s)". A strapdown
+/// unit's `azimuth` prior is its heading's, and is called so.
+pub(super) fn swept_axis(key: &str, model: ModelKind) -> (String, f64) {
     let (words, factor) = crate::sweep::axis(key);
     let leaf = key.rsplit('.').next().unwrap_or(key);
-    match UNSAID_UNITS.iter().find(|(name, _)| *name == leaf) {
+    let (words, factor) = match UNSAID_UNITS.iter().find(|(name, _)| *name == leaf) {
         Some((_, unit)) => {
             let bare = words.strip_suffix(" (deg)").unwrap_or(&words);
             (format!("{bare} ({unit})"), factor)
         }
         None => (words, factor),
+    };
+    match model {
+        ModelKind::Platform => (words, factor),
+        ModelKind::Strapdown => (words.replace("azimuth", "heading"), factor),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_strapdown_sweep_of_the_azimuth_prior_is_called_the_heading() {
+        let key = "truth.initial_tilt.azimuth_rad";
+        let (platform, factor) = swept_axis(key, ModelKind::Platform);
+        assert_eq!(platform, "truth: initial tilt: azimuth (deg)");
+        let (strapdown, same) = swept_axis(key, ModelKind::Strapdown);
+        assert_eq!(strapdown, "truth: initial tilt: heading (deg)");
+        assert_eq!(factor, same);
+        let speed = swept_axis("trajectory.segment[1].to", ModelKind::Strapdown).0;
+        assert_eq!(speed, "trajectory: segment 2: to (m/s)");
     }
 }

@@ -28,12 +28,13 @@
 //! fit within 20 of the BIC with four uninformed coefficients charged.
 
 use crate::candidates::evidence::{
-    Candidate, CandidateKind, Evaluated, Named, Outcome, DECISIVE_BIC,
+    Candidate, CandidateKind, Evaluated, Model, Named, Outcome, DECISIVE_BIC,
 };
 use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use crate::fit::density::{fit_density, DensityFit};
 use crate::fit::pass::Fit;
+use crate::options::Options;
 use navkf_dynamics::dataset::Dataset;
 use navkf_filters::FilterSpec;
 
@@ -51,21 +52,23 @@ pub struct Naming {
 
 /// Names at most one of the `ranked` candidates of a round on the model `model` (module
 /// documentation). A noise-only choice must beat its rival outside the catalogue; if it does
-/// not, it is set aside and the choice made again.
+/// not, it is set aside and the choice made again. A structured choice with a look-alike
+/// outside the catalogue must beat it too; if it does not, nothing is named in the round.
 pub fn name(
     ds: &Dataset,
-    model: &Fit,
+    model: &Model<'_>,
     mut ranked: Vec<Evaluated>,
     catalogue: &dyn Catalogue,
-    filter: &FilterSpec,
+    opts: &Options,
 ) -> Result<Naming, DiagnoseError> {
+    let filter = &opts.filter;
     let mut candidates: Vec<Candidate> = ranked.iter().map(|e| e.candidate.clone()).collect();
     let mut not_specific = Vec::new();
     let mut rival_notes = Vec::new();
     let (choice, mut notes) = loop {
         let (choice, notes) = select(&mut candidates, &not_specific);
         if let Some(i) = choice.filter(|&i| candidates[i].kind == CandidateKind::NoiseOnly) {
-            if let Some(note) = rival_note(ds, model, &ranked[i], catalogue, filter)? {
+            if let Some(note) = rival_note(ds, model.fit, &ranked[i], catalogue, filter)? {
                 not_specific.push(i);
                 rival_notes.push(note);
                 continue;
@@ -74,6 +77,14 @@ pub fn name(
         break (choice, notes);
     };
     notes.extend(rival_notes);
+    let mut choice = choice;
+    if let Some(i) = choice.filter(|&i| candidates[i].kind == CandidateKind::Structured) {
+        if let Some(note) = outside_look_alike(ds, model, &candidates[i], catalogue, opts)? {
+            candidates[i].outcome = Outcome::LooksLikeOutside;
+            notes.push(note);
+            choice = None;
+        }
+    }
     candidates.sort_by(|a, b| b.bic_gain.total_cmp(&a.bic_gain));
     let named = choice.map(|i| {
         let e = ranked.swap_remove(i);
@@ -119,6 +130,54 @@ fn rival_note(
     } else {
         Ok(None)
     }
+}
+
+/// Whether the structured rival of `chosen` outside the catalogue
+/// ([`Catalogue::with_structured_rival`]: a GPS antenna away from the platform for
+/// `gps-latency`) explains the misfit within [`DECISIVE_BIC`] of it, on the BIC that counts
+/// informed coefficients only ([`effective_bic`]); if so, the note that says why `chosen` is
+/// not named. Naming the next candidate instead would name a stand-in, so the round names
+/// nothing.
+fn outside_look_alike(
+    ds: &Dataset,
+    model: &Model<'_>,
+    chosen: &Candidate,
+    catalogue: &dyn Catalogue,
+    opts: &Options,
+) -> Result<Option<String>, DiagnoseError> {
+    let Some((with_rival, rival)) = catalogue.with_structured_rival(&chosen.effect) else {
+        return Ok(None);
+    };
+    let Some(fitted) = crate::candidates::effect::evaluate(ds, model, rival, &*with_rival, opts)?
+    else {
+        return Ok(None);
+    };
+    let r = fitted.candidate;
+    if r.failure.is_some() {
+        return Ok(None);
+    }
+    let (mine, theirs) = (effective_bic(chosen), effective_bic(&r));
+    if theirs <= mine - DECISIVE_BIC {
+        return Ok(None);
+    }
+    let values = |c: &Candidate| {
+        c.coefficients
+            .iter()
+            .map(|q| format!("{} = {:.3} +- {:.3}", q.name, q.estimate, q.sigma))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    Ok(Some(format!(
+        "`{}` ({}) would explain the misfit, but a GPS antenna away from the platform, not in \
+         the catalogue ({}, metres ahead and to the right), explains it as well (BIC gains \
+         {theirs:.0} and {mine:.0}, each counting only the coefficients the data inform): at a \
+         steady speed a latency and an antenna ahead of the platform shift the fix alike. It \
+         is not named. Measure the antenna's position, or drive with more speed changes, which \
+         tell them apart.",
+        chosen.effect,
+        values(chosen),
+        values(&r)
+    )))
 }
 
 /// A round's choice (module documentation): sets every candidate's outcome and returns the

@@ -1,5 +1,6 @@
-//! Explanations outside the catalogue that a noise-only candidate must beat before it is
-//! named.
+//! Explanations outside the catalogue that a candidate must beat before it is named: a walk
+//! of the other sensor for a noise-only term, and a GPS antenna away from the platform for a
+//! latency ([`GpsAntennaOffset`]).
 //!
 //! A noise-only term fitted by maximum likelihood can soak up any slow misfit: a random walk
 //! of the gyro drifts (`gyro-bias-walk`) tracks a drag, a warming-up accelerometer bias, a
@@ -11,6 +12,10 @@
 //! catalogue, never named), and names the gyro walk only if it fits decisively better. When
 //! it does not, the report says that a slow drift is there and that the data cannot say
 //! where it comes from.
+
+mod gps_antenna_offset;
+
+pub use gps_antenna_offset::GpsAntennaOffset;
 
 use navkf_dynamics::effect::Terms;
 use navkf_dynamics::state::{KA0X, KA0Y};

@@ -26,8 +26,9 @@
 //!       ([`crate::physical`]). Noise competes with structure rather than going first,
 //!       because a missing effect inflates the fitted noise: the right structural model has
 //!       the larger likelihood, and a noise explanation must beat the best structured one
-//!       decisively to be named ([`crate::rivals`] adds a walk of the other sensor for noise
-//!       terms).
+//!       decisively to be named. [`crate::rivals`] adds explanations outside the catalogue
+//!       that a choice must beat: a walk of the other sensor for noise terms, a GPS antenna
+//!       away from the platform for `gps-latency`.
 //!
 //!    The named effect joins the model (named noise levels replace the stated ones), which is
 //!    refitted from the starting priors, and the next round ranks the rest against it. The
@@ -121,7 +122,7 @@ pub fn diagnose(
             opts,
         )?;
         // 2.3 Name.
-        let naming = name(ds, &model, ranked, catalogue, &opts.filter)?;
+        let naming = name(ds, &as_it_stands, ranked, catalogue, opts)?;
         confounded.remember(&naming.candidates);
         rounds.push(Round {
             kind: RoundKind::Automatic,
@@ -170,9 +171,14 @@ pub fn diagnose(
     } else {
         (kept, Vec::new())
     };
-    // Explanations the data could not tell apart (crate::naming) are suggested too.
+    // Explanations the data could not tell apart from each other or from something outside
+    // the catalogue (crate::naming) are suggested too.
     for c in rounds.iter().flat_map(|r| &r.candidates) {
-        if c.outcome == Outcome::Indistinguishable && !suggested.contains(&c.effect) {
+        let undecided = matches!(
+            c.outcome,
+            Outcome::Indistinguishable | Outcome::LooksLikeOutside
+        );
+        if undecided && !suggested.contains(&c.effect) {
             suggested.push(c.effect.clone());
         }
     }

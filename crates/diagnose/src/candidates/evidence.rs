@@ -83,6 +83,9 @@ pub enum Outcome {
     /// Decisive, but another structured candidate explains the misfit as well: none of them
     /// is named, each is suggested ([`crate::naming`]).
     Indistinguishable,
+    /// Decisive, but an explanation outside the catalogue that looks like it on this
+    /// trajectory explains the misfit as well ([`crate::rivals`]): not named.
+    LooksLikeOutside,
 }
 
 impl std::fmt::Display for Outcome {
@@ -99,6 +102,9 @@ impl std::fmt::Display for Outcome {
             Outcome::NoiseNotSpecific => "noise term, no better than another sensor's walk",
             Outcome::Failed => "filter failed",
             Outcome::Unphysical => "decisive, but no real sensor's: not named",
+            Outcome::LooksLikeOutside => {
+                "decisive, but something outside the catalogue fits as well"
+            }
             Outcome::Indistinguishable => "decisive, but another explains as well: suggested",
         })
     }

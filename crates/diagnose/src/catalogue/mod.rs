@@ -144,6 +144,10 @@ pub trait Catalogue: Send + Sync + std::fmt::Debug {
     /// accelerometer biases, outside the catalogue) and that rival's name and typical
     /// density; `None` when the family has none.
     fn with_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str, f64)>;
+    /// The catalogue with the structured rival of `effect` added (an explanation outside
+    /// the catalogue that looks like it on a common trajectory: a GPS antenna away from the
+    /// platform for `gps-latency`) and that rival's name; `None` when `effect` has none.
+    fn with_structured_rival(&self, effect: &str) -> Option<(Box<dyn Catalogue>, &'static str)>;
 }
 
 /// Every coefficient name a prior may be stated for in `catalogue`'s family: the base model's

@@ -5,7 +5,7 @@
 use super::{first_full_measurement, Catalogue, Channel, ChannelKind, EffectInfo, Start};
 use crate::consistency::classify;
 use crate::error::DiagnoseError;
-use crate::rivals::AccelBiasWalk;
+use crate::rivals::{AccelBiasWalk, GpsAntennaOffset};
 use navkf_dynamics::dataset::{Dataset, Measurement};
 use navkf_dynamics::prior::{base_coefficient_sigma, default_azimuth_rad, default_level_rad};
 use navkf_dynamics::state::*;
@@ -145,6 +145,16 @@ impl Catalogue for Registry {
             .iter()
             .fold((0.0, 0.0), |(e, n), f| (e + f[0], n + f[1]));
         classify([fe / knots, fnn / knots], m.velocity)
+    }
+    fn with_structured_rival(&self, effect: &str) -> Option<(Box<dyn Catalogue>, &'static str)> {
+        (effect == "gps-latency").then(|| {
+            let mut registry = self.clone();
+            registry.register(|| Box::new(GpsAntennaOffset));
+            (
+                Box::new(registry) as Box<dyn Catalogue>,
+                GpsAntennaOffset::NAME,
+            )
+        })
     }
     fn with_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str, f64)> {
         let mut registry = self.clone();

@@ -314,4 +314,9 @@ impl Catalogue for StrapdownCatalogue {
     fn with_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str, f64)> {
         None
     }
+    /// The strapdown catalogue holds its look-alikes itself (`gps-lever-arm` beside
+    /// `gps-latency`): the contest of the round weighs them.
+    fn with_structured_rival(&self, _effect: &str) -> Option<(Box<dyn Catalogue>, &'static str)> {
+        None
+    }
 }

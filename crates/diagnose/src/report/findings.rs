@@ -3,7 +3,8 @@
 
 use super::sentences::{
     consistency_findings, failing_channels_and_phases, implausible_findings,
-    indistinguishable_instead, noise_findings, refusal_findings, unphysical_instead,
+    indistinguishable_instead, looks_like_outside_instead, noise_findings, refusal_findings,
+    unphysical_instead,
 };
 use super::words::times;
 use crate::candidates::evidence::{Candidate, CandidateKind, Outcome, DECISIVE_BIC};
@@ -184,7 +185,13 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
     }
     // Where the final model stands.
     match d.verdict {
-        Verdict::Consistent => consistency_findings(&d.model, &mut out),
+        Verdict::Consistent => {
+            consistency_findings(&d.model, &mut out);
+            // Consistent by the NIS tests, yet the likelihood found an effect it could not
+            // tell from something outside the catalogue: say so, or the suggestion is unsaid.
+            let last = d.rounds.last().map(|r| &r.candidates[..]).unwrap_or(&[]);
+            out.extend(looks_like_outside_instead(last));
+        }
         Verdict::Explained => out.push(format!(
             "With {} the model is consistent (NIS {:.3}, bounds {:.3}-{:.3}).",
             named_list(d),
@@ -212,7 +219,9 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
                 .filter(|c| c.outcome == Outcome::Confounded)
                 .map(|c| format!("`{}`", c.effect))
                 .collect();
-            if let Some(s) = indistinguishable_instead(last) {
+            if let Some(s) = looks_like_outside_instead(last) {
+                out.push(s);
+            } else if let Some(s) = indistinguishable_instead(last) {
                 out.push(s);
             } else if let Some(s) = unphysical_instead(last) {
                 out.push(s);

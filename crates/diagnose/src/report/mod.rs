@@ -56,7 +56,7 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
             String::new()
         } else if d.effects.is_empty() {
             format!(
-                " - nothing named; suggested, but leaving a misfit: {}",
+                " - nothing named; suggested (the findings say why each is not named): {}",
                 d.suggested
                     .iter()
                     .map(|e| format!("`{e}`"))

@@ -210,3 +210,17 @@ pub fn indistinguishable_instead(last: &[Candidate]) -> Option<String> {
         )
     })
 }
+
+/// When the last round found a decisive explanation that something outside the catalogue
+/// explains as well ([`crate::rivals`]): why no catalogued effect is named.
+pub fn looks_like_outside_instead(last: &[Candidate]) -> Option<String> {
+    let alike = quoted_with(last, Outcome::LooksLikeOutside);
+    (!alike.is_empty()).then(|| {
+        format!(
+            "No catalogued effect can be named: {} would explain the misfit decisively, but \
+             an explanation outside the catalogue explains it as well on this trajectory \
+             (above). It is suggested, not named.",
+            alike.join(" and ")
+        )
+    })
+}

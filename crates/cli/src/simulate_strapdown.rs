@@ -82,7 +82,7 @@ pub fn run(a: Settings) -> Result<(), Box<dyn std::error::Error>> {
         .into());
     }
     // Levelling from the accelerometers leaves a tilt of about the bias over g.
-    let level_sigma = errors.accel_bias / 9.80665;
+    let level_sigma = errors.accel_bias / navkf_dynamics::earth::STANDARD_GRAVITY;
     let traj = Arc::new(Trajectory::build(&a.trajectory)?);
     let noise = errors.noise(NoiseConfig {
         nhc_m_s: Some(nhc),

@@ -59,7 +59,13 @@ fn simulate(content: &Content, seed: u64) -> Dataset {
     let sim =
         StrapdownSimulator::new(model, traj.clone(), 10.0, 1.0, unit, &list.fixed, noise).unwrap();
     let run = sim.run(seed, 0);
-    let mut ds = sim.dataset_with_readings("drive", seed, &run, unit.accel_bias / 9.80665, 0.035);
+    let mut ds = sim.dataset_with_readings(
+        "drive",
+        seed,
+        &run,
+        unit.accel_bias / navkf_dynamics::earth::STANDARD_GRAVITY,
+        0.035,
+    );
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5eed);
     match content {
         Content::MisStated(f) => {

@@ -38,7 +38,7 @@ pub fn drive_as(effects: &str, seed: u64, run: u64, readings: bool) -> Dataset {
     let traj = Arc::new(Trajectory::build(&TrajectoryConfig::default()).unwrap());
     let sim = StrapdownSimulator::new(model, traj, 10.0, 1.0, unit, &list.fixed, noise).unwrap();
     let run = sim.run(seed, run);
-    let level = unit.accel_bias / 9.80665;
+    let level = unit.accel_bias / navkf_dynamics::earth::STANDARD_GRAVITY;
     if readings {
         sim.dataset_with_readings("drive", seed, &run, level, 0.035)
     } else {

@@ -13,6 +13,9 @@ pub const RE: f64 = 6_378_137.0;
 pub const FLATTENING: f64 = 1.0 / 298.257;
 /// Earth rotation rate `wie`, rad/s.
 pub const WIE: f64 = 7.292_115e-5;
+/// Standard gravity, m/s^2 (the conventional `g`, CGPM 1901): the unit in which accelerometer
+/// errors are quoted (micro-g, mg, per g), not the local gravity the model computes.
+pub const STANDARD_GRAVITY: f64 = 9.806_65;
 
 /// Meridian radius of curvature `RM` from `sin L`: docs/model.md eq. (2).
 #[inline(always)]

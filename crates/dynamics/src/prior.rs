@@ -35,7 +35,7 @@ use std::collections::BTreeMap;
 /// the study files and docs/diagnosis.md (its priors table).
 pub fn base_coefficient_sigma(index: usize) -> f64 {
     const DEG_PER_H: f64 = std::f64::consts::PI / 180.0 / 3600.0;
-    const G: f64 = 9.80665;
+    const G: f64 = crate::earth::STANDARD_GRAVITY;
     match index {
         KG0X | KG0Y | KG0Z => 0.02 * DEG_PER_H,
         KA0X | KA0Y => 50e-6 * G,
@@ -156,7 +156,7 @@ impl PlatformPrior {
 /// ```
 pub fn default_level_rad() -> f64 {
     // Standard gravity: the bias's typical size is stated in micro-g of it.
-    base_coefficient_sigma(KA0X) / 9.80665
+    base_coefficient_sigma(KA0X) / crate::earth::STANDARD_GRAVITY
 }
 
 /// Default azimuth sigma at latitude `lat` (rad): what gyrocompassing leaves

@@ -24,7 +24,7 @@ use crate::state::*;
 use std::f64::consts::PI;
 
 /// Standard gravity, m/s^2 (the unit "g" of the datasheets).
-const G: f64 = 9.80665;
+const G: f64 = crate::earth::STANDARD_GRAVITY;
 /// One degree per hour, rad/s.
 const DEG_PER_H: f64 = PI / 180.0 / 3600.0;
 /// One degree per root hour (angle random walk), rad/sqrt(s).

@@ -199,7 +199,11 @@ fn readings_in_the_wrong_unit_axes_or_form_are_warned_of_and_clean_ones_are_not(
         }
         ds.warnings().iter().map(|w| w.doubt).collect::<Vec<_>>()
     };
-    let in_g = |f: &mut [f64; 6]| f[3..].iter_mut().for_each(|v| *v /= 9.80665);
+    let in_g = |f: &mut [f64; 6]| {
+        f[3..]
+            .iter_mut()
+            .for_each(|v| *v /= navkf_dynamics::earth::STANDARD_GRAVITY)
+    };
     assert_eq!(with(&in_g, &clean), [Doubt::SpecificForceNotGravity]);
     let in_degrees = |f: &mut [f64; 6]| f[..3].iter_mut().for_each(|v| *v = v.to_degrees());
     assert_eq!(with(&in_degrees, &clean), [Doubt::RatesInDegrees]);
@@ -263,7 +267,7 @@ fn unaligned_with(
         noise,
     )
     .unwrap();
-    let level = unit.accel_bias / 9.80665;
+    let level = unit.accel_bias / navkf_dynamics::earth::STANDARD_GRAVITY;
     let mut ds = sim.dataset("drive", seed, &sim.run(seed, 0), level, 0.035);
     ds.initial = None;
     ds

@@ -240,7 +240,7 @@ fn settings(s: &Summary) -> String {
                     "truth: a strapdown {} unit (biases {} deg/h and {} mg one sigma, effects {}, drawn at {} x their typical sigma) on the path itself; IMU read at {} Hz, measurements {} Hz",
                     unit.name(),
                     rounded(e.gyro_bias.to_degrees() * 3600.0),
-                    rounded(e.accel_bias / 9.80665e-3),
+                    rounded(e.accel_bias / (navkf_dynamics::earth::STANDARD_GRAVITY * 1e-3)),
                     list(&c.truth.effects),
                     c.truth.coefficient_scale,
                     c.truth.input_rate_hz,

@@ -32,7 +32,7 @@ pub const STATED_HEADING_SIGMA: f64 = 0.035;
 /// A level's one-sigma when `[prior]` does not state it, rad: the tilt that levelling on the
 /// accelerometers leaves, the unit class's accelerometer bias over g.
 pub fn stated_level_sigma(class: UnitClass) -> f64 {
-    class.errors().accel_bias / 9.80665
+    class.errors().accel_bias / navkf_dynamics::earth::STANDARD_GRAVITY
 }
 
 /// The strapdown catalogue at the sizes of a unit class (MEMS unless set).

@@ -76,7 +76,7 @@ impl Dataset {
     /// The alignment of a strapdown dataset from its data (module documentation).
     pub fn align_from_data(&self) -> Result<DataAlignment, NoAlignment> {
         let mems = UnitClass::Mems.errors();
-        let g = 9.80665;
+        let g = crate::earth::STANDARD_GRAVITY;
         // The first standstill: the odometer's leading run of exact zeros.
         let t_first = self.inputs.first().map_or(0.0, |s| s.t);
         let still_end = self

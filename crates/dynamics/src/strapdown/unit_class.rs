@@ -24,7 +24,7 @@ use crate::noise::NoiseConfig;
 use serde::{Deserialize, Serialize};
 
 /// Standard gravity, m/s^2 (the unit of `g` in accelerometer data sheets).
-const G0: f64 = 9.80665;
+const G0: f64 = crate::earth::STANDARD_GRAVITY;
 
 /// A class of inertial unit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]

@@ -4,7 +4,7 @@
 use crate::monte_carlo::Study;
 use navkf_dynamics::ModelKind;
 
-const G: f64 = 9.80665;
+const G: f64 = navkf_dynamics::earth::STANDARD_GRAVITY;
 
 const RAD_S_TO_DEG_H: f64 = 180.0 / std::f64::consts::PI * 3600.0;
 

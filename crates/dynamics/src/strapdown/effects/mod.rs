@@ -210,4 +210,4 @@ const fn every_class(sigma: f64) -> [f64; 3] {
 /// Degrees per hour, rad/s.
 const DEG_PER_H: f64 = std::f64::consts::PI / 180.0 / 3600.0;
 /// Standard gravity, m/s^2.
-const G0: f64 = 9.80665;
+const G0: f64 = crate::earth::STANDARD_GRAVITY;

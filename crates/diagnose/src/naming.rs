@@ -65,7 +65,7 @@ pub fn name(
     let mut candidates: Vec<Candidate> = ranked.iter().map(|e| e.candidate.clone()).collect();
     let mut not_specific = Vec::new();
     let mut rival_notes = Vec::new();
-    let (choice, mut notes) = loop {
+    let (mut choice, mut notes) = loop {
         let (choice, notes) = select(&mut candidates, &not_specific);
         if let Some(i) = choice.filter(|&i| candidates[i].kind == CandidateKind::NoiseOnly) {
             if let Some(note) = rival_note(ds, model.fit, &ranked[i], catalogue, filter)? {
@@ -77,7 +77,6 @@ pub fn name(
         break (choice, notes);
     };
     notes.extend(rival_notes);
-    let mut choice = choice;
     if let Some(i) = choice.filter(|&i| candidates[i].kind == CandidateKind::Structured) {
         if let Some(note) = outside_look_alike(ds, model, &candidates[i], catalogue, opts)? {
             candidates[i].outcome = Outcome::LooksLikeOutside;

@@ -31,7 +31,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         )
         .into());
     }
-    let name = crate::simulated_dataset::dataset_name(&a.out);
+    let name = navkf_study::simulation::dataset_name(&a.out);
     let staged = ResultsDir::begin_kind(&a.out, FolderKind::Dataset, &[])?;
     let ds = read_kitti(&a.from, &name, a.every)?;
     ds.write(staged.path())?;

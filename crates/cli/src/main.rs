@@ -26,7 +26,6 @@ mod diagnose;
 mod effects;
 mod plan;
 mod simulate;
-mod simulate_strapdown;
 mod simulated_dataset;
 mod study;
 mod study_file;

@@ -1,20 +1,12 @@
-//! `navkf simulate`: one run of the truth simulator written as a dataset folder.
-//!
-//! It writes only what its own reader accepts, from settings a real platform could have: a
-//! fixed coefficient beyond what any real sensor has (`Ka0x=1e300`, `gps-latency=1e6`:
-//! [`navkf_dynamics::sensor_classes`]) and an azimuth sigma beyond what the attitude equations
-//! hold are refused before simulating, naming the setting; and the simulated dataset is read
-//! back through [`Dataset::read`] before it is written, so that a truth driven non-finite or
-//! off the Earth (a latitude beyond 90 deg) is refused, not written.
+//! `navkf simulate`: one run of a model family's truth simulator written as a dataset folder.
+//! What it checks and how it writes is [`navkf_study::simulation`]'s, shared with the Python
+//! package; this file reads the flags and prints what was written.
 
-use crate::simulated_dataset::{read_trajectory, readable};
-use navkf_dynamics::effect_spec::EffectSpec;
-use navkf_dynamics::{
-    NoiseConfig, PlatformModel, Simulator, Trajectory, TrajectoryConfig, TruthConfig,
-};
-use navkf_report::{FolderKind, ResultsDir};
+use crate::simulated_dataset::read_trajectory;
+use navkf_dynamics::model_kind::ModelKind;
+use navkf_dynamics::TrajectoryConfig;
+use navkf_study::simulation::{simulate, SettingNames, SimulationRequest};
 use std::path::PathBuf;
-use std::sync::Arc;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -71,134 +63,46 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
-    if a.model == "strapdown" {
-        if a.effects_file.is_some() {
+    let model = match a.model.as_str() {
+        "strapdown" => ModelKind::Strapdown,
+        _ => ModelKind::Platform,
+    };
+    let declarations = match (&a.effects_file, model) {
+        (Some(_), ModelKind::Strapdown) => {
             return Err(
                 "--effects-file: declared effects are the platform family's; a \
                         strapdown unit's effects are the strapdown catalogue's (`navkf effects \
                         --model strapdown`); expected no --effects-file with --model strapdown"
                     .into(),
-            );
-        }
-        let mut trajectory = match &a.trajectory {
-            Some(path) => read_trajectory(path)?,
-            None => TrajectoryConfig::default(),
-        };
-        if let Some(d) = a.duration {
-            trajectory.duration_s = d;
-        }
-        return crate::simulate_strapdown::run(crate::simulate_strapdown::Settings {
-            out: a.out,
-            seed: a.seed,
-            run: a.run,
-            effects: a.effects,
-            attitude: a.attitude,
-            heading_sigma: a.azimuth_sigma,
-            truth: a.truth,
-            unit: a.unit,
-            imu_rate: a.imu_rate,
-            nhc_sigma: a.nhc_sigma,
-            trajectory,
-        });
-    }
-    for (flag, given) in [
-        ("--unit", a.unit.is_some()),
-        ("--imu-rate", a.imu_rate.is_some()),
-        ("--nhc-sigma", a.nhc_sigma.is_some()),
-    ] {
-        if given {
-            return Err(format!(
-                "{flag}: a strapdown setting; expected --model strapdown, or no {flag}"
             )
-            .into());
         }
-    }
-    // dataset.toml records both as TOML integers, which are signed 64-bit.
-    for (flag, value) in [("--seed", a.seed), ("--run", a.run)] {
-        if value > i64::MAX as u64 {
-            return Err(format!(
-                "{flag} {value}: expected 0 to {} (dataset.toml records it as a TOML integer)",
-                i64::MAX
-            )
-            .into());
-        }
-    }
-    let (registry, _) = crate::effects::registry_with_file(a.effects_file.as_deref())?;
-    let spec = EffectSpec::parse(&a.effects, &registry)?;
-    let noise = NoiseConfig::default();
-    let effect_names = spec.names();
-    let attitude: navkf_dynamics::Attitude = a.attitude.parse()?;
-    let model = Arc::new(PlatformModel::new(spec.effects, &noise)?.with_attitude(attitude));
-    for (name, prior) in &spec.fixed {
-        let bound = model
-            .index_of(name)
-            .and_then(|i| model.coefficient_bound(i).map(|b| (b, &model.units()[i])));
-        if let Some((b, unit)) = bound.filter(|(b, _)| !b.contains(prior.mean)) {
-            let owner = registry
-                .owner_of(name)
-                .map(|e| format!(" (of {e})"))
-                .unwrap_or_default();
-            let value = if (1e-3..1e6).contains(&prior.mean.abs()) {
-                prior.mean.to_string()
-            } else {
-                format!("{:e}", prior.mean)
-            };
-            let limit = format!("{:.4}", b.limit);
-            let limit = limit.trim_end_matches('0').trim_end_matches('.');
-            let unit = if unit == "1" {
-                String::new()
-            } else {
-                format!(" {unit}")
-            };
-            return Err(format!(
-                "--effects: {name}={value}{owner}: beyond +-{limit}{unit}, what any real sensor \
-                 has ({}); nothing was simulated",
-                b.reason
-            )
-            .into());
-        }
-    }
-    let mut traj_cfg = match &a.trajectory {
+        (file, _) => crate::effects::registry_with_file(file.as_deref())?.1,
+    };
+    let mut trajectory = match &a.trajectory {
         Some(path) => read_trajectory(path)?,
         None => TrajectoryConfig::default(),
     };
     if let Some(d) = a.duration {
-        traj_cfg.duration_s = d;
+        trajectory.duration_s = d;
     }
-    let traj = Arc::new(Trajectory::build(&traj_cfg)?);
-    let mut truth_cfg = TruthConfig {
-        coefficients: spec.fixed,
-        ..Default::default()
+    // `--attitude small-angle` is the default: only another choice is a choice.
+    let attitude: navkf_dynamics::Attitude = a.attitude.parse()?;
+    let request = SimulationRequest {
+        model,
+        seed: a.seed,
+        run: a.run,
+        effects: a.effects,
+        declarations,
+        trajectory,
+        attitude: (attitude != navkf_dynamics::Attitude::SmallAngle).then_some(attitude),
+        azimuth_sigma: a.azimuth_sigma,
+        truth: a.truth,
+        unit: a.unit,
+        imu_rate_hz: a.imu_rate,
+        nhc_sigma: a.nhc_sigma,
     };
-    if let Some(s) = a.azimuth_sigma {
-        if !(s.is_finite() && s >= 0.0) {
-            return Err(format!("--azimuth-sigma {s}: expected a one-sigma >= 0, rad").into());
-        }
-        attitude.check_tilt_sigma("--azimuth-sigma", s)?;
-        truth_cfg.initial_tilt.azimuth_rad = s;
-    }
-    let sim = Simulator::new(model, traj, truth_cfg, noise)?;
-    // Checked before simulating: a new folder, an empty one, or a dataset simulate wrote
-    // there before (never a user's folder, a results folder or a user's own files).
-    let staged = ResultsDir::begin_kind(&a.out, FolderKind::Dataset, &[])?;
-    let run = sim.run(a.seed, a.run);
-    let name = crate::simulated_dataset::dataset_name(&a.out);
-    let mut ds = sim.dataset(&name, a.seed, &run);
-    if !a.truth {
-        ds.truth = None;
-    }
-    ds.write(staged.path())?;
-    readable(staged.path(), &a.out, &a.effects)?;
-    staged.commit()?;
-    eprintln!(
-        "wrote {} (effects: {})",
-        a.out.display(),
-        if effect_names.is_empty() {
-            "none".to_string()
-        } else {
-            effect_names.join(", ")
-        }
-    );
-    println!("{}", ds.summary());
+    let written = simulate(&request, &a.out, SettingNames::CommandLine)?;
+    eprintln!("wrote {} ({})", a.out.display(), written.description);
+    println!("{}", written.dataset.summary());
     Ok(())
 }

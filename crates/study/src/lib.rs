@@ -17,6 +17,7 @@ pub mod plan;
 pub mod plan_output;
 pub mod plots;
 pub mod report;
+pub mod simulation;
 pub mod summary;
 pub mod sweep;
 pub mod tally;

@@ -1,0 +1,162 @@
+//! `simulate`: one run of a model family's truth simulator written as a dataset folder, as
+//! the `navkf simulate` command and the Python package's `navkf.simulate` both ask for it.
+//!
+//! It writes only what navkf's own reader accepts, from settings a real unit could have: a
+//! fixed coefficient beyond what any real sensor has (`Ka0x=1e300`, `gps-latency=1e6`:
+//! [`navkf_dynamics::sensor_classes`]) and a tilt sigma beyond what the attitude equations
+//! hold are refused before simulating, naming the setting; the folder is checked before
+//! simulating (a new folder, an empty one, or a dataset written before: never a user's
+//! folder or a results folder); and the dataset is read back through [`Dataset::read`]
+//! before it is put in place, so that a truth driven non-finite or off the Earth is refused,
+//! not written.
+
+mod platform;
+mod strapdown;
+
+use crate::error::StudyError;
+use navkf_dynamics::dataset::Dataset;
+use navkf_dynamics::declared::EffectDeclaration;
+use navkf_dynamics::model_kind::ModelKind;
+use navkf_dynamics::{Attitude, TrajectoryConfig};
+use navkf_report::{FolderKind, ResultsDir};
+use std::path::Path;
+
+/// What a caller asks `simulate` for; `None` takes the family's default.
+#[derive(Debug, Clone, Default)]
+pub struct SimulationRequest {
+    /// The model family.
+    pub model: ModelKind,
+    /// Seed of the random streams.
+    pub seed: u64,
+    /// Run index within the seed's family of runs.
+    pub run: u64,
+    /// Effects the truth carries (`gyro-fz,odometer-scale=0.002,Ka0x=1e-3`).
+    pub effects: String,
+    /// Effects declared without Rust that `effects` may name (platform family).
+    pub declarations: Vec<EffectDeclaration>,
+    /// The test to drive.
+    pub trajectory: TrajectoryConfig,
+    /// The truth's attitude equations (the platform's choice; small-angle when `None`).
+    pub attitude: Option<Attitude>,
+    /// Initial azimuth (platform) or heading (strapdown) error, one sigma, rad.
+    pub azimuth_sigma: Option<f64>,
+    /// Write the truth file.
+    pub truth: bool,
+    /// The strapdown unit's class (`navigation`, `tactical`, `mems`).
+    pub unit: Option<String>,
+    /// The strapdown unit's sample rate, Hz.
+    pub imu_rate_hz: Option<f64>,
+    /// The non-holonomic constraint's sigma stated in dataset.toml, m/s (strapdown).
+    pub nhc_sigma: Option<f64>,
+}
+
+/// How the caller names its settings in messages: `--azimuth-sigma` on the command line,
+/// `azimuth_sigma` in Python.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SettingNames {
+    /// `--kebab-case` flags.
+    CommandLine,
+    /// `snake_case` keyword arguments.
+    Keywords,
+}
+
+impl SettingNames {
+    /// The setting `snake` (snake_case) as the caller names it.
+    pub fn of(self, snake: &str) -> String {
+        match self {
+            SettingNames::CommandLine => format!("--{}", snake.replace('_', "-")),
+            SettingNames::Keywords => snake.to_string(),
+        }
+    }
+}
+
+/// What `simulate` wrote: the dataset as navkf reads it back, and a line saying what it holds.
+#[derive(Debug)]
+pub struct Simulated {
+    pub dataset: Dataset,
+    pub description: String,
+}
+
+/// Simulates `req` into the folder `out` (module documentation); errors name the settings
+/// as `names` says.
+pub fn simulate(
+    req: &SimulationRequest,
+    out: &Path,
+    names: SettingNames,
+) -> Result<Simulated, StudyError> {
+    let other = |e: String| StudyError::Other(e);
+    for (key, value) in [("seed", req.seed), ("run", req.run)] {
+        // dataset.toml records both as TOML integers, which are signed 64-bit.
+        if value > i64::MAX as u64 {
+            return Err(other(format!(
+                "{} {value}: expected 0 to {} (dataset.toml records it as a TOML integer)",
+                names.of(key),
+                i64::MAX
+            )));
+        }
+    }
+    let ready = match req.model {
+        ModelKind::Platform => platform::prepare(req, names)?,
+        ModelKind::Strapdown => strapdown::prepare(req, names)?,
+    };
+    // Checked before simulating: a refused folder costs nothing.
+    let staged = ResultsDir::begin_kind(out, FolderKind::Dataset, &[])?;
+    let (mut ds, description) = ready(&dataset_name(out), req.seed, req.run);
+    if !req.truth {
+        ds.truth = None;
+    }
+    Ok(Simulated {
+        dataset: put_in_place(&ds, staged, out, &req.effects, names)?,
+        description,
+    })
+}
+
+/// A simulator with its settings checked, ready to run: given the dataset's name, the seed
+/// and the run, the dataset and a line saying what it holds.
+pub(crate) type Ready = Box<dyn FnOnce(&str, u64, u64) -> (Dataset, String)>;
+
+/// Writes `ds` into the folder `out` as [`simulate`] does (a new folder, an empty one, or a
+/// dataset written before, replaced whole once `ds` reads back; `out` is left as it was
+/// otherwise), and returns it as read back: what any later reader sees, bit for bit.
+pub fn write_checked(ds: &Dataset, out: &Path, names: SettingNames) -> Result<Dataset, StudyError> {
+    let staged = ResultsDir::begin_kind(out, FolderKind::Dataset, &[])?;
+    put_in_place(ds, staged, out, "", names)
+}
+
+/// Writes `ds` into `staged`, reads it back and commits it to `out`; messages name `out`.
+fn put_in_place(
+    ds: &Dataset,
+    staged: ResultsDir,
+    out: &Path,
+    effects: &str,
+    names: SettingNames,
+) -> Result<Dataset, StudyError> {
+    ds.write(staged.path())?;
+    let back = Dataset::read(staged.path()).map_err(|e| {
+        let e = e.to_string().replace(
+            &staged.path().display().to_string(),
+            &out.display().to_string(),
+        );
+        StudyError::Other(format!(
+            "the dataset is not one navkf reads back ({e}): the truth left real values{}; \
+             nothing was written",
+            if effects.trim().is_empty() {
+                String::new()
+            } else {
+                format!(" under {} {effects}", names.of("effects"))
+            }
+        ))
+    })?;
+    staged.commit()?;
+    Ok(Dataset {
+        name: ds.name.clone(),
+        ..back
+    })
+}
+
+/// The dataset's name: the output folder's last component.
+pub fn dataset_name(out: &Path) -> String {
+    out.file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "dataset".into())
+}

@@ -8,10 +8,11 @@
 //! error (exit 1), as are options that make no sense (`--max-rounds 0`, a tilt sigma beyond
 //! what the attitude equations hold).
 
+use navkf_diagnose::request::DiagnoseRequest;
 use navkf_diagnose::{diagnose, report, Options, RoundKind};
-use navkf_dynamics::dataset::{Dataset, CONFIG_FILE};
-use navkf_dynamics::PlatformPrior;
-use navkf_report::write_atomic;
+use navkf_dynamics::dataset::Dataset;
+use navkf_report::{write_atomic, SettingNames};
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -67,8 +68,8 @@ enum NoiseMode {
 }
 
 /// Parses `--prior`: `NAME=SIGMA` items.
-fn parse_priors(list: &str) -> Result<PlatformPrior, String> {
-    let mut p = PlatformPrior::default();
+fn parse_priors(list: &str) -> Result<BTreeMap<String, f64>, String> {
+    let mut p = BTreeMap::new();
     for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let Some((name, value)) = item.split_once('=') else {
             return Err(format!(
@@ -82,7 +83,7 @@ fn parse_priors(list: &str) -> Result<PlatformPrior, String> {
             )
         })?;
         let name = name.trim().to_string();
-        if p.coefficients.insert(name.clone(), v).is_some() {
+        if p.insert(name.clone(), v).is_some() {
             return Err(format!("--prior: `{name}` is given twice"));
         }
     }
@@ -97,103 +98,28 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         .filter(|s| !s.is_empty())
         .map(String::from)
         .collect();
-    for (i, w) in with.iter().enumerate() {
-        if with[..i].contains(w) {
-            return Err(format!("--with: `{w}` is given twice").into());
-        }
-    }
-    if !(a.window.is_finite() && a.window > 0.0) {
-        return Err(format!("--window {}: expected a duration > 0 s", a.window).into());
-    }
-    if a.max_rounds == 0 {
-        return Err(
-            "--max-rounds 0: expected at least 1 (with no automatic round nothing is tested)"
-                .into(),
-        );
-    }
     let attitude: navkf_dynamics::Attitude = a.attitude.parse()?;
-    let mut flags = parse_priors(&a.prior)?;
-    flags.level_rad = a.level_sigma;
-    flags.azimuth_rad = a.azimuth_sigma;
+    let priors = parse_priors(&a.prior)?;
     // A large recording takes seconds to read and minutes to diagnose: a spinner with the
     // elapsed time says it is working (drawn only on a terminal).
     let spinner = navkf_report::progress::spinner(format!("reading {}", a.dataset.display()));
     let (registry, declared) = crate::effects::registry_with_file(a.effects_file.as_deref())?;
-    let ds = Dataset::read_with(&a.dataset, &registry)?;
-    // The settings that depend on the dataset's family, checked before anything is fitted.
-    let catalogue = navkf_diagnose::catalogue::with_declared(&ds, &declared)?;
-    let effects = catalogue.effect_names();
-    for w in &with {
-        if !effects.contains(w) {
-            return Err(format!(
-                "--with: unknown {} effect `{w}`; known effects: {}",
-                ds.model.name(),
-                effects.join(", ")
-            )
-            .into());
-        }
-    }
-    let known = navkf_diagnose::catalogue::coefficient_names(&*catalogue);
-    flags.validate(&known).map_err(|(key, message)| {
-        let flag = match key.as_str() {
-            "prior.level_rad" => "--level-sigma".to_string(),
-            "prior.azimuth_rad" => "--azimuth-sigma".to_string(),
-            k => format!("--prior {}", k.trim_start_matches("prior.coefficients.")),
-        };
-        format!("{flag}: {message}")
-    })?;
-    let strapdown = !ds.model.is_platform();
-    if strapdown && attitude != navkf_dynamics::Attitude::SmallAngle {
-        return Err(
-            "--attitude: the platform's choice; the strapdown family's attitude equations are \
-             exact Euler angles, expected no --attitude"
-                .into(),
-        );
-    }
-    // The tilt priors, flags first, then the dataset's own where no flag overrides them: the
-    // platform's within what its attitude equations hold, a strapdown heading up to half a
-    // turn.
-    let check_tilt = |what: &str, v: f64| -> Result<(), String> {
-        if strapdown {
-            if v.is_finite() && v > 0.0 && v <= std::f64::consts::PI {
-                Ok(())
-            } else {
-                Err(format!("{what} {v}: expected a one-sigma in (0, pi] rad"))
-            }
-        } else {
-            attitude
-                .check_tilt_sigma(what, v)
-                .map_err(|e| e.to_string())
-        }
-    };
-    for (flag, v) in [
-        ("--level-sigma", a.level_sigma),
-        ("--azimuth-sigma", a.azimuth_sigma),
-    ] {
-        if let Some(v) = v {
-            check_tilt(flag, v)?;
-        }
-    }
-    for (key, stated, flag) in [
-        ("level_rad", ds.prior.level_rad, a.level_sigma),
-        ("azimuth_rad", ds.prior.azimuth_rad, a.azimuth_sigma),
-    ] {
-        if let (Some(v), None) = (stated, flag) {
-            check_tilt(&format!("{CONFIG_FILE} [prior] {key} ="), v)?;
-        }
-    }
-    let opts = Options {
+    let request = DiagnoseRequest {
         with,
         window_s: a.window,
-        prior: flags,
+        level_sigma: a.level_sigma,
+        azimuth_sigma: a.azimuth_sigma,
+        priors,
         fit_noise: matches!(a.noise, NoiseMode::Fit),
-        filter: navkf_filters::FilterSpec {
-            attitude,
-            ..navkf_filters::FilterSpec::new(a.filter)
-        },
+        filter: a.filter,
+        // `--attitude small-angle` is the default: only another choice is a choice.
+        attitude: (attitude != navkf_dynamics::Attitude::SmallAngle).then_some(attitude),
+        declared,
         max_rounds: a.max_rounds,
-        ..Default::default()
     };
+    let ds = Dataset::read_with(&a.dataset, &registry)?;
+    // The settings that depend on the dataset's family, checked before anything is fitted.
+    let (catalogue, opts) = request.check(&ds, SettingNames::CommandLine)?;
     let out = match a.out {
         Some(out) => out,
         None => {

@@ -32,6 +32,7 @@ pub mod physical;
 pub mod plots;
 pub mod priors;
 pub mod report;
+pub mod request;
 pub mod rivals;
 pub mod rounds;
 pub mod stand_ins;

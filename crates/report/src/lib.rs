@@ -16,6 +16,7 @@ pub mod names;
 pub mod progress;
 pub mod provenance;
 pub mod results_dir;
+pub mod setting_names;
 pub mod stats;
 pub mod study_kind;
 
@@ -24,4 +25,5 @@ pub use error::ReportError;
 pub use interrupt::Interrupted;
 pub use results_dir::marker::FolderKind;
 pub use results_dir::{ResultsDir, ShardFolder, MARKER};
+pub use setting_names::SettingNames;
 pub use study_kind::StudyKind;

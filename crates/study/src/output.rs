@@ -44,7 +44,7 @@ pub fn write_results(
 }
 
 /// `t, filter, then rms_<state>, sigma_<state> for every state, nees, nis, bound_<coef>`.
-fn rms_csv(study: &Study, tally: &Tally) -> String {
+pub fn rms_csv(study: &Study, tally: &Tally) -> String {
     let names = &study.names;
     let truth_names = study.sim.truth_model().state_names();
     let mut s = String::from("t,filter");

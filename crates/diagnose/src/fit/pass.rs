@@ -24,6 +24,7 @@ use crate::catalogue::{Catalogue, Channel, MAX_CHANNELS, PINNED_SIGMA};
 use crate::error::DiagnoseError;
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::trajectory::Phase;
+use navkf_dynamics::FamilyModel;
 use navkf_filters::FilterSpec;
 use navkf_filters::{Filter, RunFailure, Runner};
 
@@ -149,6 +150,62 @@ impl Fit {
     }
 }
 
+/// Where a fit's filter starts: the first estimate, its covariance (diagonal, column-major)
+/// and the one-sigmas on that diagonal.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Initial {
+    /// Time of the initial state, s.
+    pub t: f64,
+    pub x: Vec<f64>,
+    pub p: Vec<f64>,
+    pub sigma: Vec<f64>,
+}
+
+/// The start of a filter on `ds` for `setup`'s `model` (built by `catalogue`): the navigation
+/// states from the family's start at the first full measurement, the coefficients at zero;
+/// their sigmas the start's, the pinned coefficients' [`PINNED_SIGMA`] times their typical
+/// size, and the others the setup's priors or their typical size.
+pub fn initial(
+    ds: &Dataset,
+    setup: &FitSetup,
+    catalogue: &dyn Catalogue,
+    model: &dyn FamilyModel,
+) -> Result<Initial, DiagnoseError> {
+    let n = model.dim();
+    let nav = catalogue.nav_dim();
+    let tilt = [setup.priors.level_rad, setup.priors.azimuth_rad];
+    let start = catalogue.start(ds, &setup.noise, tilt)?;
+    let mut x = vec![0.0; n];
+    x[..nav].copy_from_slice(&start.x);
+    let names = model.state_names();
+    let sigma: Vec<f64> = (0..n)
+        .map(|i| {
+            if i < nav {
+                start.sigma[i]
+            } else if catalogue.pinned().contains(&names[i].as_str()) {
+                PINNED_SIGMA * model.typical_sigma(i)
+            } else {
+                setup
+                    .priors
+                    .coefficients
+                    .get(&names[i])
+                    .copied()
+                    .unwrap_or_else(|| model.typical_sigma(i))
+            }
+        })
+        .collect();
+    let mut p = vec![0.0; n * n];
+    for i in 0..n {
+        p[i + i * n] = sigma[i] * sigma[i];
+    }
+    Ok(Initial {
+        t: start.t,
+        x,
+        p,
+        sigma,
+    })
+}
+
 /// Fits `setup` to `ds` with `filter`, the model and its sensors those of `catalogue`'s
 /// family. `Err` only when the model cannot be built or the dataset cannot start a filter; a
 /// filter failure during the pass is kept in [`Fit::failure`].
@@ -166,32 +223,14 @@ pub fn fit(
     )?;
     let n = model.dim();
     let nav = catalogue.nav_dim();
-    let tilt = [setup.priors.level_rad, setup.priors.azimuth_rad];
-    let start = catalogue.start(ds, &setup.noise, tilt)?;
-    let mut x0 = vec![0.0; n];
-    x0[..nav].copy_from_slice(&start.x);
     let names = model.state_names();
-    let prior_sigma: Vec<f64> = (0..n)
-        .map(|i| {
-            if i < nav {
-                start.sigma[i]
-            } else if catalogue.pinned().contains(&names[i].as_str()) {
-                PINNED_SIGMA * model.typical_sigma(i)
-            } else {
-                setup
-                    .priors
-                    .coefficients
-                    .get(&names[i])
-                    .copied()
-                    .unwrap_or_else(|| model.typical_sigma(i))
-            }
-        })
-        .collect();
+    let Initial {
+        t: start_t,
+        x: x0,
+        p: pm,
+        sigma: prior_sigma,
+    } = initial(ds, setup, catalogue, &*model)?;
     let typical: Vec<f64> = (0..n).map(|i| model.typical_sigma(i)).collect();
-    let mut pm = vec![0.0; n * n];
-    for i in 0..n {
-        pm[i + i * n] = prior_sigma[i] * prior_sigma[i];
-    }
     let mut noisy = vec![false; n];
     for c in model.noise_channels() {
         noisy[c.state] = true;
@@ -238,7 +277,7 @@ pub fn fit(
     let mut read_present = [false; MAX_CHANNELS];
     let result = Runner::new(64).run(
         &mut *filt,
-        start.t,
+        start_t,
         inputs,
         &ds.measurements,
         &*sensors,

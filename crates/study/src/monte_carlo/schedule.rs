@@ -19,7 +19,9 @@ impl Study {
         example: impl FnMut(&RunRecord),
     ) -> Result<Vec<Tally>, Interrupted> {
         let mut out = Vec::with_capacity(blocks.len());
-        self.for_each_block(blocks, progress, example, |t| out.push(t))?;
+        self.for_each_block(blocks, progress, self.only_example(example), |t| {
+            out.push(t)
+        })?;
         Ok(out)
     }
 
@@ -32,12 +34,36 @@ impl Study {
         progress: &(dyn Fn(usize) + Sync),
         example: impl FnMut(&RunRecord),
     ) -> Result<Tally, Interrupted> {
+        self.run_folded_each(blocks, progress, self.only_example(example))
+    }
+
+    /// [`Study::run_folded`], handing every run's record to `each` (in run order) rather
+    /// than the example run's alone: for a caller that keeps per-run results.
+    pub fn run_folded_each(
+        &self,
+        blocks: std::ops::Range<usize>,
+        progress: &(dyn Fn(usize) + Sync),
+        each: impl FnMut(&RunRecord),
+    ) -> Result<Tally, Interrupted> {
         let mut total = Tally::default();
-        self.for_each_block(blocks, progress, example, |t| total.merge(&t))?;
+        self.for_each_block(blocks, progress, each, |t| total.merge(&t))?;
         Ok(total)
     }
 
-    /// Runs `blocks` and hands each block's tally to `sink` as soon as it is complete, in
+    /// `example`, called for the study's example run only.
+    fn only_example<'a>(
+        &'a self,
+        mut example: impl FnMut(&RunRecord) + 'a,
+    ) -> impl FnMut(&RunRecord) + 'a {
+        move |rec| {
+            if rec.run == self.config.study.example_run {
+                example(rec)
+            }
+        }
+    }
+
+    /// Runs `blocks`, hands each run's record to `each`, and each block's tally to `sink` as
+    /// soon as it is complete, in
     /// block order. The runs go through the one executor
     /// ([`navkf_report::executor::Executor`]), which hands them on in run order, so the
     /// thread count changes nothing but speed. A stop on request ends it within one run,
@@ -46,7 +72,7 @@ impl Study {
         &self,
         blocks: std::ops::Range<usize>,
         progress: &(dyn Fn(usize) + Sync),
-        mut example: impl FnMut(&RunRecord),
+        mut each: impl FnMut(&RunRecord),
         mut sink: impl FnMut(Tally),
     ) -> Result<(), Interrupted> {
         let total = self.config.study.runs;
@@ -60,9 +86,7 @@ impl Study {
         executor.run(runs, &|r| self.run_one(r), &progress, |r, rec| {
             let block = tally.get_or_insert_with(|| self.empty_tally(r / BLOCK * BLOCK));
             self.add_run(block, &rec);
-            if rec.run == self.config.study.example_run {
-                example(&rec);
-            }
+            each(&rec);
             if (r + 1) % BLOCK == 0 || r + 1 == total {
                 sink(tally.take().expect("the block was started above"));
             }

@@ -18,6 +18,7 @@ use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::declared::EffectDeclaration;
 use navkf_dynamics::model_kind::ModelKind;
 use navkf_dynamics::{Attitude, TrajectoryConfig};
+pub use navkf_report::SettingNames;
 use navkf_report::{FolderKind, ResultsDir};
 use std::path::Path;
 
@@ -48,26 +49,6 @@ pub struct SimulationRequest {
     pub imu_rate_hz: Option<f64>,
     /// The non-holonomic constraint's sigma stated in dataset.toml, m/s (strapdown).
     pub nhc_sigma: Option<f64>,
-}
-
-/// How the caller names its settings in messages: `--azimuth-sigma` on the command line,
-/// `azimuth_sigma` in Python.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SettingNames {
-    /// `--kebab-case` flags.
-    CommandLine,
-    /// `snake_case` keyword arguments.
-    Keywords,
-}
-
-impl SettingNames {
-    /// The setting `snake` (snake_case) as the caller names it.
-    pub fn of(self, snake: &str) -> String {
-        match self {
-            SettingNames::CommandLine => format!("--{}", snake.replace('_', "-")),
-            SettingNames::Keywords => snake.to_string(),
-        }
-    }
 }
 
 /// What `simulate` wrote: the dataset as navkf reads it back, and a line saying what it holds.

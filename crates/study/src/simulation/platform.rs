@@ -1,5 +1,6 @@
-//! The platform family's simulation (docs/model.md, "Simulation"): the settings checked, the
-//! simulator built.
+//! The platform family's simulation: the truth driven by the state equations (docs/model.md,
+//! "State equations") with the measurements of docs/model.md, "Measurements"; here its
+//! settings are checked and the simulator built.
 
 use super::{Ready, SettingNames, SimulationRequest};
 use crate::error::StudyError;

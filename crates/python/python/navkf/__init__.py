@@ -1,0 +1,370 @@
+"""navkf from Python: simulate, filter, study, diagnose and plan.
+
+The same code as the ``navkf`` command runs underneath (the Rust crates of this workspace),
+so a seed gives the same numbers, bit for bit, from either. Errors raise
+:class:`NavkfError` (a ``ValueError``) with the command line's located messages: the file,
+line and column, or the setting, and what was expected.
+
+Long calls (``study``, ``diagnose``) release the GIL, take a ``progress`` callback
+``progress(done, total)``, and stop on Ctrl-C as the command line does: the runs in flight
+finish, nothing is written, and ``KeyboardInterrupt`` is raised.
+
+    >>> import navkf
+    >>> ds = navkf.simulate(seed=1, effects="odometer-scale=0.005")
+    >>> f = navkf.Filter("ekf", ds, effects=["odometer-scale"])
+    >>> while f.step() is not None:
+    ...     pass
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+import tempfile
+from dataclasses import dataclass, field
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _navkf
+from ._navkf import Dataset, NavkfError, __version__
+
+__all__ = [
+    "Dataset",
+    "Filter",
+    "NavkfError",
+    "StudyResult",
+    "diagnose",
+    "plan",
+    "simulate",
+    "study",
+    "__version__",
+]
+
+Progress = Callable[[int, int], Any]
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+def _effects_text(effects: Union[str, Sequence[str], Mapping[str, Optional[float]], None]) -> str:
+    """``"a,b=1"`` from a string, a list of names, or a dict of name -> value (None: drawn)."""
+    if effects is None:
+        return ""
+    if isinstance(effects, str):
+        return effects
+    if isinstance(effects, Mapping):
+        items = []
+        for name, value in effects.items():
+            items.append(str(name) if value is None else f"{name}={float(value)!r}")
+        return ",".join(items)
+    return ",".join(str(e) for e in effects)
+
+
+def _toml_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v) if isinstance(v, int) else repr(float(v)).replace("inf", "inf")
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    if isinstance(v, Mapping):
+        return "{" + ", ".join(f"{json.dumps(str(k))} = {_toml_value(x)}" for k, x in v.items()) + "}"
+    raise NavkfError(f"study: {v!r} is not a value a study file holds (numbers, text, lists, tables)")
+
+
+def _to_toml(d: Mapping[str, Any]) -> str:
+    """A study file's text from a dict of tables (``{"study": {...}, "noise": {...}}``)."""
+    lines: List[str] = []
+
+    def table(prefix: str, t: Mapping[str, Any]) -> None:
+        scalars = {k: v for k, v in t.items() if not isinstance(v, Mapping) and not _is_table_list(v)}
+        lines.append(f"[{prefix}]")
+        for k, v in scalars.items():
+            lines.append(f"{json.dumps(str(k))} = {_toml_value(v)}")
+        for k, v in t.items():
+            if isinstance(v, Mapping):
+                table(f"{prefix}.{json.dumps(str(k))}", v)
+            elif _is_table_list(v):
+                for item in v:
+                    lines.append(f"[[{prefix}.{json.dumps(str(k))}]]")
+                    for kk, vv in item.items():
+                        lines.append(f"{json.dumps(str(kk))} = {_toml_value(vv)}")
+
+    for name, value in d.items():
+        if not isinstance(value, Mapping):
+            raise NavkfError(f"study: key {name!r}: expected a table (a dict), as a study file's top level holds")
+        table(json.dumps(str(name)), value)
+    return "\n".join(lines) + "\n"
+
+
+def _is_table_list(v: Any) -> bool:
+    return isinstance(v, (list, tuple)) and len(v) > 0 and all(isinstance(x, Mapping) for x in v)
+
+
+def _study_text(study: Union[PathLike, Mapping[str, Any]]) -> "tuple[str, str]":
+    if isinstance(study, Mapping):
+        return "<dict>", _to_toml(study)
+    path = os.fspath(study)
+    try:
+        with open(path, encoding="utf-8") as f:
+            return path, f.read()
+    except OSError as e:
+        raise NavkfError(f"{path}: {e.strerror}; expected a study file (e.g. studies/paper.toml)") from None
+
+
+def simulate(
+    *,
+    seed: int = 1,
+    run: int = 0,
+    effects: Union[str, Sequence[str], Mapping[str, Optional[float]], None] = None,
+    model: str = "platform",
+    out: Optional[PathLike] = None,
+    trajectory: Optional[str] = None,
+    duration: Optional[float] = None,
+    attitude: Optional[str] = None,
+    azimuth_sigma: Optional[float] = None,
+    truth: bool = True,
+    unit: Optional[str] = None,
+    imu_rate: Optional[float] = None,
+    nhc_sigma: Optional[float] = None,
+) -> Dataset:
+    """Simulates a vehicle test, as ``navkf simulate`` does, and returns the dataset.
+
+    ``effects`` are hidden in the truth: ``"gyro-fz,odometer-scale=0.002"``, a list of
+    names (coefficients drawn), or a dict of name -> value. ``model`` is ``"platform"``
+    (the paper's) or ``"strapdown"`` (then ``unit`` is ``"navigation"``, ``"tactical"`` or
+    ``"mems"``, ``imu_rate`` in Hz and ``nhc_sigma`` in m/s). ``trajectory`` is TOML text
+    with a ``[trajectory]`` table; ``duration`` scales the test (s). ``azimuth_sigma`` is
+    the initial azimuth (heading) error's one-sigma, rad. When ``out`` is given the dataset
+    is also written there (a new folder, or one ``simulate`` wrote before).
+    """
+    def go(folder: str) -> Dataset:
+        return _navkf.simulate(
+            out=folder,
+            seed=int(seed),
+            run_index=int(run),
+            effects=_effects_text(effects),
+            model=model,
+            trajectory_toml=trajectory,
+            duration=None if duration is None else float(duration),
+            attitude=attitude,
+            azimuth_sigma=None if azimuth_sigma is None else float(azimuth_sigma),
+            truth=bool(truth),
+            unit=unit,
+            imu_rate=None if imu_rate is None else float(imu_rate),
+            nhc_sigma=None if nhc_sigma is None else float(nhc_sigma),
+        )
+
+    for name, value in (("seed", seed), ("run", run)):
+        if not isinstance(value, (int, np.integer)) or value < 0:
+            raise NavkfError(f"{name} {value!r}: expected a whole number >= 0")
+    if out is not None:
+        return go(os.fspath(out))
+    with tempfile.TemporaryDirectory(prefix="navkf-") as tmp:
+        return go(os.path.join(tmp, "simulated"))
+
+
+@dataclass
+class StudyResult:
+    """What ``navkf.study`` returns.
+
+    ``summary`` is ``summary.json`` as Python data (RMS errors, NEES/NIS, step costs,
+    divergences per filter); ``series`` maps each column of ``rms_over_time.csv`` to an
+    array (``filter`` to the filter's name per row); ``runs`` holds one dict per run, each
+    with per-filter final errors, sigmas, mean NEES, NIS and step cost, and whether the run
+    diverged (and why).
+    """
+
+    summary: Dict[str, Any]
+    series: Dict[str, np.ndarray]
+    runs: List[Dict[str, Any]] = field(default_factory=list)
+
+
+def _series(csv_text: str) -> Dict[str, np.ndarray]:
+    rows = list(csv.reader(io.StringIO(csv_text)))
+    if not rows:
+        return {}
+    header, body = rows[0], rows[1:]
+    out: Dict[str, np.ndarray] = {}
+    for k, name in enumerate(header):
+        col = [r[k] for r in body]
+        if name == "filter":
+            out[name] = np.array(col, dtype=object)
+        else:
+            out[name] = np.array([float(v) if v != "" else np.nan for v in col])
+    return out
+
+
+def study(
+    study: Union[PathLike, Mapping[str, Any]],
+    *,
+    runs: Optional[int] = None,
+    out: Optional[PathLike] = None,
+    progress: Optional[Progress] = None,
+) -> StudyResult:
+    """Runs a Monte Carlo study, as ``navkf study FILE`` does.
+
+    ``study`` is a study file's path (``"studies/paper.toml"``) or its tables as a dict
+    (``{"study": {"name": "mine", "runs": 20}}``; docs/study-files.md has every key).
+    ``runs`` overrides the number of runs. With ``out`` the results folder is written as
+    the command line writes it (report, figures, CSV). Same seed, same numbers as the
+    command line, whatever the thread count.
+    """
+    path, text = _study_text(study)
+    if runs is not None and (not isinstance(runs, (int, np.integer)) or runs < 1):
+        raise NavkfError(f"runs {runs!r}: expected a whole number >= 1")
+    summary, series, per_run = _navkf.study(
+        path=path,
+        text=text,
+        runs=None if runs is None else int(runs),
+        out=None if out is None else os.fspath(out),
+        progress=progress,
+    )
+    return StudyResult(json.loads(summary), _series(series), json.loads(per_run))
+
+
+def plan(study: Union[PathLike, Mapping[str, Any]], *, out: Optional[PathLike] = None) -> Dict[str, Any]:
+    """Predicts which coefficients a study's test identifies, as ``navkf plan FILE`` does:
+    ``plan.json`` as Python data (per coefficient, the predicted sigma after the test and
+    whether it is identified). With ``out`` the plan's folder is written too."""
+    path, text = _study_text(study)
+    return json.loads(_navkf.plan(path=path, text=text, out=None if out is None else os.fspath(out)))
+
+
+def diagnose(
+    dataset: Union[Dataset, PathLike],
+    *,
+    with_: Union[str, Sequence[str], None] = None,
+    priors: Optional[Mapping[str, float]] = None,
+    level_sigma: Optional[float] = None,
+    azimuth_sigma: Optional[float] = None,
+    noise: str = "fit",
+    filter: str = "ekf",
+    attitude: Optional[str] = None,
+    window: float = 300.0,
+    max_rounds: int = 4,
+    out: Optional[PathLike] = None,
+    progress: Optional[Progress] = None,
+) -> Dict[str, Any]:
+    """Compares the model with ``dataset`` and finds what is missing, as ``navkf diagnose``.
+
+    ``with_`` switches effects on in the model under test (a manual first round);
+    ``priors`` maps coefficient names to one-sigmas; ``noise`` is ``"fit"`` (check the
+    stated noise and fit the levels that are off) or ``"stated"``. Returns
+    ``diagnosis.json`` as Python data: the verdict, the effects named and suggested, the
+    findings, every round with its candidates, the noise check and the fits' innovation
+    summaries. With ``out`` the report and figures are written too.
+    """
+    if not isinstance(dataset, Dataset):
+        dataset = Dataset.read(os.fspath(dataset))
+    if noise not in ("fit", "stated"):
+        raise NavkfError(f"noise {noise!r}: expected 'fit' or 'stated'")
+    if isinstance(with_, str):
+        with_ = [w.strip() for w in with_.split(",") if w.strip()]
+    if not isinstance(max_rounds, (int, np.integer)) or max_rounds < 0:
+        raise NavkfError(f"max_rounds {max_rounds!r}: expected a whole number >= 1")
+    return json.loads(
+        _navkf.diagnose(
+            dataset,
+            with_=list(with_ or []),
+            priors={str(k): float(v) for k, v in (priors or {}).items()},
+            level_sigma=None if level_sigma is None else float(level_sigma),
+            azimuth_sigma=None if azimuth_sigma is None else float(azimuth_sigma),
+            fit_noise=noise == "fit",
+            filter=filter,
+            attitude=attitude,
+            window=float(window),
+            max_rounds=int(max_rounds),
+            out=None if out is None else os.fspath(out),
+            progress=progress,
+        )
+    )
+
+
+def _float_array(name: str, a: Any, ndim: int) -> np.ndarray:
+    try:
+        arr = np.ascontiguousarray(a, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise NavkfError(f"{name}: {type(a).__name__} is not an array of numbers") from None
+    if arr.ndim != ndim:
+        raise NavkfError(f"{name}: {arr.ndim}-D array of shape {arr.shape}; expected {ndim}-D")
+    return arr
+
+
+class Filter:
+    """One of navkf's filters on a dataset, stepped by hand.
+
+    ``kind`` is ``"ekf"``, ``"standard_ukf"``, ``"simplified_ukf"`` or
+    ``"square_root_ukf"``. The model is the dataset's family with ``effects`` switched on;
+    the filter starts where a diagnosis fit starts (the first measurement with both sensors,
+    the dataset's priors). After each ``update`` (or ``step``) it exposes ``x``, ``P``,
+    ``innovation``, ``S``, ``nis`` and ``log_likelihood``.
+    """
+
+    def __init__(
+        self,
+        kind: str,
+        dataset: Union[Dataset, PathLike],
+        *,
+        effects: Union[str, Sequence[str], None] = None,
+        attitude: Optional[str] = None,
+    ) -> None:
+        if not isinstance(dataset, Dataset):
+            dataset = Dataset.read(os.fspath(dataset))
+        if isinstance(effects, str):
+            effects = [e.strip() for e in effects.split(",") if e.strip()]
+        self._f = _navkf.Filter(kind, dataset, list(effects or []), attitude)
+        self.dataset = dataset
+
+    kind = property(lambda self: self._f.kind, doc="The filter's name.")
+    state_names = property(lambda self: self._f.state_names, doc="The states' names, in the order of x.")
+    channel_names = property(lambda self: self._f.channel_names, doc="The measurement channels' names.")
+    t = property(lambda self: self._f.t, doc="The time of the estimate, s.")
+    step_index = property(lambda self: self._f.step_index, doc="Predictions since the last reset.")
+    x = property(lambda self: self._f.x, doc="The estimate.")
+    P = property(lambda self: self._f.P, doc="The estimate's covariance.")
+    channels = property(lambda self: self._f.channels, doc="The channels the last update used.")
+    innovation = property(lambda self: self._f.innovation, doc="The last update's z - z_hat.")
+    S = property(lambda self: self._f.S, doc="The last update's innovation covariance.")
+    nis = property(lambda self: self._f.nis, doc="The last update's normalised innovation squared.")
+    log_likelihood = property(lambda self: self._f.log_likelihood, doc="The last update's log-likelihood.")
+
+    def reset(self, x0: Any = None, P0: Any = None) -> None:
+        """Restarts at the dataset's start, or from ``x0`` and ``P0`` at that time."""
+        self._f.reset(
+            None if x0 is None else _float_array("x0", x0, 1),
+            None if P0 is None else _float_array("P0", P0, 2),
+        )
+
+    def predict_to(self, t: float) -> None:
+        """Propagates to time ``t`` across the dataset's inputs."""
+        self._f.predict_to(float(t))
+
+    def predict(self, t: Any, u: Any) -> None:
+        """Propagates across input knots ``t`` (the first the estimate's time) with inputs
+        ``u`` (one row per knot: 3 specific forces for the platform, 3 body rates then 3
+        specific forces for a strapdown unit)."""
+        self._f.predict(_float_array("t", t, 1), _float_array("u", u, 2))
+
+    def observation(self, index: int):
+        """``(z, sigma, available)`` of the dataset's measurement ``index`` at the estimate."""
+        return self._f.observation(int(index))
+
+    def update(self, z: Any, sigma: Any, available: Any = None) -> None:
+        """Corrects the estimate with ``z`` (one value per channel), its one-sigmas, and which
+        channels are present (all when None; NaN values must be marked absent)."""
+        avail = None if available is None else np.ascontiguousarray(available, dtype=bool)
+        if avail is not None and avail.ndim != 1:
+            raise NavkfError(f"available: shape {avail.shape}; expected 1-D")
+        self._f.update(_float_array("z", z, 1), _float_array("sigma", sigma, 1), avail)
+
+    def step(self) -> Optional[int]:
+        """Predicts to the dataset's next measurement and updates with it; returns its index,
+        or None at the end of the dataset."""
+        return self._f.step()
+
+    def __repr__(self) -> str:
+        return repr(self._f)

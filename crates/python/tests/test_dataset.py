@@ -1,0 +1,83 @@
+"""navkf.simulate and navkf.Dataset: the command line's datasets, bit for bit, as arrays."""
+
+import filecmp
+import subprocess
+
+import numpy as np
+import pytest
+
+import navkf
+from conftest import SHORT
+
+
+def test_simulate_writes_what_the_command_line_writes(cli, short, tmp_path):
+    args = ["--seed", "3", "--run", "2", "--trajectory", str(short), "--effects", "gyro-fz,odometer-scale=0.002"]
+    subprocess.run([str(cli), "simulate", "--out", str(tmp_path / "cli"), *args], check=True, capture_output=True)
+    ds = navkf.simulate(seed=3, run=2, trajectory=short.read_text(), effects="gyro-fz,odometer-scale=0.002", out=tmp_path / "py")
+    for name in ["inputs.csv", "measurements.csv", "truth.csv", "dataset.toml"]:
+        assert filecmp.cmp(tmp_path / "cli" / name, tmp_path / "py" / name, shallow=False), name
+    back = navkf.Dataset.read(tmp_path / "cli")
+    for k, v in ds.measurements.items():
+        np.testing.assert_array_equal(v, back.measurements[k])
+
+
+def test_columns_are_the_files_columns_with_nan_for_empty_cells(pair):
+    assert pair.model == "platform"
+    assert list(pair.inputs) == ["t", "f_e", "f_n", "f_u"]
+    assert list(pair.measurements) == ["t", "v_e", "v_n", "lat_deg", "lon_deg"]
+    m = pair.measurements
+    assert all(v.dtype == np.float64 and v.shape == m["t"].shape for v in m.values())
+    assert np.all(np.diff(m["t"]) > 0)
+    assert pair.truth is not None and "kod" in pair.truth
+    assert len(pair) == len(m["t"])
+    assert pair.noise["gps_m"] > 0
+    assert pair.summary()["inputs"]["count"] == len(pair.inputs["t"])
+
+
+def test_strapdown_datasets_carry_the_imu_columns(tmp_path):
+    ds = navkf.simulate(model="strapdown", unit="mems", imu_rate=10, trajectory=SHORT, seed=2)
+    assert ds.model == "strapdown"
+    assert list(ds.inputs) == ["t", "w_x", "w_y", "w_z", "f_x", "f_y", "f_z"]
+    assert list(ds.measurements) == ["t", "speed", "lat_deg", "lon_deg"]
+    # Gravity on the z axis of a level unit at rest.
+    assert abs(np.median(ds.inputs["f_z"][:50]) - 9.8) < 0.1
+    ds.write(tmp_path / "again")
+    assert navkf.Dataset.read(tmp_path / "again").inputs["f_z"].tolist() == ds.inputs["f_z"].tolist()
+
+
+def test_write_never_replaces_a_folder_that_is_not_a_dataset(pair, tmp_path):
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("keep me")
+    with pytest.raises(navkf.NavkfError):
+        pair.write(mine)
+    assert (mine / "notes.txt").read_text() == "keep me"
+
+
+def test_a_bad_file_is_named_with_its_line_and_column(pair, tmp_path):
+    pair.write(tmp_path / "bad")
+    lines = (tmp_path / "bad" / "inputs.csv").read_text().splitlines()
+    cells = lines[5].split(",")
+    cells[2] = "abc"
+    lines[5] = ",".join(cells)
+    (tmp_path / "bad" / "inputs.csv").write_text("\n".join(lines) + "\n")
+    with pytest.raises(navkf.NavkfError, match=r"inputs.csv:6: column `f_n`"):
+        navkf.Dataset.read(tmp_path / "bad")
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"effects": "no-such-effect"}, "no-such-effect"),
+        ({"effects": {"Ka0x": 1e300}}, "beyond"),
+        ({"model": "gimbal"}, "expected \"platform\" or \"strapdown\""),
+        ({"unit": "mems"}, "unit: a strapdown setting"),
+        ({"model": "strapdown", "imu_rate": 10.5}, "imu_rate 10.5"),
+        ({"azimuth_sigma": -1.0}, "azimuth_sigma -1"),
+        ({"seed": -1}, "seed -1"),
+        ({"trajectory": "[trajectory]\nduration_s = -5.0\n"}, "trajectory"),
+    ],
+)
+def test_bad_settings_raise_navkf_errors_naming_the_setting(kwargs, message):
+    with pytest.raises(navkf.NavkfError, match=message):
+        navkf.simulate(**{"trajectory": SHORT, **kwargs})

@@ -1,0 +1,46 @@
+"""navkf.diagnose: the command line's diagnosis on a dataset in memory."""
+
+import json
+import subprocess
+
+import pytest
+
+import navkf
+
+
+def test_diagnose_equals_the_command_line(cli, pair, tmp_path):
+    pair.write(tmp_path / "pair")
+    subprocess.run([str(cli), "diagnose", str(tmp_path / "pair"), "--out", str(tmp_path / "cli")], check=True, capture_output=True)
+    expected = json.loads((tmp_path / "cli" / "diagnosis.json").read_text())
+    seen = []
+    got = navkf.diagnose(pair, out=tmp_path / "py", progress=lambda d, t: seen.append(d))
+    # The dataset's name is its folder's: the same data under two names.
+    expected["dataset"] = got["dataset"]
+    assert got == expected
+    assert (tmp_path / "py" / "report.md").exists()
+    assert "odometer-scale" in got["effects"]
+
+
+def test_with_adds_an_effect_and_the_verdict_is_a_word(pair):
+    d = navkf.diagnose(pair, with_=["odometer-scale", "gps-latency"], max_rounds=1)
+    assert isinstance(d["verdict"], str)
+    assert d["rounds"][0]["kind"] == "manual"
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"with_": ["drag"]}, "with: unknown platform effect `drag`"),
+        ({"with_": ["gps-latency", "gps-latency"]}, "given twice"),
+        ({"window": 0.0}, "window 0"),
+        ({"max_rounds": 0}, "max_rounds 0"),
+        ({"priors": {"Kg0x": -1.0}}, "prior Kg0x"),
+        ({"priors": {"nope": 1.0}}, "prior nope"),
+        ({"azimuth_sigma": 3.0}, "azimuth_sigma"),
+        ({"noise": "guess"}, "noise 'guess'"),
+        ({"filter": "kalman"}, "filter: unknown filter"),
+    ],
+)
+def test_bad_settings_are_named_as_python_spells_them(pair, kwargs, message):
+    with pytest.raises(navkf.NavkfError, match=message):
+        navkf.diagnose(pair, **kwargs)

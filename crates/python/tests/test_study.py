@@ -1,0 +1,103 @@
+"""navkf.study and navkf.plan: the command line's numbers, as Python data."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+import navkf
+
+# Timing and provenance differ between any two runs; everything else must match bit for bit.
+VARYING = {"step_ns_median", "step_ns_p90", "command", "wall_s", "machine"}
+
+
+def strip(value):
+    if isinstance(value, dict):
+        return {k: strip(v) for k, v in value.items() if k not in VARYING}
+    if isinstance(value, list):
+        return [strip(v) for v in value]
+    return value
+
+
+def test_study_equals_the_command_line_for_the_same_seed(cli, root, tmp_path):
+    subprocess.run(
+        [str(cli), "study", str(root / "studies" / "ci.toml"), "--runs", "6", "--out", str(tmp_path / "cli"), "--quiet"],
+        check=True,
+        capture_output=True,
+    )
+    expected = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    seen = []
+    result = navkf.study(root / "studies" / "ci.toml", runs=6, out=tmp_path / "py", progress=lambda d, t: seen.append((d, t)))
+    assert strip(result.summary) == strip(expected)
+    assert strip(json.loads((tmp_path / "py" / "summary.json").read_text())) == strip(expected)
+    assert (tmp_path / "cli" / "rms_over_time.csv").read_text() == (tmp_path / "py" / "rms_over_time.csv").read_text()
+    assert seen and seen[-1][1] == 6
+    assert len(result.runs) == 6 and [r["run"] for r in result.runs] == list(range(6))
+    assert {f["filter"] for f in result.runs[0]["filters"]} == {"ekf", "standard_ukf", "simplified_ukf"}
+    series = result.series
+    assert set(series["filter"]) == {"ekf", "standard_ukf", "simplified_ukf"}
+    assert np.all(np.isfinite(series["t"]))
+
+
+def test_a_study_from_a_dict(root):
+    result = navkf.study({"study": {"name": "tiny", "runs": 2, "seed": 5, "filters": ["ekf"]}, "trajectory": {"duration_s": 1000.0, "leg_north_m": 3000.0, "leg_east_m": 2000.0}})
+    assert result.summary["runs"] == 2
+    assert list(result.summary["filters"]) == ["ekf"]
+
+
+@pytest.mark.parametrize(
+    "study, message",
+    [
+        ({"study": {"name": "x", "seed": 1, "runs": 2, "filters": ["kalman"]}}, "kalman"),
+        ({"study": {"name": "x", "seed": 1, "runz": 2}}, "runz"),
+        ("no/such/file.toml", "no/such/file.toml"),
+    ],
+)
+def test_bad_study_files_are_named(study, message):
+    with pytest.raises(navkf.NavkfError, match=message):
+        navkf.study(study)
+
+
+def test_the_diagnosis_study_and_sweeps_say_where_they_run(root):
+    with pytest.raises(navkf.NavkfError, match="diagnosis study"):
+        navkf.study(root / "studies" / "diagnosis.toml")
+    with pytest.raises(navkf.NavkfError, match="sweeps"):
+        navkf.study(root / "studies" / "misalignment.toml")
+
+
+def test_plan_equals_the_command_line(cli, root, tmp_path):
+    subprocess.run([str(cli), "plan", str(root / "studies" / "paper.toml"), "--out", str(tmp_path / "cli")], check=True, capture_output=True)
+    expected = json.loads((tmp_path / "cli" / "plan.json").read_text())
+    assert navkf.plan(root / "studies" / "paper.toml") == expected
+
+
+def test_ctrl_c_stops_a_study_and_writes_nothing(root, tmp_path):
+    out = tmp_path / "out"
+    script = textwrap.dedent(
+        f"""
+        import sys, navkf
+        def progress(done, total):
+            print("progress", done, flush=True)
+        try:
+            navkf.study({str(root / "studies" / "ci.toml")!r}, runs=400, out={str(out)!r}, progress=progress)
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+            sys.exit(130)
+        print("finished", flush=True)
+        """
+    )
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    for line in p.stdout:
+        if line.startswith("progress"):
+            p.send_signal(signal.SIGINT)
+            break
+    rest = p.stdout.read()
+    assert p.wait(timeout=120) == 130, rest
+    assert "interrupted" in rest
+    assert not out.exists()
+    assert not any(n.name.startswith(".out.navkf-partial") for n in tmp_path.iterdir())

@@ -36,3 +36,18 @@ impl From<navkf_report::Interrupted> for DiagnoseError {
         DiagnoseError::Report(stop.into())
     }
 }
+
+/// Stops a diagnosis asked to stop (Ctrl-C: [`navkf_report::interrupt`]) between its fits,
+/// with nothing decided: a diagnosis is whole or not given.
+pub(crate) fn stop_if_requested() -> Result<(), DiagnoseError> {
+    if navkf_report::interrupt::requested() {
+        return Err(DiagnoseError::Report(
+            navkf_report::ReportError::Interrupted(navkf_report::Interrupted {
+                done: 0,
+                total: 1,
+                what: "diagnoses",
+            }),
+        ));
+    }
+    Ok(())
+}

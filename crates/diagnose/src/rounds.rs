@@ -95,6 +95,7 @@ pub fn diagnose(
     let mut noise_checks = Vec::new();
     let mut confounded = Confounded::default();
     for _ in 0..opts.max_rounds {
+        crate::error::stop_if_requested()?;
         let summary = summarize_fit(ds, &model, opts);
         // 2.1 Noise check.
         let check = if opts.fit_noise {
@@ -147,6 +148,7 @@ pub fn diagnose(
         model = refit_from_starting_priors(ds, with_it, catalogue, &opts.filter)?;
     }
     // 3. Check for stand-ins.
+    crate::error::stop_if_requested()?;
     let stand_ins = withdraw_stand_ins(ds, model, named, catalogue, &opts.filter)?;
     let model = stand_ins.model;
     // 4. Verdict.

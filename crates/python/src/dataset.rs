@@ -24,6 +24,21 @@ impl Dataset {
         Ok(Dataset { inner })
     }
 
+    /// A dataset built from columns in memory, checked as a folder on disk is: see
+    /// `navkf._from_arrays` (python/navkf/__init__.py), which writes the columns as the
+    /// family's files and reads them back through [`Inner::read`].
+    #[staticmethod]
+    #[pyo3(signature = (*args, **kwargs))]
+    fn from_arrays<'py>(
+        py: Python<'py>,
+        args: &Bound<'py, pyo3::types::PyTuple>,
+        kwargs: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        py.import("navkf")?
+            .getattr("_from_arrays")?
+            .call(args, kwargs)
+    }
+
     /// Writes the dataset into the folder `path`: a new folder, an empty one, or a dataset
     /// navkf wrote before (replaced whole); never a folder holding anything else. The files
     /// are read back before they are put in place, so what is written reads.

@@ -81,3 +81,34 @@ def test_a_bad_file_is_named_with_its_line_and_column(pair, tmp_path):
 def test_bad_settings_raise_navkf_errors_naming_the_setting(kwargs, message):
     with pytest.raises(navkf.NavkfError, match=message):
         navkf.simulate(**{"trajectory": SHORT, **kwargs})
+
+
+def test_a_dataset_from_arrays_equals_the_folder_it_came_from(pair):
+    back = navkf.Dataset.from_arrays(pair.inputs, pair.measurements, truth=pair.truth, name="mine")
+    assert back.name == "mine"
+    for k, v in pair.measurements.items():
+        np.testing.assert_array_equal(v, back.measurements[k])
+    for k, v in pair.inputs.items():
+        np.testing.assert_array_equal(v, back.inputs[k])
+    # No dataset.toml: navkf's default noise, which is not called stated.
+    assert not back.noise_stated
+
+
+def test_bad_arrays_are_named_with_their_row(pair):
+    m = {k: v.copy() for k, v in pair.measurements.items()}
+    m["lat_deg"][4] = 123.0
+    with pytest.raises(navkf.NavkfError, match=r"measurements row 4"):
+        navkf.Dataset.from_arrays(pair.inputs, m)
+    with pytest.raises(navkf.NavkfError, match=r"missing \['f_u'\]"):
+        navkf.Dataset.from_arrays({k: v for k, v in pair.inputs.items() if k != "f_u"}, m)
+    with pytest.raises(navkf.NavkfError, match="lengths"):
+        navkf.Dataset.from_arrays({**pair.inputs, "f_u": pair.inputs["f_u"][:-1]}, pair.measurements)
+    with pytest.raises(navkf.NavkfError, match="not an array of numbers"):
+        navkf.Dataset.from_arrays({**pair.inputs, "f_u": ["a"] * len(pair.inputs["t"])}, pair.measurements)
+
+
+def test_a_strapdown_dataset_from_arrays_states_its_family(tmp_path):
+    ds = navkf.simulate(model="strapdown", imu_rate=10, trajectory=SHORT, seed=4)
+    back = navkf.Dataset.from_arrays(ds.inputs, ds.measurements, model="strapdown")
+    assert back.model == "strapdown"
+    np.testing.assert_array_equal(back.inputs["w_z"], ds.inputs["w_z"])

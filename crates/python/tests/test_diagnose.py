@@ -44,3 +44,35 @@ def test_with_adds_an_effect_and_the_verdict_is_a_word(pair):
 def test_bad_settings_are_named_as_python_spells_them(pair, kwargs, message):
     with pytest.raises(navkf.NavkfError, match=message):
         navkf.diagnose(pair, **kwargs)
+
+
+def test_ctrl_c_stops_a_diagnosis_and_writes_nothing(tmp_path):
+    import signal
+    import subprocess
+    import sys
+    import textwrap
+
+    out = tmp_path / "out"
+    script = textwrap.dedent(
+        f"""
+        import sys, navkf
+        ds = navkf.simulate(seed=3, effects="odometer-scale=0.005,gps-latency=0.2")
+        def progress(done, total):
+            print("started", flush=True)
+        try:
+            navkf.diagnose(ds, out={str(out)!r}, progress=progress)
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+            sys.exit(130)
+        print("finished", flush=True)
+        """
+    )
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    for line in p.stdout:
+        if line.startswith("started"):
+            p.send_signal(signal.SIGINT)
+            break
+    rest = p.stdout.read()
+    assert p.wait(timeout=120) == 130, rest
+    assert "interrupted" in rest
+    assert not out.exists()

@@ -46,7 +46,11 @@ pub fn evaluate_all(
         .collect();
     let mut out = names
         .par_iter()
-        .map(|name| evaluate(ds, model, name, catalogue, opts))
+        .map(|name| {
+            // A stop on request (Ctrl-C) skips the candidates not yet started.
+            crate::error::stop_if_requested()?;
+            evaluate(ds, model, name, catalogue, opts)
+        })
         .collect::<Result<Vec<Option<Evaluated>>, _>>()?
         .into_iter()
         .flatten()

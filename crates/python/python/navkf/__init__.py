@@ -284,6 +284,92 @@ def diagnose(
     )
 
 
+_COLUMNS = {
+    "platform": (
+        ("inputs.csv", ["t", "f_e", "f_n", "f_u"]),
+        ("measurements.csv", ["t", "v_e", "v_n", "lat_deg", "lon_deg"]),
+    ),
+    "strapdown": (
+        ("imu.csv", ["t", "w_x", "w_y", "w_z", "f_x", "f_y", "f_z"]),
+        ("measurements.csv", ["t", "speed", "lat_deg", "lon_deg"]),
+    ),
+}
+
+
+def _cell(v: float) -> str:
+    # repr gives the shortest text that reads back to the same float; NaN is an empty cell.
+    return "" if v != v else repr(float(v))
+
+
+def _write_columns(path: str, file: str, columns: Mapping[str, Any], names: Sequence[str]) -> None:
+    what = file[:-4]
+    missing = [n for n in names if n not in columns]
+    extra = [n for n in columns if n not in names]
+    if missing or extra:
+        raise NavkfError(
+            f"{what}: columns {list(columns)}; expected exactly {list(names)}"
+            + (f" (missing {missing})" if missing else "")
+            + (f" (unknown {extra})" if extra else "")
+        )
+    cols = [_float_array(f"{what}[{n!r}]", columns[n], 1) for n in names]
+    lengths = {len(c) for c in cols}
+    if len(lengths) != 1:
+        raise NavkfError(f"{what}: columns of lengths {[len(c) for c in cols]}; expected one length")
+    with open(os.path.join(path, file), "w", encoding="utf-8", newline="") as f:
+        f.write(",".join(names) + "\n")
+        for row in zip(*cols):
+            f.write(",".join(_cell(v) for v in row) + "\n")
+
+
+def _from_arrays(
+    inputs: Mapping[str, Any],
+    measurements: Mapping[str, Any],
+    *,
+    model: str = "platform",
+    config: Optional[str] = None,
+    truth: Optional[Mapping[str, Any]] = None,
+    name: str = "dataset",
+) -> Dataset:
+    """A dataset built from columns in memory, checked as a folder on disk is.
+
+    ``inputs`` and ``measurements`` map each column of the family's files to a 1-D array
+    (docs/data-format.md: ``t, f_e, f_n, f_u`` and ``t, v_e, v_n, lat_deg, lon_deg`` for the
+    platform; ``t, w_x, w_y, w_z, f_x, f_y, f_z`` and ``t, speed, lat_deg, lon_deg`` for a
+    strapdown unit); NaN is an empty cell. ``config`` is ``dataset.toml``'s text (noise,
+    priors, ``[initial]``); ``truth`` maps ``t`` and state names to arrays. Every check of
+    the reader applies, and an error names the array and its row (row 0 is the first).
+    """
+    import re
+
+    if model not in _COLUMNS:
+        raise NavkfError(f"model {model!r}: expected 'platform' or 'strapdown'")
+    with tempfile.TemporaryDirectory(prefix="navkf-") as tmp:
+        folder = os.path.join(tmp, name)
+        os.mkdir(folder)
+        (inp, inp_names), (meas, meas_names) = _COLUMNS[model]
+        _write_columns(folder, inp, inputs, inp_names)
+        _write_columns(folder, meas, measurements, meas_names)
+        if truth is not None:
+            _write_columns(folder, "truth.csv", truth, ["t"] + [k for k in truth if k != "t"])
+        text = config or ""
+        if model == "strapdown" and "[model]" not in text:
+            text = '[model]\nkind = "strapdown"\n\n' + text
+        if text:
+            with open(os.path.join(folder, "dataset.toml"), "w", encoding="utf-8") as f:
+                f.write(text)
+        try:
+            return Dataset.read(folder)
+        except NavkfError as e:
+            message = str(e).replace(folder + os.sep, "")
+
+            def row(m: "re.Match[str]") -> str:
+                return f"{m.group(1)} row {int(m.group(2)) - 2}"
+
+            message = re.sub(r"\b(inputs|imu|measurements|truth)\.csv:(\d+)", row, message)
+            message = message.replace("dataset.toml", "config")
+            raise NavkfError(message) from None
+
+
 def _float_array(name: str, a: Any, ndim: int) -> np.ndarray:
     try:
         arr = np.ascontiguousarray(a, dtype=np.float64)

@@ -17,6 +17,17 @@ class Dataset:
     @staticmethod
     def read(path: Union[str, PathLike[str]]) -> Dataset:
         """Reads and validates a dataset folder (docs/data-format.md)."""
+    @staticmethod
+    def from_arrays(
+        inputs: Mapping[str, npt.ArrayLike],
+        measurements: Mapping[str, npt.ArrayLike],
+        *,
+        model: str = "platform",
+        config: Optional[str] = None,
+        truth: Optional[Mapping[str, npt.ArrayLike]] = None,
+        name: str = "dataset",
+    ) -> Dataset:
+        """A dataset from columns in memory (NaN: an empty cell), checked as a folder is."""
     def write(self, path: Union[str, PathLike[str]]) -> None:
         """Writes the dataset into a new folder, or one navkf wrote before (replaced whole)."""
     @property

@@ -304,10 +304,7 @@ impl Filter {
                 self.dataset.measurements.len()
             ))
         })?;
-        let nz = self.sensors.dim();
-        let (mut z, mut sigma, mut available) = (vec![0.0; nz], vec![0.0; nz], vec![false; nz]);
-        self.sensors
-            .observe(m, self.filter.state(), &mut z, &mut sigma, &mut available);
+        let (z, sigma, available) = self.observe(m);
         Ok((
             PyArray1::from_vec(py, z),
             PyArray1::from_vec(py, sigma),
@@ -377,10 +374,7 @@ impl Filter {
         self.cursor
             .advance(&self.dataset.inputs, m.t, &mut self.window);
         self.filter.predict(&self.window).or_py()?;
-        let nz = self.sensors.dim();
-        let (mut z, mut sigma, mut available) = (vec![0.0; nz], vec![0.0; nz], vec![false; nz]);
-        self.sensors
-            .observe(&m, self.filter.state(), &mut z, &mut sigma, &mut available);
+        let (z, sigma, available) = self.observe(&m);
         let obs = Observation {
             z: &z,
             sigma: &sigma,
@@ -403,6 +397,16 @@ impl Filter {
 }
 
 impl Filter {
+    /// The dataset's sensors' reading of `m` at the current estimate: values, one-sigmas
+    /// and which channels are present.
+    fn observe(&self, m: &Measurement) -> (Vec<f64>, Vec<f64>, Vec<bool>) {
+        let nz = self.sensors.dim();
+        let (mut z, mut sigma, mut available) = (vec![0.0; nz], vec![0.0; nz], vec![false; nz]);
+        self.sensors
+            .observe(m, self.filter.state(), &mut z, &mut sigma, &mut available);
+        (z, sigma, available)
+    }
+
     fn report(&self) -> PyResult<&navkf_filters::UpdateReport> {
         if !self.updated {
             return Err(to_py(

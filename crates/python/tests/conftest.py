@@ -3,7 +3,10 @@ the package binds, so the two must agree bit for bit), and small datasets."""
 
 import os
 import pathlib
+import signal
 import subprocess
+import sys
+import textwrap
 
 import pytest
 
@@ -49,3 +52,28 @@ def pair(tmp_path_factory) -> navkf.Dataset:
         effects={"odometer-scale": 0.005, "gps-latency": 0.2},
         out=tmp_path_factory.mktemp("pair") / "pair",
     )
+
+
+def interrupted_at_start(setup: str, call: str) -> "tuple[int, str]":
+    """Runs `setup`, then `call` in a fresh interpreter with a progress callback that prints
+    `started`; sends SIGINT (Ctrl-C) at the first `started`, and returns the exit code and
+    what the script printed after it (130 and `interrupted` when KeyboardInterrupt came)."""
+    script = textwrap.dedent(setup) + textwrap.dedent(
+        f"""
+        def progress(done, total):
+            print("started", flush=True)
+        try:
+            {call}
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+            sys.exit(130)
+        print("finished", flush=True)
+        """
+    )
+    p = subprocess.Popen([sys.executable, "-c", "import sys, navkf\n" + script], stdout=subprocess.PIPE, text=True)
+    for line in p.stdout:
+        if line.startswith("started"):
+            p.send_signal(signal.SIGINT)
+            break
+    rest = p.stdout.read()
+    return p.wait(timeout=120), rest

@@ -6,6 +6,7 @@ import subprocess
 import pytest
 
 import navkf
+from conftest import interrupted_at_start
 
 
 def test_diagnose_equals_the_command_line(cli, pair, tmp_path):
@@ -47,32 +48,11 @@ def test_bad_settings_are_named_as_python_spells_them(pair, kwargs, message):
 
 
 def test_ctrl_c_stops_a_diagnosis_and_writes_nothing(tmp_path):
-    import signal
-    import subprocess
-    import sys
-    import textwrap
-
     out = tmp_path / "out"
-    script = textwrap.dedent(
-        f"""
-        import sys, navkf
-        ds = navkf.simulate(seed=3, effects="odometer-scale=0.005,gps-latency=0.2")
-        def progress(done, total):
-            print("started", flush=True)
-        try:
-            navkf.diagnose(ds, out={str(out)!r}, progress=progress)
-        except KeyboardInterrupt:
-            print("interrupted", flush=True)
-            sys.exit(130)
-        print("finished", flush=True)
-        """
+    code, rest = interrupted_at_start(
+        'ds = navkf.simulate(seed=3, effects="odometer-scale=0.005,gps-latency=0.2")\n',
+        f"navkf.diagnose(ds, out={str(out)!r}, progress=progress)",
     )
-    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
-    for line in p.stdout:
-        if line.startswith("started"):
-            p.send_signal(signal.SIGINT)
-            break
-    rest = p.stdout.read()
-    assert p.wait(timeout=120) == 130, rest
+    assert code == 130, rest
     assert "interrupted" in rest
     assert not out.exists()

@@ -1,16 +1,13 @@
 """navkf.study and navkf.plan: the command line's numbers, as Python data."""
 
 import json
-import os
-import signal
 import subprocess
-import sys
-import textwrap
 
 import numpy as np
 import pytest
 
 import navkf
+from conftest import interrupted_at_start
 
 # Timing and provenance differ between any two runs; everything else must match bit for bit.
 VARYING = {"step_ns_median", "step_ns_p90", "command", "wall_s", "machine"}
@@ -78,26 +75,11 @@ def test_plan_equals_the_command_line(cli, root, tmp_path):
 
 def test_ctrl_c_stops_a_study_and_writes_nothing(root, tmp_path):
     out = tmp_path / "out"
-    script = textwrap.dedent(
-        f"""
-        import sys, navkf
-        def progress(done, total):
-            print("progress", done, flush=True)
-        try:
-            navkf.study({str(root / "studies" / "ci.toml")!r}, runs=400, out={str(out)!r}, progress=progress)
-        except KeyboardInterrupt:
-            print("interrupted", flush=True)
-            sys.exit(130)
-        print("finished", flush=True)
-        """
+    code, rest = interrupted_at_start(
+        "",
+        f"navkf.study({str(root / 'studies' / 'ci.toml')!r}, runs=400, out={str(out)!r}, progress=progress)",
     )
-    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
-    for line in p.stdout:
-        if line.startswith("progress"):
-            p.send_signal(signal.SIGINT)
-            break
-    rest = p.stdout.read()
-    assert p.wait(timeout=120) == 130, rest
+    assert code == 130, rest
     assert "interrupted" in rest
     assert not out.exists()
     assert not any(n.name.startswith(".out.navkf-partial") for n in tmp_path.iterdir())

@@ -1,15 +1,19 @@
 //! `navkf.diagnose`: the command line's `navkf diagnose` on a dataset in memory, the same
 //! checks ([`navkf_diagnose::request`]) and the same answer: the diagnosis as the JSON of
-//! `diagnosis.json`, and, when `out` is given, the results folder with its report and figures.
+//! `diagnosis.json`, the innovation series of the final model's fit (and of the base
+//! model's, when effects were added), and, when `out` is given, the results folder with its
+//! report and figures.
 
 use crate::background::{run as in_background, Progress};
 use crate::dataset::Dataset;
 use crate::errors::{to_py, OrNavkfError};
 use navkf_diagnose::request::DiagnoseRequest;
-use navkf_diagnose::{diagnose as run, report};
+use navkf_diagnose::{diagnose as run, report, Fit};
 use navkf_filters::FilterKind;
 use navkf_report::{write_atomic, ResultsDir, SettingNames};
+use numpy::PyArray1;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -18,8 +22,8 @@ use std::path::PathBuf;
 #[pyo3(signature = (dataset, *, with_, priors, level_sigma, azimuth_sigma, fit_noise, filter,
     attitude, window, max_rounds, out, progress))]
 #[allow(clippy::too_many_arguments)]
-pub fn diagnose(
-    py: Python<'_>,
+pub fn diagnose<'py>(
+    py: Python<'py>,
     dataset: &Dataset,
     with_: Vec<String>,
     priors: BTreeMap<String, f64>,
@@ -31,8 +35,8 @@ pub fn diagnose(
     window: f64,
     max_rounds: usize,
     out: Option<PathBuf>,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<String> {
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<(String, Bound<'py, PyDict>)> {
     let filter: FilterKind = filter.parse().map_err(|e| to_py(&format!("filter: {e}")))?;
     let attitude = attitude
         .map(|a| a.parse::<navkf_dynamics::Attitude>())
@@ -73,5 +77,39 @@ pub fn diagnose(
         })
         .map_err(|e| to_py(&e))?;
     }
-    Ok(json)
+    let series = PyDict::new(py);
+    series.set_item("model", innovation_series(py, &fits.model)?)?;
+    if let Some(before) = &fits.before {
+        series.set_item("before", innovation_series(py, before)?)?;
+    }
+    Ok((json, series))
+}
+
+/// A fit's update-by-update series as arrays: `t`, `nis`, `dims`, and per channel (by name)
+/// the innovation `z - z_hat` and its predicted one-sigma, NaN where the channel was absent.
+fn innovation_series<'py>(py: Python<'py>, fit: &Fit) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("t", PyArray1::from_slice(py, &fit.t))?;
+    d.set_item("nis", PyArray1::from_slice(py, &fit.nis))?;
+    d.set_item(
+        "dims",
+        PyArray1::from_vec(py, fit.dims.iter().map(|&k| k as u64).collect()),
+    )?;
+    let innovation = PyDict::new(py);
+    let sigma = PyDict::new(py);
+    for (j, c) in fit.channels.iter().enumerate() {
+        let nu: Vec<f64> = fit
+            .z
+            .iter()
+            .zip(&fit.z_hat)
+            .map(|(z, h)| z[j] - h[j])
+            .collect();
+        let s: Vec<f64> = fit.s_sigma.iter().map(|s| s[j]).collect();
+        innovation.set_item(c.name, PyArray1::from_vec(py, nu))?;
+        sigma.set_item(c.name, PyArray1::from_vec(py, s))?;
+    }
+    d.set_item("innovation", innovation)?;
+    d.set_item("innovation_sigma", sigma)?;
+    d.set_item("effects", fit.effects.clone())?;
+    Ok(d)
 }

@@ -3,6 +3,8 @@
 import json
 import subprocess
 
+import numpy as np
+
 import pytest
 
 import navkf
@@ -15,11 +17,18 @@ def test_diagnose_equals_the_command_line(cli, pair, tmp_path):
     expected = json.loads((tmp_path / "cli" / "diagnosis.json").read_text())
     seen = []
     got = navkf.diagnose(pair, out=tmp_path / "py", progress=lambda d, t: seen.append(d))
+    series = got.pop("series")
     # The dataset's name is its folder's: the same data under two names.
     expected["dataset"] = got["dataset"]
     assert got == expected
     assert (tmp_path / "py" / "report.md").exists()
     assert "odometer-scale" in got["effects"]
+    # The series: the base model's misfit falls once the named effects are in.
+    model, before = series["model"], series["before"]
+    assert set(model["innovation"]) == {"v_x", "v_y", "L", "lambda"}
+    assert model["t"].shape == model["nis"].shape == model["innovation"]["v_x"].shape
+    assert np.nanmean(before["nis"]) > np.nanmean(model["nis"])
+    assert model["effects"] == got["effects"]
 
 
 def test_with_adds_an_effect_and_the_verdict_is_a_word(pair):

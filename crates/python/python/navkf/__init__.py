@@ -256,7 +256,10 @@ def diagnose(
     stated noise and fit the levels that are off) or ``"stated"``. Returns
     ``diagnosis.json`` as Python data: the verdict, the effects named and suggested, the
     findings, every round with its candidates, the noise check and the fits' innovation
-    summaries. With ``out`` the report and figures are written too.
+    summaries; and under ``"series"`` the final model's update-by-update series (``"model"``:
+    ``t``, ``nis``, ``dims``, per channel the ``innovation`` and its ``innovation_sigma``)
+    and, when effects were added, the base model's (``"before"``). With ``out`` the report
+    and figures are written too.
     """
     if not isinstance(dataset, Dataset):
         dataset = Dataset.read(os.fspath(dataset))
@@ -266,22 +269,23 @@ def diagnose(
         with_ = [w.strip() for w in with_.split(",") if w.strip()]
     if not isinstance(max_rounds, (int, np.integer)) or max_rounds < 0:
         raise NavkfError(f"max_rounds {max_rounds!r}: expected a whole number >= 1")
-    return json.loads(
-        _navkf.diagnose(
-            dataset,
-            with_=list(with_ or []),
-            priors={str(k): float(v) for k, v in (priors or {}).items()},
-            level_sigma=None if level_sigma is None else float(level_sigma),
-            azimuth_sigma=None if azimuth_sigma is None else float(azimuth_sigma),
-            fit_noise=noise == "fit",
-            filter=filter,
-            attitude=attitude,
-            window=float(window),
-            max_rounds=int(max_rounds),
-            out=None if out is None else os.fspath(out),
-            progress=progress,
-        )
+    text, series = _navkf.diagnose(
+        dataset,
+        with_=list(with_ or []),
+        priors={str(k): float(v) for k, v in (priors or {}).items()},
+        level_sigma=None if level_sigma is None else float(level_sigma),
+        azimuth_sigma=None if azimuth_sigma is None else float(azimuth_sigma),
+        fit_noise=noise == "fit",
+        filter=filter,
+        attitude=attitude,
+        window=float(window),
+        max_rounds=int(max_rounds),
+        out=None if out is None else os.fspath(out),
+        progress=progress,
     )
+    result = json.loads(text)
+    result["series"] = series
+    return result
 
 
 _COLUMNS = {

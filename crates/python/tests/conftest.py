@@ -70,7 +70,11 @@ def interrupted_at_start(setup: str, call: str) -> "tuple[int, str]":
         print("finished", flush=True)
         """
     )
-    p = subprocess.Popen([sys.executable, "-c", "import sys, navkf\n" + script], stdout=subprocess.PIPE, text=True)
+    # Python turns SIGINT into KeyboardInterrupt only if the signal was not ignored when it
+    # started, and a job started in the background (as CI may start this suite) inherits it
+    # ignored: the script installs Python's default handler itself.
+    prelude = "import signal, sys, navkf\nsignal.signal(signal.SIGINT, signal.default_int_handler)\n"
+    p = subprocess.Popen([sys.executable, "-c", prelude + script], stdout=subprocess.PIPE, text=True)
     for line in p.stdout:
         if line.startswith("started"):
             p.send_signal(signal.SIGINT)

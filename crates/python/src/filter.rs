@@ -348,14 +348,7 @@ impl Filter {
                 )));
             }
         }
-        let obs = Observation {
-            z: &z,
-            sigma: &sigma,
-            available: &available,
-        };
-        self.filter.update(&obs).or_py()?;
-        self.updated = true;
-        Ok(())
+        self.correct(&z, &sigma, &available)
     }
 
     /// Predicts to the dataset's next measurement after the estimate's time and updates with
@@ -371,17 +364,9 @@ impl Filter {
             return Ok(None);
         };
         let m = self.dataset.measurements[index];
-        self.cursor
-            .advance(&self.dataset.inputs, m.t, &mut self.window);
-        self.filter.predict(&self.window).or_py()?;
+        self.predict_to(m.t)?;
         let (z, sigma, available) = self.observe(&m);
-        let obs = Observation {
-            z: &z,
-            sigma: &sigma,
-            available: &available,
-        };
-        self.filter.update(&obs).or_py()?;
-        self.updated = true;
+        self.correct(&z, &sigma, &available)?;
         Ok(Some(index))
     }
 
@@ -405,6 +390,18 @@ impl Filter {
         self.sensors
             .observe(m, self.filter.state(), &mut z, &mut sigma, &mut available);
         (z, sigma, available)
+    }
+
+    /// The update with an observation already checked.
+    fn correct(&mut self, z: &[f64], sigma: &[f64], available: &[bool]) -> PyResult<()> {
+        let obs = Observation {
+            z,
+            sigma,
+            available,
+        };
+        self.filter.update(&obs).or_py()?;
+        self.updated = true;
+        Ok(())
     }
 
     fn report(&self) -> PyResult<&navkf_filters::UpdateReport> {

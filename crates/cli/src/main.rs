@@ -26,7 +26,6 @@ mod diagnose;
 mod effects;
 mod plan;
 mod simulate;
-mod simulated_dataset;
 mod study;
 mod study_file;
 

@@ -2,10 +2,9 @@
 //! What it checks and how it writes is [`navkf_study::simulation`]'s, shared with the Python
 //! package; this file reads the flags and prints what was written.
 
-use crate::simulated_dataset::read_trajectory;
 use navkf_dynamics::model_kind::ModelKind;
 use navkf_dynamics::TrajectoryConfig;
-use navkf_study::simulation::{simulate, SettingNames, SimulationRequest};
+use navkf_study::simulation::{read_trajectory, simulate, SettingNames, SimulationRequest};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]

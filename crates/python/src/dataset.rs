@@ -4,7 +4,7 @@
 use crate::columns;
 use crate::errors::OrNavkfError;
 use navkf_dynamics::dataset::Dataset as Inner;
-use navkf_study::simulation::{write_checked, SettingNames};
+use navkf_study::simulation::write_checked;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -43,8 +43,7 @@ impl Dataset {
     /// navkf wrote before (replaced whole); never a folder holding anything else. The files
     /// are read back before they are put in place, so what is written reads.
     fn write(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        py.detach(|| write_checked(&self.inner, &path, SettingNames::Keywords))
-            .or_py()?;
+        py.detach(|| write_checked(&self.inner, &path)).or_py()?;
         Ok(())
     }
 

@@ -9,14 +9,15 @@
 
 use crate::dataset::Dataset;
 use crate::errors::{to_py, OrNavkfError};
-use navkf_diagnose::catalogue::Catalogue;
 use navkf_diagnose::fit::pass::initial;
-use navkf_diagnose::{FitSetup, Options};
+use navkf_diagnose::request::DiagnoseRequest;
+use navkf_diagnose::FitSetup;
 use navkf_dynamics::dataset::{Dataset as Inner, Measurement};
 use navkf_dynamics::input_cursor::SAME_TIME;
 use navkf_dynamics::kinematics::INPUT_WIDTH;
-use navkf_dynamics::{InputCursor, InputWindow, MeasurementModel, PlatformPrior};
+use navkf_dynamics::{InputCursor, InputWindow, MeasurementModel};
 use navkf_filters::{FilterKind, FilterSpec, Observation};
+use navkf_report::SettingNames;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use std::collections::BTreeMap;
@@ -39,6 +40,9 @@ pub struct Filter {
     window: InputWindow,
     /// Whether an update has been made since the last reset (the report is meaningful).
     updated: bool,
+    /// The observation `step` reads into: values, one-sigmas, presence (no allocation per
+    /// step).
+    read: (Vec<f64>, Vec<f64>, Vec<bool>),
 }
 
 #[pymethods]
@@ -54,40 +58,24 @@ impl Filter {
     ) -> PyResult<Self> {
         let kind: FilterKind = kind.parse().or_py()?;
         let ds = dataset.inner.clone();
-        let catalogue: Box<dyn Catalogue> = navkf_diagnose::catalogue::of(&ds).or_py()?;
-        let known = catalogue.effect_names();
-        for e in &effects {
-            if !known.contains(e) {
-                return Err(to_py(&format!(
-                    "effects: unknown {} effect `{e}`; known effects: {}",
-                    ds.model.name(),
-                    known.join(", ")
-                )));
-            }
-        }
-        let attitude = match attitude {
-            Some(a) => a
-                .parse::<navkf_dynamics::Attitude>()
-                .map_err(|e| to_py(&format!("attitude: {e}")))?,
-            None => navkf_dynamics::Attitude::SmallAngle,
+        let attitude = attitude
+            .map(|a| a.parse::<navkf_dynamics::Attitude>())
+            .transpose()
+            .map_err(|e| to_py(&format!("attitude: {e}")))?;
+        // The effects and the attitude are checked as a diagnosis's `with_` and `attitude`.
+        let request = DiagnoseRequest {
+            with: effects,
+            attitude,
+            ..DiagnoseRequest::default()
         };
-        if !ds.model.is_platform() && attitude != navkf_dynamics::Attitude::SmallAngle {
-            return Err(to_py(
-                "attitude: the platform's choice; the strapdown family's attitude equations \
-                 are exact Euler angles, expected none",
-            ));
-        }
-        let (_, start_lat) = navkf_diagnose::catalogue::first_full_measurement(&ds)
-            .map(|(_, p)| ((), p[0]))
-            .or_py()?;
-        let opts = Options {
-            with: effects.clone(),
-            ..Options::default()
-        };
-        let (priors, _) =
-            navkf_diagnose::priors::resolve(&ds, &PlatformPrior::default(), start_lat, &*catalogue);
+        let (catalogue, opts) = request
+            .check(&ds, SettingNames::Keywords)
+            .map_err(|e| to_py(&e.to_string().replacen("with:", "effects:", 1)))?;
+        let attitude = opts.filter.attitude;
+        let (_, start) = navkf_diagnose::catalogue::first_full_measurement(&ds).or_py()?;
+        let (priors, _) = navkf_diagnose::priors::resolve(&ds, &opts.prior, start[0], &*catalogue);
         let setup = FitSetup {
-            effects: opts.with.clone(),
+            effects: opts.with,
             parameters: BTreeMap::new(),
             noise: ds.noise,
             priors,
@@ -103,9 +91,11 @@ impl Filter {
         let mut filter = spec.build(model.clone()).or_py()?;
         filter.reset(&start.x, &start.p).or_py()?;
         let cursor = InputCursor::at(&ds.inputs, start.t);
+        let sensors = catalogue.sensors(ds.noise);
+        let nz = sensors.dim();
         Ok(Filter {
             filter,
-            sensors: catalogue.sensors(ds.noise),
+            sensors,
             state_names: model.state_names(),
             channel_names: catalogue.channels().iter().map(|c| c.name).collect(),
             input_width: if ds.model.is_platform() { 3 } else { 6 },
@@ -116,6 +106,7 @@ impl Filter {
             window: InputWindow::with_capacity(64),
             dataset: ds,
             updated: false,
+            read: (vec![0.0; nz], vec![0.0; nz], vec![false; nz]),
         })
     }
 
@@ -355,18 +346,20 @@ impl Filter {
     /// it, as a run does; returns that measurement's index, or None at the end.
     fn step(&mut self) -> PyResult<Option<usize>> {
         let now = self.cursor.time();
-        let Some(index) = self
-            .dataset
-            .measurements
-            .iter()
-            .position(|m| m.t > now + SAME_TIME)
-        else {
+        // Measurements are in time order: the first after the estimate's time, found in
+        // log time (a scan from the start made stepping a long recording quadratic).
+        let measurements = &self.dataset.measurements;
+        let index = measurements.partition_point(|m| m.t <= now + SAME_TIME);
+        let Some(&m) = measurements.get(index) else {
             return Ok(None);
         };
-        let m = self.dataset.measurements[index];
         self.predict_to(m.t)?;
-        let (z, sigma, available) = self.observe(&m);
-        self.correct(&z, &sigma, &available)?;
+        let (mut z, mut sigma, mut available) = std::mem::take(&mut self.read);
+        self.sensors
+            .observe(&m, self.filter.state(), &mut z, &mut sigma, &mut available);
+        let corrected = self.correct(&z, &sigma, &available);
+        self.read = (z, sigma, available);
+        corrected?;
         Ok(Some(index))
     }
 

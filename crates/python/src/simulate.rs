@@ -6,7 +6,9 @@ use crate::dataset::Dataset;
 use crate::errors::OrNavkfError;
 use navkf_dynamics::model_kind::ModelKind;
 use navkf_dynamics::TrajectoryConfig;
-use navkf_study::simulation::{simulate as run, SettingNames, SimulationRequest};
+use navkf_study::simulation::{
+    simulate as run, trajectory_from_text, SettingNames, SimulationRequest,
+};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 
@@ -41,7 +43,7 @@ pub fn simulate(
         }
     };
     let mut trajectory = match trajectory_toml {
-        Some(text) => trajectory_from_toml(&text)?,
+        Some(text) => trajectory_from_text(std::path::Path::new("trajectory"), &text).or_py()?,
         None => TrajectoryConfig::default(),
     };
     if let Some(d) = duration {
@@ -71,22 +73,4 @@ pub fn simulate(
     Ok(Dataset {
         inner: written.dataset,
     })
-}
-
-/// The `[trajectory]` table of TOML `text` (a study file's, or one with only that table),
-/// checked; errors name the key.
-fn trajectory_from_toml(text: &str) -> PyResult<TrajectoryConfig> {
-    #[derive(serde::Deserialize)]
-    struct TrajectoryFile {
-        trajectory: Option<TrajectoryConfig>,
-    }
-    let file: TrajectoryFile =
-        toml::from_str(text).map_err(|e| crate::errors::to_py(&format!("trajectory: {e}")))?;
-    let trajectory = file
-        .trajectory
-        .ok_or_else(|| crate::errors::to_py("trajectory: no [trajectory] table"))?;
-    trajectory
-        .validate()
-        .map_err(|e| crate::errors::to_py(&format!("trajectory: {e}")))?;
-    Ok(trajectory)
 }

@@ -12,12 +12,34 @@ use navkf_study::summary::summarize;
 use navkf_study::{Study, StudyConfig};
 use pyo3::prelude::*;
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Mutex;
 
-/// A study file's configuration from its `text`, read as from `path` (named in errors).
-fn config(path: &Path, text: &str) -> PyResult<StudyConfig> {
-    let kind = navkf_report::StudyKind::declared(text).map_err(|e| to_py(&e))?;
+/// A study's configuration from its file at `path` (read as `navkf study` reads it: a regular
+/// file of bounded size) or from `json`, a dict's tables turned into a study file's text by
+/// the `toml` crate and named `<dict>` in errors.
+fn config(path: Option<PathBuf>, json: Option<String>) -> PyResult<(PathBuf, StudyConfig)> {
+    use navkf_dynamics::input_file::{read_text, TextFile};
+    let (path, text) = match (path, json) {
+        (Some(path), None) => {
+            let text = read_text(&path, &TextFile::STUDY).or_py()?;
+            (path, text)
+        }
+        (None, Some(json)) => {
+            let tables: toml::Value = serde_json::from_str(&json).map_err(|e| {
+                to_py(&format!(
+                    "study: {e}; expected tables of numbers, text and lists"
+                ))
+            })?;
+            (PathBuf::from("<dict>"), toml::to_string(&tables).or_py()?)
+        }
+        _ => {
+            return Err(to_py(
+                "study: expected a study file's path or its tables as a dict",
+            ))
+        }
+    };
+    let kind = navkf_report::StudyKind::declared(&text).map_err(|e| to_py(&e))?;
     if kind != navkf_report::StudyKind::MonteCarlo {
         return Err(to_py(&format!(
             "{}: a diagnosis study ([study] kind = \"diagnosis\"); navkf.study runs Monte Carlo \
@@ -25,7 +47,8 @@ fn config(path: &Path, text: &str) -> PyResult<StudyConfig> {
             path.display()
         )));
     }
-    StudyConfig::from_file_text(path, text).or_py()
+    let config = StudyConfig::from_file_text(&path, &text).or_py()?;
+    Ok((path, config))
 }
 
 /// One run's results, per filter: how it ended, its final errors and claimed sigmas, its
@@ -71,16 +94,16 @@ fn per_run(names: &[String], filters: &[String], rec: &RunRecord) -> serde_json:
 /// See `navkf.study` (python/navkf/__init__.py): returns the summary, the series and the
 /// per-run results as JSON, CSV and JSON text.
 #[pyfunction]
-#[pyo3(signature = (*, path, text, runs, out, progress))]
+#[pyo3(signature = (*, path, json, runs, out, progress))]
 pub fn study(
     py: Python<'_>,
-    path: PathBuf,
-    text: String,
+    path: Option<PathBuf>,
+    json: Option<String>,
     runs: Option<usize>,
     out: Option<PathBuf>,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<(String, String, String)> {
-    let mut config = config(&path, &text)?;
+    let (path, mut config) = config(path, json)?;
     if let Some(r) = runs {
         if r == 0 {
             return Err(to_py("runs 0: expected at least one run"));
@@ -140,9 +163,14 @@ pub fn study(
 
 /// See `navkf.plan` (python/navkf/__init__.py): the plan as JSON text.
 #[pyfunction]
-#[pyo3(signature = (*, path, text, out))]
-pub fn plan(py: Python<'_>, path: PathBuf, text: String, out: Option<PathBuf>) -> PyResult<String> {
-    let config = config(&path, &text)?;
+#[pyo3(signature = (*, path, json, out))]
+pub fn plan(
+    py: Python<'_>,
+    path: Option<PathBuf>,
+    json: Option<String>,
+    out: Option<PathBuf>,
+) -> PyResult<String> {
+    let (path, config) = config(path, json)?;
     if let Some(s) = &config.sweep {
         return Err(to_py(&format!(
             "{}: sweeps `{}`; navkf.plan plans one design from Python (the command line's \

@@ -112,3 +112,9 @@ def test_a_strapdown_dataset_from_arrays_states_its_family(tmp_path):
     back = navkf.Dataset.from_arrays(ds.inputs, ds.measurements, model="strapdown")
     assert back.model == "strapdown"
     np.testing.assert_array_equal(back.inputs["w_z"], ds.inputs["w_z"])
+
+
+def test_a_config_naming_another_family_is_refused():
+    ds = navkf.simulate(model="strapdown", imu_rate=10, trajectory=SHORT, seed=4)
+    with pytest.raises(navkf.NavkfError):
+        navkf.Dataset.from_arrays(ds.inputs, ds.measurements, model="strapdown", config='[model]\nkind = "platform"\n')

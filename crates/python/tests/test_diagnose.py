@@ -65,3 +65,11 @@ def test_ctrl_c_stops_a_diagnosis_and_writes_nothing(tmp_path):
     assert code == 130, rest
     assert "interrupted" in rest
     assert not out.exists()
+
+
+def test_a_unit_mistake_is_warned_before_the_verdict(pair):
+    inputs = {k: (v if k == "t" else v / 9.80665) for k, v in pair.inputs.items()}  # in g
+    ds = navkf.Dataset.from_arrays(inputs, pair.measurements)
+    assert ds.warnings()
+    with pytest.warns(UserWarning, match="in g"):
+        navkf.diagnose(ds, noise="stated", max_rounds=1)

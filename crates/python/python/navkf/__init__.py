@@ -23,6 +23,7 @@ import io
 import json
 import os
 import tempfile
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Union
 
@@ -61,58 +62,15 @@ def _effects_text(effects: Union[str, Sequence[str], Mapping[str, Optional[float
     return ",".join(str(e) for e in effects)
 
 
-def _toml_value(v: Any) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, (int, float)):
-        return repr(v) if isinstance(v, int) else repr(float(v)).replace("inf", "inf")
-    if isinstance(v, str):
-        return json.dumps(v)
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    if isinstance(v, Mapping):
-        return "{" + ", ".join(f"{json.dumps(str(k))} = {_toml_value(x)}" for k, x in v.items()) + "}"
-    raise NavkfError(f"study: {v!r} is not a value a study file holds (numbers, text, lists, tables)")
-
-
-def _to_toml(d: Mapping[str, Any]) -> str:
-    """A study file's text from a dict of tables (``{"study": {...}, "noise": {...}}``)."""
-    lines: List[str] = []
-
-    def table(prefix: str, t: Mapping[str, Any]) -> None:
-        scalars = {k: v for k, v in t.items() if not isinstance(v, Mapping) and not _is_table_list(v)}
-        lines.append(f"[{prefix}]")
-        for k, v in scalars.items():
-            lines.append(f"{json.dumps(str(k))} = {_toml_value(v)}")
-        for k, v in t.items():
-            if isinstance(v, Mapping):
-                table(f"{prefix}.{json.dumps(str(k))}", v)
-            elif _is_table_list(v):
-                for item in v:
-                    lines.append(f"[[{prefix}.{json.dumps(str(k))}]]")
-                    for kk, vv in item.items():
-                        lines.append(f"{json.dumps(str(kk))} = {_toml_value(vv)}")
-
-    for name, value in d.items():
-        if not isinstance(value, Mapping):
-            raise NavkfError(f"study: key {name!r}: expected a table (a dict), as a study file's top level holds")
-        table(json.dumps(str(name)), value)
-    return "\n".join(lines) + "\n"
-
-
-def _is_table_list(v: Any) -> bool:
-    return isinstance(v, (list, tuple)) and len(v) > 0 and all(isinstance(x, Mapping) for x in v)
-
-
-def _study_text(study: Union[PathLike, Mapping[str, Any]]) -> "tuple[str, str]":
+def _study_source(study: Union[PathLike, Mapping[str, Any]]) -> Dict[str, Optional[str]]:
+    """A study file's path (read by navkf, as the command line reads it), or a dict's tables
+    as JSON (made a study file's text by navkf)."""
     if isinstance(study, Mapping):
-        return "<dict>", _to_toml(study)
-    path = os.fspath(study)
-    try:
-        with open(path, encoding="utf-8") as f:
-            return path, f.read()
-    except OSError as e:
-        raise NavkfError(f"{path}: {e.strerror}; expected a study file (e.g. studies/paper.toml)") from None
+        try:
+            return {"path": None, "json": json.dumps(study, allow_nan=False)}
+        except (TypeError, ValueError) as e:
+            raise NavkfError(f"study: {e}; expected tables of numbers, text and lists") from None
+    return {"path": os.fspath(study), "json": None}
 
 
 def simulate(
@@ -213,12 +171,11 @@ def study(
     the command line writes it (report, figures, CSV). Same seed, same numbers as the
     command line, whatever the thread count.
     """
-    path, text = _study_text(study)
+    source = _study_source(study)
     if runs is not None and (not isinstance(runs, (int, np.integer)) or runs < 1):
         raise NavkfError(f"runs {runs!r}: expected a whole number >= 1")
     summary, series, per_run = _navkf.study(
-        path=path,
-        text=text,
+        **source,
         runs=None if runs is None else int(runs),
         out=None if out is None else os.fspath(out),
         progress=progress,
@@ -230,8 +187,7 @@ def plan(study: Union[PathLike, Mapping[str, Any]], *, out: Optional[PathLike] =
     """Predicts which coefficients a study's test identifies, as ``navkf plan FILE`` does:
     ``plan.json`` as Python data (per coefficient, the predicted sigma after the test and
     whether it is identified). With ``out`` the plan's folder is written too."""
-    path, text = _study_text(study)
-    return json.loads(_navkf.plan(path=path, text=text, out=None if out is None else os.fspath(out)))
+    return json.loads(_navkf.plan(**_study_source(study), out=None if out is None else os.fspath(out)))
 
 
 def diagnose(
@@ -263,6 +219,9 @@ def diagnose(
     """
     if not isinstance(dataset, Dataset):
         dataset = Dataset.read(os.fspath(dataset))
+    # What looks like a unit mistake is said before any verdict, as the command line does.
+    for w in dataset.warnings():
+        warnings.warn(f"{dataset.name}: {w}", stacklevel=2)
     if noise not in ("fit", "stated"):
         raise NavkfError(f"noise {noise!r}: expected 'fit' or 'stated'")
     if isinstance(with_, str):
@@ -362,7 +321,7 @@ def _from_arrays(
             with open(os.path.join(folder, "dataset.toml"), "w", encoding="utf-8") as f:
                 f.write(text)
         try:
-            return Dataset.read(folder)
+            ds = Dataset.read(folder)
         except NavkfError as e:
             message = str(e).replace(folder + os.sep, "")
 
@@ -372,6 +331,9 @@ def _from_arrays(
             message = re.sub(r"\b(inputs|imu|measurements|truth)\.csv:(\d+)", row, message)
             message = message.replace("dataset.toml", "config")
             raise NavkfError(message) from None
+        if ds.model != model:
+            raise NavkfError(f"config: its [model] says {ds.model!r}; expected {model!r}, the model given")
+        return ds
 
 
 def _float_array(name: str, a: Any, ndim: int) -> np.ndarray:

@@ -108,13 +108,13 @@ def simulate(
 ) -> Dataset: ...
 def study(
     *,
-    path: str,
-    text: str,
+    path: Optional[str],
+    json: Optional[str],
     runs: Optional[int],
     out: Optional[str],
     progress: Optional[Callable[[int, int], Any]],
 ) -> Tuple[str, str, str]: ...
-def plan(*, path: str, text: str, out: Optional[str]) -> str: ...
+def plan(*, path: Optional[str], json: Optional[str], out: Optional[str]) -> str: ...
 def diagnose(
     dataset: Dataset,
     *,

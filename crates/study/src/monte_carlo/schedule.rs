@@ -63,8 +63,7 @@ impl Study {
     }
 
     /// Runs `blocks`, hands each run's record to `each`, and each block's tally to `sink` as
-    /// soon as it is complete, in
-    /// block order. The runs go through the one executor
+    /// soon as it is complete, in block order. The runs go through the one executor
     /// ([`navkf_report::executor::Executor`]), which hands them on in run order, so the
     /// thread count changes nothing but speed. A stop on request ends it within one run,
     /// with [`Interrupted`]; the blocks not complete are not handed on.

@@ -87,7 +87,7 @@ pub fn simulate(
         ds.truth = None;
     }
     Ok(Simulated {
-        dataset: put_in_place(&ds, staged, out, &req.effects, names)?,
+        dataset: put_in_place(&ds, staged, out, &left_real_values(&req.effects, names))?,
         description,
     })
 }
@@ -99,18 +99,31 @@ pub(crate) type Ready = Box<dyn FnOnce(&str, u64, u64) -> (Dataset, String)>;
 /// Writes `ds` into the folder `out` as [`simulate`] does (a new folder, an empty one, or a
 /// dataset written before, replaced whole once `ds` reads back; `out` is left as it was
 /// otherwise), and returns it as read back: what any later reader sees, bit for bit.
-pub fn write_checked(ds: &Dataset, out: &Path, names: SettingNames) -> Result<Dataset, StudyError> {
+pub fn write_checked(ds: &Dataset, out: &Path) -> Result<Dataset, StudyError> {
     let staged = ResultsDir::begin_kind(out, FolderKind::Dataset, &[])?;
-    put_in_place(ds, staged, out, "", names)
+    put_in_place(ds, staged, out, "it holds a value the reader refuses")
 }
 
-/// Writes `ds` into `staged`, reads it back and commits it to `out`; messages name `out`.
+/// Why a simulated dataset would not read back: its truth left real values (under the
+/// effects the caller gave).
+fn left_real_values(effects: &str, names: SettingNames) -> String {
+    if effects.trim().is_empty() {
+        "the truth left real values".into()
+    } else {
+        format!(
+            "the truth left real values under {} {effects}",
+            names.of("effects")
+        )
+    }
+}
+
+/// Writes `ds` into `staged`, reads it back and commits it to `out`; messages name `out` and
+/// say `why` a refused read-back happened.
 fn put_in_place(
     ds: &Dataset,
     staged: ResultsDir,
     out: &Path,
-    effects: &str,
-    names: SettingNames,
+    why: &str,
 ) -> Result<Dataset, StudyError> {
     ds.write(staged.path())?;
     let back = Dataset::read(staged.path()).map_err(|e| {
@@ -119,13 +132,7 @@ fn put_in_place(
             &out.display().to_string(),
         );
         StudyError::Other(format!(
-            "the dataset is not one navkf reads back ({e}): the truth left real values{}; \
-             nothing was written",
-            if effects.trim().is_empty() {
-                String::new()
-            } else {
-                format!(" under {} {effects}", names.of("effects"))
-            }
+            "the dataset is not one navkf reads back ({e}): {why}; nothing was written"
         ))
     })?;
     staged.commit()?;
@@ -140,4 +147,34 @@ pub fn dataset_name(out: &Path) -> String {
     out.file_name()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "dataset".into())
+}
+
+/// The `[trajectory]` table of the TOML file at `path` (a study file, or one with only that
+/// table), checked. Anything but a regular file of bounded size is refused unread.
+pub fn read_trajectory(path: &Path) -> Result<TrajectoryConfig, StudyError> {
+    use navkf_dynamics::input_file::{read_text, TextFile};
+    let text = read_text(path, &TextFile::TRAJECTORY)?;
+    trajectory_from_text(path, &text)
+}
+
+/// The `[trajectory]` table of TOML `text` read from `source`, checked; errors name `source`
+/// and the line and column (a parse error) or the key (a value the trajectory refuses).
+pub fn trajectory_from_text(source: &Path, text: &str) -> Result<TrajectoryConfig, StudyError> {
+    /// The file's other tables (a study file's `[study]`, `[noise]`...) are not read here.
+    #[derive(serde::Deserialize)]
+    struct TrajectoryFile {
+        trajectory: Option<TrajectoryConfig>,
+    }
+    let file: TrajectoryFile = toml::from_str(text)
+        .map_err(|e| navkf_dynamics::input_file::toml_error(source, text, &e))?;
+    let trajectory = file.trajectory.ok_or_else(|| {
+        StudyError::Other(format!(
+            "{}: no [trajectory] table; expected the test to drive there",
+            source.display()
+        ))
+    })?;
+    trajectory
+        .validate()
+        .map_err(|e| StudyError::Other(format!("{}: {e}", source.display())))?;
+    Ok(trajectory)
 }

@@ -30,6 +30,9 @@ pub fn detection(rates: &Rates, dir: &Path) -> Result<(), navkf_report::ReportEr
             );
             p.x_scale = Scale::Log;
             p.y_include = vec![0.0, 1.0];
+            // The note (the 90 % size, or why there is none) would sit over the points and
+            // the limit line at the top left; above the chart it covers nothing.
+            p.notes_above = true;
             for b in &d.bins {
                 if b.named.n == 0 {
                     continue;

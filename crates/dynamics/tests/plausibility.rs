@@ -118,6 +118,33 @@ fn wrong_units_are_warned_about_with_their_file_and_column() {
         assert!(ds.warnings()[0].to_string().contains(column));
     }
 
+    // An odometer in km/h or in mph; one 5 % off (a scale error, not a unit) is no doubt.
+    for (scale, unit) in [
+        (3.6, Some("km/h")),
+        (1.0 / 0.447_04, Some("mph")),
+        (1.05, None),
+    ] {
+        let mut ds = base.clone();
+        for m in &mut ds.measurements {
+            if let Some(v) = m.velocity.as_mut() {
+                *v = v.map(|x| x * scale);
+            }
+        }
+        let w = ds.warnings();
+        match unit {
+            Some(unit) => {
+                assert_eq!(doubts(&ds), [Doubt::OdometerNotMetresPerSecond], "{w:?}");
+                let text = w[0].to_string();
+                assert!(
+                    text.contains("measurements.csv: column `v_e,v_n`"),
+                    "{text}"
+                );
+                assert!(text.contains(unit), "{text}");
+            }
+            None => assert_eq!(doubts(&ds), [], "{w:?}"),
+        }
+    }
+
     // Specific force in g, in mg, absurd.
     for (scale, hint) in [
         (1.0 / 9.81, "in g?"),

@@ -213,6 +213,33 @@ fn readings_in_the_wrong_unit_axes_or_form_are_warned_of_and_clean_ones_are_not(
         }
     };
     assert_eq!(with(&upside_down, &clean), [Doubt::UpsideDown]);
+    // The odometer speed in km/h or mph is warned of; 5 % off (a scale error) is not.
+    for (scale, unit) in [
+        (3.6, Some("km/h")),
+        (1.0 / 0.447_04, Some("mph")),
+        (1.05, None),
+    ] {
+        let mut ds = clean.clone();
+        for m in &mut ds.measurements {
+            if let Some(v) = m.speed.as_mut() {
+                *v *= scale;
+            }
+        }
+        let w = ds.warnings();
+        match unit {
+            Some(unit) => {
+                assert_eq!(w.len(), 1, "{w:?}");
+                assert_eq!(w[0].doubt, Doubt::OdometerNotMetresPerSecond);
+                let text = w[0].to_string();
+                assert!(
+                    text.starts_with("measurements.csv: column `speed`"),
+                    "{text}"
+                );
+                assert!(text.contains(unit), "{text}");
+            }
+            None => assert_eq!(w, vec![]),
+        }
+    }
     // Increments under the rates' header, at 100 Hz: a hundredth of the readings.
     let fast = simulated_at(100.0);
     assert_eq!(fast.warnings(), vec![]);

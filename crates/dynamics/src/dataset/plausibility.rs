@@ -11,6 +11,9 @@
 //! - **latitude or longitude in radians**: the odometer's North (East) travel against the GPS
 //!   track's, axis by axis (radians read as degrees move 57 times too little), whatever the
 //!   other column holds (a track in radians on both axes is refused by the reader);
+//! - **odometer speeds in km/h or mph**: the odometer's displacement against the GPS chord,
+//!   over spans of 10 s or more between fixes (so that the fixes' noise is small beside the
+//!   travel): 3.6 or 2.24 times as far is the unit, not a scale error;
 //! - **specific force not in m/s^2**: its median magnitude against the Earth's gravity (a
 //!   vehicle on a road feels `|f|` within a few percent of g most of the time).
 //!
@@ -46,6 +49,8 @@ pub enum Doubt {
     /// A strapdown unit's up axis points down: mounted upside down, or its axes are
     /// forward-right-down.
     UpsideDown,
+    /// The odometer travels 3.6 (2.24) times as far as the GPS track: km/h (mph), not m/s.
+    OdometerNotMetresPerSecond,
 }
 
 /// One warning: what, where (file and column), and the evidence.
@@ -150,6 +155,24 @@ impl Dataset {
         }
         // Milliseconds stretch the odometer on both axes; radians shrink the GPS on one.
         let in_ms = out.iter().any(|w| w.doubt == Doubt::TimesInMilliseconds);
+        if !in_ms && !odometer_fast && !at_pole {
+            let odometer: Vec<(f64, [f64; 2])> = self
+                .measurements
+                .iter()
+                .filter_map(|m| m.velocity.map(|v| (m.t, v)))
+                .collect();
+            let (odo, gps) = self.travel_over_spans(|ta, tb| {
+                odometer_east_north(&odometer, ta, tb).map(|d| d[0].hypot(d[1]))
+            });
+            if let Some(w) = speed_unit_doubt(odo, gps, "integrated, the odometer") {
+                out.push(warn(
+                    Doubt::OdometerNotMetresPerSecond,
+                    MEASUREMENTS_FILE,
+                    "v_e,v_n",
+                    w,
+                ));
+            }
+        }
         if let Some(t) = travel.as_ref().filter(|_| !in_ms) {
             for (axis, doubt, column, direction) in [
                 (1, Doubt::LatitudeInRadians, "lat_deg", "North-South"),
@@ -259,6 +282,64 @@ impl Travel {
         }
         Some(t)
     }
+}
+
+/// The shortest span between the GPS fixes [`Dataset::travel_over_spans`] compares over: long
+/// enough that a fix's noise (metres) is small beside the travel, short enough that a turn
+/// makes the chord little shorter than the path.
+const SPAN_S: f64 = 10.0;
+
+impl Dataset {
+    /// The odometer's travel (`odometer(ta, tb)`, m, `None` where it cannot tell) and the GPS
+    /// chords, summed over consecutive spans of at least [`SPAN_S`] between fixes.
+    pub(super) fn travel_over_spans(
+        &self,
+        odometer: impl Fn(f64, f64) -> Option<f64>,
+    ) -> (f64, f64) {
+        let (mut odo, mut gps) = (0.0, 0.0);
+        let mut start: Option<(f64, [f64; 2])> = None;
+        for m in &self.measurements {
+            let Some(p) = m.position_deg else { continue };
+            match start {
+                None => start = Some((m.t, p)),
+                Some((ta, a)) if m.t - ta >= SPAN_S => {
+                    if let Some(d) = odometer(ta, m.t) {
+                        odo += d;
+                        gps += chord_m(a, p);
+                    }
+                    start = Some((m.t, p));
+                }
+                Some(_) => {}
+            }
+        }
+        (odo, gps)
+    }
+}
+
+/// Speed units an odometer is often logged in, with their size in m/s.
+const SPEED_UNITS: [(&str, f64); 2] = [("km/h", 1.0 / 3.6), ("mph", 0.447_04)];
+
+/// How close the ratio of odometer to GPS travel must come to a unit's factor (3.6 for km/h,
+/// 2.24 for mph) to be called that unit: the two bands do not meet, and a real odometer's
+/// scale error (a few percent, [`crate::sensor_classes`]) is far outside both.
+const SPEED_UNIT_TOLERANCE: f64 = 0.12;
+
+/// The warning's evidence when `odometer_m` of travel against `gps_m` of GPS track is a speed
+/// unit's factor, over at least [`MIN_TRAVEL_M`] of track.
+pub(super) fn speed_unit_doubt(odometer_m: f64, gps_m: f64, what: &str) -> Option<String> {
+    if !(gps_m >= MIN_TRAVEL_M) {
+        return None;
+    }
+    let ratio = odometer_m / gps_m;
+    SPEED_UNITS.iter().find_map(|&(unit, size)| {
+        ((ratio * size - 1.0).abs() < SPEED_UNIT_TOLERANCE).then(|| {
+            format!(
+                "{what} travels {odometer_m:.0} m while the GPS track moves {gps_m:.0} m \
+                 ({ratio:.2} times as far): speeds in {unit}? Expected m/s (multiply by \
+                 {size})"
+            )
+        })
+    })
 }
 
 pub(super) fn median(values: impl Iterator<Item = f64>) -> Option<f64> {

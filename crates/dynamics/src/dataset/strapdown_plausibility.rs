@@ -11,10 +11,14 @@
 //!   (mounted upside down, or forward-right-down axes written as forward-left-up);
 //! - **rates in deg/s**: the 99th percentile of the rate's magnitude beyond 3 rad/s (172
 //!   deg/s); a road vehicle turns, pitches and rolls below 1 rad/s;
-//! - **times in milliseconds**: a median sample interval beyond 1.5 s.
+//! - **times in milliseconds**: a median sample interval beyond 1.5 s;
+//! - **odometer speed in km/h or mph** (`measurements.csv`): the speed integrated over spans
+//!   of 10 s or more between GPS fixes, against the fixes' chords: 3.6 or 2.24 times as far.
 
-use super::plausibility::{median, median_interval, GRAVITY_TOLERANCE, SLOWEST_INPUT_S};
-use super::{DataWarning, Dataset, Doubt, IMU_FILE};
+use super::plausibility::{
+    median, median_interval, speed_unit_doubt, GRAVITY_TOLERANCE, SLOWEST_INPUT_S,
+};
+use super::{DataWarning, Dataset, Doubt, IMU_FILE, MEASUREMENTS_FILE};
 
 /// Rates whose 99th percentile exceeds this (rad/s) are no road vehicle's.
 const ROAD_RATE_MAX: f64 = 3.0;
@@ -119,6 +123,34 @@ impl Dataset {
                 ));
             }
         }
+        let speeds: Vec<(f64, f64)> = self
+            .measurements
+            .iter()
+            .filter_map(|m| m.speed.map(|v| (m.t, v)))
+            .collect();
+        let (odometer, gps) = self.travel_over_spans(|ta, tb| path_length(&speeds, ta, tb));
+        if let Some(message) = speed_unit_doubt(odometer, gps, "integrated, the odometer speed") {
+            out.push(DataWarning {
+                doubt: Doubt::OdometerNotMetresPerSecond,
+                file: MEASUREMENTS_FILE.to_owned(),
+                column: "speed".to_owned(),
+                message,
+            });
+        }
         out
     }
+}
+
+/// The speed integrated (trapezoids) over the samples from `ta` to `tb`, m; `None` without
+/// two samples there.
+fn path_length(speeds: &[(f64, f64)], ta: f64, tb: f64) -> Option<f64> {
+    let start = speeds.partition_point(|(t, _)| *t < ta);
+    let end = speeds.partition_point(|(t, _)| *t <= tb);
+    let inside = speeds.get(start..end).filter(|s| s.len() >= 2)?;
+    Some(
+        inside
+            .windows(2)
+            .map(|w| 0.5 * (w[0].1 + w[1].1).abs() * (w[1].0 - w[0].0))
+            .sum(),
+    )
 }

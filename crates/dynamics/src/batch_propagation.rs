@@ -49,6 +49,7 @@
 //! bit where it lands alone in its block.
 
 use crate::attitude::{exact_rates, Attitude};
+use crate::dispatch;
 use crate::effect::BlockGroup;
 use crate::integrate::{rk4_step, InputWindow, PropagationScratch, RK4};
 use crate::kinematics::{Kinematics, LatitudeTerms};
@@ -168,13 +169,30 @@ pub fn propagate(
     scratch: &mut PropagationScratch,
 ) {
     // Monomorphised on the attitude variant and on whether declared linear terms exist, so
-    // that the base model's loop carries no trace of them.
+    // that the base model's loop carries no trace of them; each compiled for the CPU's
+    // instruction set (`crate::instruction_set`).
     let linear = model.has_linear_rates();
     match (model.attitude() == Attitude::Exact, linear) {
-        (false, false) => propagate_groups::<false, false>(model, points, noise, window, scratch),
-        (false, true) => propagate_groups::<false, true>(model, points, noise, window, scratch),
-        (true, false) => propagate_groups::<true, false>(model, points, noise, window, scratch),
-        (true, true) => propagate_groups::<true, true>(model, points, noise, window, scratch),
+        (false, false) => {
+            dispatch!(propagate_groups::<false, false>(
+                model, points, noise, window, scratch
+            ))
+        }
+        (false, true) => {
+            dispatch!(propagate_groups::<false, true>(
+                model, points, noise, window, scratch
+            ))
+        }
+        (true, false) => {
+            dispatch!(propagate_groups::<true, false>(
+                model, points, noise, window, scratch
+            ))
+        }
+        (true, true) => {
+            dispatch!(propagate_groups::<true, true>(
+                model, points, noise, window, scratch
+            ))
+        }
     }
 }
 
@@ -299,6 +317,8 @@ fn blocks<'a>(
 
 /// [`propagate`], [`GROUP`] blocks at a time. `EXACT` selects the exact-attitude variant
 /// ([`crate::attitude`]); `LINEAR`, whether the model has declared linear rate terms.
+/// Inlined into [`crate::dispatch!`]'s copies.
+#[inline(always)]
 fn propagate_groups<const EXACT: bool, const LINEAR: bool>(
     model: &PlatformModel,
     points: &mut [f64],

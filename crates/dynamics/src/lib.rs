@@ -23,6 +23,7 @@ pub mod error;
 pub mod family;
 pub mod input_cursor;
 pub mod input_file;
+pub mod instruction_set;
 pub mod integrate;
 pub mod kinematics;
 pub mod linear_rates;

@@ -130,6 +130,13 @@ impl<M: SystemModel + ?Sized> Ekf<M> {
     /// `P = Phi P Phi^T` with `Phi = [R; 0 I]`, `R` the dynamic rows (docs/model.md eq. (20)
     /// without `Q_k`).
     fn propagate_covariance(&mut self) {
+        navkf_dynamics::dispatch!(self.propagate_covariance_inline())
+    }
+
+    /// [`Ekf::propagate_covariance`], inlined into both copies of
+    /// [`navkf_dynamics::dispatch!`].
+    #[inline(always)]
+    fn propagate_covariance_inline(&mut self) {
         let n = self.est.n;
         let d = self.d;
         let nc = self.nc;

@@ -28,6 +28,12 @@ pub fn fmadd(a: f64, b: f64, c: f64) -> f64 {
 /// column-major. On success the lower triangle holds `L` and the strict upper triangle is
 /// zeroed. On failure returns the failing pivot's index and value; `a` is then garbage.
 pub fn cholesky_in_place(a: &mut [f64], n: usize) -> Result<(), (usize, f64)> {
+    navkf_dynamics::dispatch!(cholesky_in_place_inline(a, n))
+}
+
+/// [`cholesky_in_place`], inlined into both copies of [`navkf_dynamics::dispatch!`].
+#[inline(always)]
+fn cholesky_in_place_inline(a: &mut [f64], n: usize) -> Result<(), (usize, f64)> {
     debug_assert!(a.len() >= n * n);
     for j in 0..n {
         // a[j.., j] -= sum_{k<j} L[j..,k] L[j,k]
@@ -89,6 +95,12 @@ pub fn symmetrize_leading(a: &mut [f64], n: usize, d: usize) {
 
 /// Whether every value is finite.
 pub fn all_finite(a: &[f64]) -> bool {
+    navkf_dynamics::dispatch!(all_finite_inline(a))
+}
+
+/// [`all_finite`], inlined into both copies of [`navkf_dynamics::dispatch!`].
+#[inline(always)]
+fn all_finite_inline(a: &[f64]) -> bool {
     // A value is infinite or NaN exactly when its exponent bits are all set. No early exit:
     // the OR over the whole slice vectorises.
     const EXP: u64 = 0x7ff0_0000_0000_0000;

@@ -1,11 +1,12 @@
 //! Four `f64` lanes as one value, for the few hand kernels where LLVM's vectoriser picks the
 //! wrong loop to vectorise (`triangular.rs` says where, and `benches/linalg.rs` measures it).
 //!
-//! On x86-64 with AVX and FMA enabled at compile time (this workspace builds with
-//! `target-cpu=native`) each operation is one 256-bit instruction. Elsewhere it is four
-//! scalar operations with the same rounding: [`F64x4::mul_add`] is fused exactly when
-//! [`crate::linalg::fmadd`] is. A kernel written on this type therefore gives the same bits
-//! as the scalar loop it replaces, lane by lane.
+//! In a build that targets AVX and FMA (`-C target-cpu=native` on such a CPU) each operation
+//! is one 256-bit intrinsic. In the default, portable build it is four lanes of plain
+//! arithmetic, which the AVX2 copies of the kernels ([`navkf_dynamics::instruction_set`])
+//! compile to 256-bit instructions, with the same rounding: [`F64x4::mul_add`] is fused
+//! exactly when [`crate::linalg::fmadd`] is. A kernel written on this type therefore gives the
+//! same bits as the scalar loop it replaces, lane by lane.
 
 #[cfg(all(target_arch = "x86_64", target_feature = "avx", target_feature = "fma"))]
 mod imp {

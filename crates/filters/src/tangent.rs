@@ -9,6 +9,7 @@
 //! to a plain loop for any other model.
 
 use crate::linalg::fmadd;
+use navkf_dynamics::dispatch;
 
 /// Lanes of a chunk: rows of the tangent are stored padded to a multiple of this, as
 /// `[f64; LANES]` chunks, so that every row operation is whole SIMD vectors (one AVX-512
@@ -101,6 +102,13 @@ pub(crate) struct Stage<'a> {
 
 impl Stage<'_> {
     pub(crate) fn run(&self, nc: usize, acc: &mut [Chunk], y_out: Option<(&mut [Chunk], f64)>) {
+        dispatch!(self.run_sized(nc, acc, y_out))
+    }
+
+    /// [`Stage::run`], inlined into [`navkf_dynamics::dispatch!`]'s copies (see
+    /// [`navkf_dynamics::instruction_set`]).
+    #[inline(always)]
+    fn run_sized(&self, nc: usize, acc: &mut [Chunk], y_out: Option<(&mut [Chunk], f64)>) {
         macro_rules! fixed {
             ($($n:literal)*) => {
                 match (self.d, nc) {
@@ -159,6 +167,7 @@ impl Stage<'_> {
     }
 
     /// Any size: the rate is accumulated one chunk at a time.
+    #[inline(always)]
     fn run_any(&self, nc: usize, acc: &mut [Chunk], mut y_out: Option<(&mut [Chunk], f64)>) {
         let d = self.d;
         for r in 0..d {
@@ -192,6 +201,18 @@ impl Stage<'_> {
 /// `out = rows P` for `rows` (padded rows of `nc` chunks, `n` real columns) and `P` given by
 /// its `n` padded rows `p_pad` (symmetric, so row `m` is column `m`).
 pub(crate) fn rows_times_matrix(
+    nc: usize,
+    rows: &[Chunk],
+    n: usize,
+    p_pad: &[Chunk],
+    out: &mut [Chunk],
+) {
+    dispatch!(rows_times_matrix_sized(nc, rows, n, p_pad, out))
+}
+
+/// [`rows_times_matrix`], inlined into [`navkf_dynamics::dispatch!`]'s copies.
+#[inline(always)]
+fn rows_times_matrix_sized(
     nc: usize,
     rows: &[Chunk],
     n: usize,

@@ -27,6 +27,12 @@ use crate::simd::F64x4;
 /// }
 /// ```
 pub fn householder_r(a: &mut [f64], m: usize, n: usize) {
+    navkf_dynamics::dispatch!(householder_r_inline(a, m, n))
+}
+
+/// [`householder_r`], inlined into both copies of [`navkf_dynamics::dispatch!`].
+#[inline(always)]
+fn householder_r_inline(a: &mut [f64], m: usize, n: usize) {
     debug_assert!(m >= n && a.len() >= m * n);
     for j in 0..n {
         let (head, tail) = a.split_at_mut((j + 1) * m);
@@ -199,6 +205,12 @@ pub fn rank_one_update(
 /// assert_eq!(p, [4.0, 2.0, 2.0, 10.0]);
 /// ```
 pub fn outer_of_lower(s: &[f64], n: usize, p: &mut [f64]) {
+    navkf_dynamics::dispatch!(outer_of_lower_inline(s, n, p))
+}
+
+/// [`outer_of_lower`], inlined into both copies of [`navkf_dynamics::dispatch!`].
+#[inline(always)]
+fn outer_of_lower_inline(s: &[f64], n: usize, p: &mut [f64]) {
     assert!(s.len() >= n * n && p.len() >= n * n);
     for j in 0..n {
         let len = j + 1;
@@ -234,6 +246,7 @@ pub fn outer_of_lower(s: &[f64], n: usize, p: &mut [f64]) {
 }
 
 /// `sum_{c <= j} S[i, c] S[j, c]` in [`dot`]'s order, on the column-major `S`.
+#[inline(always)]
 fn lower_row_dot(s: &[f64], n: usize, i: usize, j: usize) -> f64 {
     let len = j + 1;
     let body = len / 4;

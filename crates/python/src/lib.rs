@@ -16,6 +16,7 @@ mod dataset;
 mod diagnose;
 mod errors;
 mod filter;
+mod instruction_set;
 mod simulate;
 mod study;
 
@@ -28,6 +29,7 @@ fn _navkf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(study::study, m)?)?;
     m.add_function(wrap_pyfunction!(study::plan, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose::diagnose, m)?)?;
+    m.add_function(wrap_pyfunction!(instruction_set::instruction_set, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -1,6 +1,7 @@
 """navkf.study and navkf.plan: the command line's numbers, as Python data."""
 
 import json
+import os
 import subprocess
 
 import numpy as np
@@ -39,6 +40,24 @@ def test_study_equals_the_command_line_for_the_same_seed(cli, root, tmp_path):
     series = result.series
     assert set(series["filter"]) == {"ekf", "standard_ukf", "simplified_ukf"}
     assert np.all(np.isfinite(series["t"]))
+
+
+def test_the_baseline_copies_give_the_same_study_to_the_bit(cli, root, tmp_path):
+    # The command line forced to its plain x86-64 kernels (NAVKF_SIMD=baseline) against this
+    # process, which runs the AVX2 + FMA copies where the CPU has them (docs/speed.md).
+    assert navkf.instruction_set() in {"avx2-fma", "baseline", "native"}
+    env = dict(os.environ, NAVKF_SIMD="baseline")
+    subprocess.run(
+        [str(cli), "study", str(root / "studies" / "ci.toml"), "--runs", "4", "--out", str(tmp_path / "cli"), "--quiet"],
+        check=True,
+        capture_output=True,
+        env=env,
+    )
+    report = (tmp_path / "cli" / "report.md").read_text()
+    assert "the build's baseline target" in report or "compiled in" in report
+    expected = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    result = navkf.study(root / "studies" / "ci.toml", runs=4)
+    assert strip(result.summary) == strip(expected)
 
 
 def test_a_study_from_a_dict(root):

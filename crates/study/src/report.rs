@@ -406,9 +406,10 @@ pub fn report_md(
     );
     let _ = writeln!(
         out,
-        "\nStep cost is the wall time of one predict + update, timed in every run with {} worker threads on {}; it is a property of that machine, not of the filter alone (sharded studies mix the shards' machines).",
+        "\nStep cost is the wall time of one predict + update, timed in every run with {} worker threads on {}, the hot kernels compiled for {}; it is a property of that machine and build, not of the filter alone (sharded studies mix the shards' machines).",
         rayon::current_num_threads(),
-        machine()
+        machine(),
+        navkf_dynamics::instruction_set::instruction_set()
     );
     let _ = writeln!(out, "\n## Paired differences");
     out.push_str(&paired_table(summary));

@@ -62,10 +62,11 @@ pub fn markdown(
         s.config.diagnosis.filter,
         r.errors,
         timing.map_or(String::new(), |t| format!(
-            " Wall time {:.0} s on {} threads of {} ({:.2} s per dataset per thread).",
+            " Wall time {:.0} s on {} threads of {}, the hot kernels compiled for {} ({:.2} s per dataset per thread).",
             t.wall_s,
             t.threads,
             navkf_report::provenance::machine(),
+            navkf_dynamics::instruction_set::instruction_set(),
             t.wall_s * t.threads as f64 / r.datasets.max(1) as f64
         ))
     );

@@ -11,6 +11,33 @@ use crate::state::*;
 use crate::system::propagate_generic;
 use crate::system::SystemModel;
 
+impl PlatformModel {
+    /// [`SystemModel::rates_and_jacobian`], inlined into both copies of
+    /// [`crate::dispatch!`].
+    #[inline(always)]
+    fn rates_and_jacobian_inline(
+        &self,
+        x: &[f64],
+        u: &Input,
+        dx: &mut [f64],
+        jac: &mut [f64],
+        stride: usize,
+    ) {
+        // One evaluation of the kinematics (a sin_cos and three divisions) for both, and in
+        // the exact variant of the platform terms and the rotation.
+        let k = Kinematics::new(x, u);
+        if self.attitude == Attitude::Exact {
+            let terms = self.platform_terms(x, &k);
+            let rot = Rotation::new(k.phi);
+            dx[..NAV_DIM].copy_from_slice(&exact_rates_with(&k, &terms, &rot));
+            self.exact_jacobian_with(x, &k, &terms, &rot, jac, stride);
+            return;
+        }
+        dx[..NAV_DIM].copy_from_slice(&self.nav_rates(x, &k));
+        self.jacobian_with(x, &k, jac, stride);
+    }
+}
+
 impl SystemModel for PlatformModel {
     fn dim(&self) -> usize {
         self.dim
@@ -39,18 +66,8 @@ impl SystemModel for PlatformModel {
         jac: &mut [f64],
         stride: usize,
     ) {
-        // One evaluation of the kinematics (a sin_cos and three divisions) for both, and in
-        // the exact variant of the platform terms and the rotation.
-        let k = Kinematics::new(x, u);
-        if self.attitude == Attitude::Exact {
-            let terms = self.platform_terms(x, &k);
-            let rot = Rotation::new(k.phi);
-            dx[..NAV_DIM].copy_from_slice(&exact_rates_with(&k, &terms, &rot));
-            self.exact_jacobian_with(x, &k, &terms, &rot, jac, stride);
-            return;
-        }
-        dx[..NAV_DIM].copy_from_slice(&self.nav_rates(x, &k));
-        self.jacobian_with(x, &k, jac, stride);
+        // The EKF's 40 evaluations per step, compiled for the CPU (crate::instruction_set).
+        crate::dispatch!(self.rates_and_jacobian_inline(x, u, dx, jac, stride))
     }
 
     fn meas_dim(&self) -> usize {

@@ -24,6 +24,7 @@ use super::errors::{ErrorLayout, MAX_DIM};
 use super::rates::{imu_of, nav_rates_with, ImuReading};
 use super::state::{BASE_DIM, HEADING, LAT, NAV_DIM, PITCH, ROLL, V_N};
 use crate::batch_propagation::{latitudes_near, sin_cos_near};
+use crate::dispatch;
 use crate::effect::NoiseChannel;
 use crate::integrate::{rk4_step, InputWindow, RK4};
 use crate::real::{Lanes, Real, LANES};
@@ -36,7 +37,9 @@ pub fn propagate_blocks(
     channels: &[NoiseChannel],
     window: &InputWindow,
 ) {
-    propagate::<BASE_DIM, NAV_DIM>(BASE_DIM, points, noise, channels, window, BaseRates);
+    dispatch!({
+        propagate::<BASE_DIM, NAV_DIM>(BASE_DIM, points, noise, channels, window, BaseRates)
+    });
 }
 
 /// [`propagate_blocks`] for a model with effects: `dim` values per point, the rates of
@@ -51,9 +54,13 @@ pub fn propagate_blocks_with(
 ) {
     let rates = EffectRates(layout);
     if layout.biases_wander() {
-        propagate::<MAX_DIM, BASE_DIM>(dim, points, noise, channels, window, rates);
+        dispatch!(propagate::<MAX_DIM, BASE_DIM>(
+            dim, points, noise, channels, window, rates
+        ));
     } else {
-        propagate::<MAX_DIM, NAV_DIM>(dim, points, noise, channels, window, rates);
+        dispatch!(propagate::<MAX_DIM, NAV_DIM>(
+            dim, points, noise, channels, window, rates
+        ));
     }
 }
 
@@ -154,7 +161,8 @@ impl<const N: usize, const D: usize> Block<N, D> {
 /// which have a derivative, one block at a time (two or four blocks in flight, as the
 /// platform's batch takes them, measured the same here). `rates` receives the latitude's sine
 /// and cosine: from the series about the first point's latitude when every point stays near
-/// it over the window ([`latitudes_near`]), otherwise evaluated in full.
+/// it over the window ([`latitudes_near`]), otherwise evaluated in full. Inlined into
+/// [`crate::dispatch!`]'s copies ([`crate::instruction_set`]).
 #[inline(always)]
 fn propagate<const N: usize, const D: usize>(
     dim: usize,

@@ -50,7 +50,9 @@ pub fn nav_rate_jacobian_analytic(x: &[f64], imu: &ImuReading, jac: &mut [f64]) 
 
 /// [`nav_rate_jacobian_analytic`] with the sines and cosines of the angles and of the
 /// latitude already evaluated (shared with the rates at the same point), its rows `stride >=
-/// BASE_DIM` apart in `jac` (padding zeroed), as the EKF's tangent lays them out.
+/// BASE_DIM` apart in `jac` (padding zeroed), as the EKF's tangent lays them out. Inlined, so
+/// that the EKF's copy for the CPU ([`crate::instruction_set`]) compiles it too.
+#[inline(always)]
 pub fn nav_rate_jacobian_with(
     x: &[f64],
     imu: &ImuReading,

@@ -145,6 +145,31 @@ impl StrapdownModel {
     }
 }
 
+impl StrapdownModel {
+    /// [`SystemModel::rates_and_jacobian`], inlined into both copies of
+    /// [`crate::dispatch!`].
+    #[inline(always)]
+    fn rates_and_jacobian_inline(
+        &self,
+        x: &[f64],
+        u: &Input,
+        dx: &mut [f64],
+        jac: &mut [f64],
+        stride: usize,
+    ) {
+        let imu = imu_of(u);
+        if !self.plain() {
+            rates_with_effects(&self.layout, x, &imu, dx);
+            let dynamic = self.dynamic_dim();
+            return tangent::rate_jacobian(&self.layout, dynamic, x, &imu, jac, stride);
+        }
+        let trig = angle_trig([x[ROLL], x[PITCH], x[HEADING]]);
+        let lat = crate::trig::sin_cos_angle(x[LAT]);
+        nav_rates_with(x, &imu, &trig, lat, dx);
+        nav_rate_jacobian_with(x, &imu, &trig, lat, jac, stride);
+    }
+}
+
 impl SystemModel for StrapdownModel {
     fn dim(&self) -> usize {
         BASE_DIM + self.coefficient_sigma.len()
@@ -184,16 +209,8 @@ impl SystemModel for StrapdownModel {
         jac: &mut [f64],
         stride: usize,
     ) {
-        let imu = imu_of(u);
-        if !self.plain() {
-            rates_with_effects(&self.layout, x, &imu, dx);
-            let dynamic = self.dynamic_dim();
-            return tangent::rate_jacobian(&self.layout, dynamic, x, &imu, jac, stride);
-        }
-        let trig = angle_trig([x[ROLL], x[PITCH], x[HEADING]]);
-        let lat = crate::trig::sin_cos_angle(x[LAT]);
-        nav_rates_with(x, &imu, &trig, lat, dx);
-        nav_rate_jacobian_with(x, &imu, &trig, lat, jac, stride);
+        // The EKF's 40 evaluations per step, compiled for the CPU (crate::instruction_set).
+        crate::dispatch!(self.rates_and_jacobian_inline(x, u, dx, jac, stride))
     }
     fn meas_dim(&self) -> usize {
         MEAS_DIM

@@ -30,7 +30,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Union
 import numpy as np
 
 from . import _navkf
-from ._navkf import Dataset, NavkfError, __version__
+from ._navkf import Dataset, NavkfError, __version__, instruction_set
 
 __all__ = [
     "Dataset",
@@ -38,6 +38,7 @@ __all__ = [
     "NavkfError",
     "StudyResult",
     "diagnose",
+    "instruction_set",
     "plan",
     "simulate",
     "study",

@@ -12,9 +12,11 @@
 //! **Both copies give the same bits.** They are the same source with the same operations:
 //! Rust never fuses `a * b + c` on its own, a fused multiply-add written as such is exact
 //! whether an instruction or libm computes it, and the vector width changes no rounding (every
-//! lane does its own arithmetic). A portable binary therefore gives the same results on every
-//! x86-64, with or without AVX2; `NAVKF_SIMD=baseline` forces the plain copies, to check that
-//! (a test does) or to compare speeds.
+//! lane does its own arithmetic). A portable binary therefore gives the same results whichever
+//! copy runs. (What it calls in libm, `sin_cos` of a reference latitude among them, is the
+//! system's: glibc picks its own FMA or plain variant by CPU, which may differ in a rare last
+//! bit.) `NAVKF_SIMD=baseline` forces the plain copies, to check that (a test does) or to
+//! compare speeds.
 //!
 //! A build that already targets AVX2 and FMA (`target-cpu=native` on such a CPU) compiles
 //! one copy and checks nothing.

@@ -20,7 +20,7 @@ impl PlatformModel {
         }
         assert!(stride >= self.dim);
         let n = stride;
-        jac[..NAV_DIM * n].fill(0.0);
+        zero(&mut jac[..NAV_DIM * n]);
         let [fx, fy, fz] = k.f;
         let [px, py, pz] = k.phi;
         let [w1, w2, w3] = k.w_cmd;
@@ -87,7 +87,7 @@ impl PlatformModel {
     ) {
         assert!(stride >= self.dim);
         let n = stride;
-        jac[..NAV_DIM * n].fill(0.0);
+        zero(&mut jac[..NAV_DIM * n]);
         // The effects' partials of the platform terms first: the variant maps them.
         self.add_effect_rate_partials(x, k, jac, n);
         let transport = transport_partials(k);
@@ -115,6 +115,19 @@ impl PlatformModel {
                 self.effects[i].add_rate_partials(&k, c, self.offsets[i], &mut p);
             }
         }
+    }
+}
+
+/// Zeroes `a` as a `memset` of whole 64-byte lines and a short tail. A `memset` whose end is
+/// not on a 64-byte line finishes with stores that straddle two lines; with AVX-512 stores
+/// that stalled: the EKF's 7 x 20 rows (1120 bytes) took 6 % of its step in the portable
+/// build, against 2 % for the native build's 7 x 24 (1344 bytes, whole lines).
+#[inline(always)]
+fn zero(a: &mut [f64]) {
+    let (lines, tail) = a.split_at_mut(a.len() / 8 * 8);
+    lines.fill(0.0);
+    for v in tail {
+        *v = 0.0;
     }
 }
 

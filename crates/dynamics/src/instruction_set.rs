@@ -4,7 +4,7 @@
 //!
 //! A build for plain x86-64 may only use SSE2: two `f64` per vector and no FMA instruction,
 //! so [`f64::mul_add`] becomes a call into libm. On the UKF's step that costs about 40 %
-//! (`step_timing`, `docs/running.md`). [`crate::dispatch!`] runs a kernel in a function compiled with
+//! (`benches/compare_builds.sh`, `docs/speed.md`). [`crate::dispatch!`] runs a kernel in a function compiled with
 //! AVX2 and FMA enabled when the CPU reports both, and in the plain one otherwise. The
 //! kernel's body is `#[inline(always)]` into both, so everything it inlines is compiled
 //! twice; what it calls without inlining runs the plain copy.

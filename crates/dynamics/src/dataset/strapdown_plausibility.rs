@@ -18,6 +18,7 @@
 use super::plausibility::{
     median, median_interval, speed_unit_doubt, GRAVITY_TOLERANCE, SLOWEST_INPUT_S,
 };
+use super::read::odometer_east_north;
 use super::{DataWarning, Dataset, Doubt, IMU_FILE, MEASUREMENTS_FILE};
 
 /// Rates whose 99th percentile exceeds this (rad/s) are no road vehicle's.
@@ -123,12 +124,14 @@ impl Dataset {
                 ));
             }
         }
-        let speeds: Vec<(f64, f64)> = self
+        // The speed as a one-axis odometer: the platform's integrator gives its path length.
+        let speeds: Vec<(f64, [f64; 2])> = self
             .measurements
             .iter()
-            .filter_map(|m| m.speed.map(|v| (m.t, v)))
+            .filter_map(|m| m.speed.map(|v| (m.t, [v.abs(), 0.0])))
             .collect();
-        let (odometer, gps) = self.travel_over_spans(|ta, tb| path_length(&speeds, ta, tb));
+        let (odometer, gps) =
+            self.travel_over_spans(|ta, tb| odometer_east_north(&speeds, ta, tb).map(|d| d[0]));
         if let Some(message) = speed_unit_doubt(odometer, gps, "integrated, the odometer speed") {
             out.push(DataWarning {
                 doubt: Doubt::OdometerNotMetresPerSecond,
@@ -139,18 +142,4 @@ impl Dataset {
         }
         out
     }
-}
-
-/// The speed integrated (trapezoids) over the samples from `ta` to `tb`, m; `None` without
-/// two samples there.
-fn path_length(speeds: &[(f64, f64)], ta: f64, tb: f64) -> Option<f64> {
-    let start = speeds.partition_point(|(t, _)| *t < ta);
-    let end = speeds.partition_point(|(t, _)| *t <= tb);
-    let inside = speeds.get(start..end).filter(|s| s.len() >= 2)?;
-    Some(
-        inside
-            .windows(2)
-            .map(|w| 0.5 * (w[0].1 + w[1].1).abs() * (w[1].0 - w[0].0))
-            .sum(),
-    )
 }

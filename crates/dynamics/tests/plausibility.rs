@@ -118,6 +118,23 @@ fn wrong_units_are_warned_about_with_their_file_and_column() {
         assert!(ds.warnings()[0].to_string().contains(column));
     }
 
+    // Both columns in radians (the reader refuses such a file; a dataset made in memory
+    // reaches these checks): the GPS track 57 times short is radians, not milliseconds.
+    let mut ds = base.clone();
+    for p in ds
+        .measurements
+        .iter_mut()
+        .filter_map(|m| m.position_deg.as_mut())
+    {
+        *p = [p[0].to_radians(), p[1].to_radians()];
+    }
+    assert_eq!(
+        doubts(&ds),
+        [Doubt::LatitudeInRadians, Doubt::LongitudeInRadians],
+        "{:?}",
+        ds.warnings()
+    );
+
     // An odometer in km/h or in mph; one 5 % off (a scale error, not a unit) is no doubt.
     for (scale, unit) in [
         (3.6, Some("km/h")),

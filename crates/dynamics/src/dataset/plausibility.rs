@@ -81,6 +81,10 @@ const MIN_TRAVEL_M: f64 = 100.0;
 /// Odometer travel beyond this many times the GPS track's: the time column is milliseconds
 /// (1000 times), not GPS noise or an odometer scale error (a few percent).
 const MILLISECONDS_RATIO: f64 = 30.0;
+/// Odometer over GPS travel, summed over spans of at least [`SPAN_S`], beyond which the time
+/// column is milliseconds (1000) and not GPS written in radians (40-57, read as degrees; the
+/// East axis's `cos(lat)` is then read at a latitude near zero).
+const MILLISECONDS_SPAN_RATIO: f64 = 250.0;
 /// GPS travel on one axis below this fraction of the odometer's: that column is radians
 /// (1/57).
 const RADIANS_RATIO: f64 = 0.1;
@@ -106,7 +110,12 @@ impl Dataset {
             .iter()
             .filter_map(|m| m.position_deg)
             .any(|p| !(p[0].abs() <= limit));
-        let travel = Travel::of(self).filter(|_| !odometer_fast && !at_pole);
+        let odometer: Vec<(f64, [f64; 2])> = self
+            .measurements
+            .iter()
+            .filter_map(|m| m.velocity.map(|v| (m.t, v)))
+            .collect();
+        let travel = Travel::of(self, &odometer).filter(|_| !odometer_fast && !at_pole);
         let warn = |doubt, file: &str, column: &str, message: String| DataWarning {
             doubt,
             file: file.to_owned(),
@@ -118,9 +127,18 @@ impl Dataset {
         let compared = travel
             .as_ref()
             .is_some_and(|t| t.odometer[0].hypot(t.odometer[1]) >= MIN_TRAVEL_M);
+        let over_spans = || {
+            self.travel_over_spans(|ta, tb| {
+                odometer_east_north(&odometer, ta, tb).map(|d| d[0].hypot(d[1]))
+            })
+        };
         if let Some(t) = travel.as_ref().filter(|_| compared) {
             let odo = t.odometer[0].hypot(t.odometer[1]);
-            if odo > MILLISECONDS_RATIO * t.gps_total {
+            // GPS in radians also leaves the odometer far ahead (57 times); over spans of
+            // seconds, where GPS noise adds no travel, milliseconds make it 1000 times.
+            let (odo_spans, gps_spans) = over_spans();
+            let not_radians = !(gps_spans > 0.0) || odo_spans > MILLISECONDS_SPAN_RATIO * gps_spans;
+            if odo > MILLISECONDS_RATIO * t.gps_total && not_radians {
                 out.push(warn(
                     Doubt::TimesInMilliseconds,
                     MEASUREMENTS_FILE,
@@ -156,14 +174,7 @@ impl Dataset {
         // Milliseconds stretch the odometer on both axes; radians shrink the GPS on one.
         let in_ms = out.iter().any(|w| w.doubt == Doubt::TimesInMilliseconds);
         if !in_ms && !odometer_fast && !at_pole {
-            let odometer: Vec<(f64, [f64; 2])> = self
-                .measurements
-                .iter()
-                .filter_map(|m| m.velocity.map(|v| (m.t, v)))
-                .collect();
-            let (odo, gps) = self.travel_over_spans(|ta, tb| {
-                odometer_east_north(&odometer, ta, tb).map(|d| d[0].hypot(d[1]))
-            });
+            let (odo, gps) = over_spans();
             if let Some(w) = speed_unit_doubt(odo, gps, "integrated, the odometer") {
                 out.push(warn(
                     Doubt::OdometerNotMetresPerSecond,
@@ -248,12 +259,8 @@ struct Travel {
 }
 
 impl Travel {
-    fn of(ds: &Dataset) -> Option<Travel> {
-        let odometer: Vec<(f64, [f64; 2])> = ds
-            .measurements
-            .iter()
-            .filter_map(|m| m.velocity.map(|v| (m.t, v)))
-            .collect();
+    /// From `ds`'s fixes and its `odometer` samples (time, `[v_e, v_n]`).
+    fn of(ds: &Dataset, odometer: &[(f64, [f64; 2])]) -> Option<Travel> {
         let fixes: Vec<(f64, [f64; 2])> = ds
             .measurements
             .iter()
@@ -269,7 +276,7 @@ impl Travel {
         };
         for w in fixes.windows(2) {
             let ((ta, a), (tb, b)) = (w[0], w[1]);
-            let Some(d) = odometer_east_north(&odometer, ta, tb) else {
+            let Some(d) = odometer_east_north(odometer, ta, tb) else {
                 continue;
             };
             t.odometer[0] += d[0].abs();

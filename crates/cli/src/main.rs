@@ -158,6 +158,9 @@ fn terminal_safe(message: &str) -> String {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Some(w) = navkf_dynamics::instruction_set::ignored_setting() {
+        eprintln!("warning: {}", terminal_safe(&w));
+    }
     handle_ctrl_c(matches!(cli.command, Command::Study(_)));
     let result = match cli.command {
         Command::Simulate(args) => simulate::run(args),

@@ -105,3 +105,28 @@ fn effects_lists_the_strapdown_catalogue_at_a_units_sizes() {
     assert!(!o.status.success());
     assert!(text(&o.stderr).contains("navigation, tactical or mems"));
 }
+
+/// `NAVKF_SIMD` set to a value it ignores is said once on stderr, not passed over in silence;
+/// `baseline` and an empty value are understood and say nothing.
+#[test]
+fn an_ignored_instruction_set_setting_is_warned_about() {
+    let run = |value: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_navkf"))
+            .arg("effects")
+            .env("NAVKF_SIMD", value)
+            .output()
+            .unwrap()
+    };
+    let o = run("plain");
+    assert!(o.status.success());
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("NAVKF_SIMD=\"plain\" is ignored") && err.contains("baseline"),
+        "{err}"
+    );
+    for understood in ["baseline", ""] {
+        let o = run(understood);
+        assert!(o.status.success());
+        assert!(!text(&o.stderr).contains("warning"), "{}", text(&o.stderr));
+    }
+}

@@ -54,6 +54,24 @@ impl fmt::Display for InstructionSet {
 /// The environment variable that forces [`InstructionSet::Baseline`] when set to `baseline`.
 pub const FORCE_VARIABLE: &str = "NAVKF_SIMD";
 
+/// Values of [`FORCE_VARIABLE`] that mean something: `baseline` forces the plain copies; an
+/// empty value (the variable set to nothing) leaves the choice to the CPU.
+const FORCE_VALUES: [&str; 2] = ["baseline", ""];
+
+/// A warning when [`FORCE_VARIABLE`] is set to a value it ignores (`NAVKF_SIMD=plain` would
+/// otherwise run the AVX2 copies without a word); `None` when it is unset or understood.
+pub fn ignored_setting() -> Option<String> {
+    let value = std::env::var_os(FORCE_VARIABLE)?;
+    let text = value.to_string_lossy();
+    (!FORCE_VALUES.contains(&text.as_ref())).then(|| {
+        format!(
+            "{FORCE_VARIABLE}={text:?} is ignored: expected \"baseline\" (the plain copies of \
+             the kernels) or nothing; running the {} copies",
+            instruction_set()
+        )
+    })
+}
+
 /// Whether this build has the second copies at all.
 const TWO_COPIES: bool = cfg!(all(
     target_arch = "x86_64",

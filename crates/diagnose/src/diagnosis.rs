@@ -8,6 +8,7 @@ use crate::candidates::evidence::{Candidate, CandidateKind};
 use crate::consistency::NisStat;
 use crate::fit::pass::Fit;
 use crate::fit::widening::Widening;
+use crate::misfit::Misfit;
 use crate::noise::levels::NoiseFit;
 use crate::priors::PriorEntry;
 use crate::stand_ins::{Constancy, Withdrawn};
@@ -85,6 +86,10 @@ pub struct Diagnosis {
     pub suggested: Vec<String>,
     /// The final model: the model under test plus the named effects.
     pub model: FitSummary,
+    /// Where the final model fails (channels, phases, spans of time), when it is
+    /// inconsistent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub misfit: Option<Misfit>,
     /// The base model, when the final model has effects (before/after).
     pub before: Option<FitSummary>,
     /// The rounds, with their full rankings.

@@ -57,6 +57,7 @@ pub fn implausible_diagnosis(
         best: None,
         effects: Vec::new(),
         suggested: Vec::new(),
+        misfit: None,
         model: summarize_fit(ds, &model, opts),
         before: None,
         rounds: Vec::new(),

@@ -25,6 +25,7 @@ pub mod diagnosis_study;
 pub mod error;
 pub mod fit;
 pub mod implausible_data;
+pub mod misfit;
 pub mod naming;
 pub mod noise;
 pub mod options;

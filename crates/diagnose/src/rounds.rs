@@ -43,8 +43,9 @@
 //!    whiteness of each channel, over seconds and over minutes): `consistent` (nothing named,
 //!    and the model is consistent with the data, at fitted noise levels if the stated ones
 //!    were off), `explained` (the named effects make it consistent), `partly explained` (they
-//!    help decisively, but a misfit remains that nothing in the catalogue explains) or
-//!    `unexplained`.
+//!    help decisively, but a misfit remains that nothing in the catalogue explains),
+//!    `unexplained`, or `does not follow the model` (it still fails grossly: the data are of
+//!    another kind than the model, and the diagnosis says where, [`crate::misfit`]).
 //!
 //! The findings in words ([`crate::report::findings()`]) are made from the typed result last.
 
@@ -58,12 +59,13 @@ use crate::error::DiagnoseError;
 use crate::fit::setup::FitSetup;
 use crate::fit::widening::{fit_adaptive, refit_from_starting_priors, widened_since};
 use crate::implausible_data::implausible_diagnosis;
+use crate::misfit::{is_gross, Misfit, SUGGEST_SHARE};
 use crate::naming::name;
 use crate::noise;
 use crate::options::Options;
 use crate::report::findings::findings;
 use crate::stand_ins::withdraw_stand_ins;
-use crate::summary::summarize_fit;
+use crate::summary::{summarize_fit, window_width};
 use crate::under_test::fit_under_test;
 use crate::verdict::{judge, Verdict};
 use navkf_dynamics::dataset::{Dataset, MEASUREMENTS_FILE};
@@ -153,7 +155,9 @@ pub fn diagnose(
     let model = stand_ins.model;
     // 4. Verdict.
     let summary = summarize_fit(ds, &model, opts);
-    let verdict = judge(!stand_ins.kept.is_empty(), summary.consistent);
+    let gross = !summary.consistent && is_gross(&summary.nis, summary.failure.is_some());
+    let verdict = judge(!stand_ins.kept.is_empty(), summary.consistent, gross);
+    let misfit = (!summary.consistent).then(|| Misfit::of(&model, window_width(&model, opts)));
     // For the report: the priors widened, and the base model at the final noise levels.
     let mut widened = under_test.tilt_widened;
     widened.extend(widened_since(&under_test.start, &model));
@@ -168,10 +172,9 @@ pub fn diagnose(
     };
     let kept: Vec<String> = stand_ins.kept.iter().map(Named::to_string).collect();
     // An effect that leaves the model inconsistent is suggested, not named (crate::verdict).
-    let (effects, mut suggested) = if verdict == Verdict::PartlyExplained {
-        (Vec::new(), kept)
-    } else {
-        (kept, Vec::new())
+    let (effects, mut suggested) = match verdict {
+        Verdict::PartlyExplained | Verdict::DoesNotFollowModel => (Vec::new(), kept),
+        _ => (kept, Vec::new()),
     };
     // Explanations the data could not tell apart from each other or from something outside
     // the catalogue (crate::naming) are suggested too.
@@ -184,6 +187,17 @@ pub fn diagnose(
             suggested.push(c.effect.clone());
         }
     }
+    // Beside a gross misfit, only what removed most of its round's excess is worth a
+    // suggestion; the rest stood in for a part of it (crate::misfit).
+    if verdict == Verdict::DoesNotFollowModel {
+        suggested.retain(|e| {
+            rounds
+                .iter()
+                .flat_map(|r| &r.candidates)
+                .filter(|c| &c.effect == e)
+                .any(|c| c.excess_removed >= SUGGEST_SHARE)
+        });
+    }
     let mut d = Diagnosis {
         dataset: ds.name.clone(),
         family: catalogue.kind(),
@@ -194,6 +208,7 @@ pub fn diagnose(
         effects,
         suggested,
         model: summary,
+        misfit,
         before: before.as_ref().map(|f| summarize_fit(ds, f, opts)),
         rounds,
         noise: noise_checks.last().cloned(),

@@ -63,6 +63,17 @@ pub struct Coefficient {
     pub truth: Option<f64>,
 }
 
+/// Updates per sliding window of `opts.window_s` seconds at the fit's mean update interval
+/// (at least 10).
+pub fn window_width(fit: &Fit, opts: &Options) -> usize {
+    let dt = if fit.t.len() > 1 {
+        (fit.t[fit.t.len() - 1] - fit.t[0]) / (fit.t.len() - 1) as f64
+    } else {
+        1.0
+    };
+    ((opts.window_s / dt).round() as usize).max(10)
+}
+
 /// Summarises a fit.
 pub fn summarize_fit(ds: &Dataset, fit: &Fit, opts: &Options) -> FitSummary {
     let nis = NisStat::of(&fit.nis, &fit.dims);
@@ -76,13 +87,7 @@ pub fn summarize_fit(ds: &Dataset, fit: &Fit, opts: &Options) -> FitSummary {
         .into_iter()
         .map(|(k, (v, d))| (k, NisStat::of(&v, &d)))
         .collect();
-    let dt = if fit.t.len() > 1 {
-        (fit.t[fit.t.len() - 1] - fit.t[0]) / (fit.t.len() - 1) as f64
-    } else {
-        1.0
-    };
-    let width = ((opts.window_s / dt).round() as usize).max(10);
-    let windows = nis_windows(&fit.t, &fit.nis, &fit.dims, width);
+    let windows = nis_windows(&fit.t, &fit.nis, &fit.dims, window_width(fit, opts));
     let whites: Vec<Whiteness> = fit
         .channels
         .iter()

@@ -563,3 +563,48 @@ fn an_antenna_ahead_of_the_platform_is_not_named_a_latency() {
         }
     }
 }
+
+/// Data that no model of the family follows, diagnosed without the noise check (`--noise
+/// stated`, so no level can absorb it): fixes 72 m off for five minutes. The verdict says so,
+/// names nothing, and the misfit it reports lies in the GPS channels and in those minutes.
+#[test]
+fn a_gross_misfit_names_nothing_and_says_where() {
+    use navkf_dynamics::sensor_faults::SensorFault;
+    let mut ds = dataset(Vec::new(), &[], 12);
+    let (start, duration) = (1000.0, 300.0);
+    SensorFault::GpsStep {
+        offset_m: [60.0, -40.0],
+        start_s: start,
+        duration_s: duration,
+    }
+    .apply(&mut ds)
+    .unwrap();
+    let opts = Options {
+        fit_noise: false,
+        ..Options::default()
+    };
+    let d = diagnose(&ds, &Registry::catalogue(), &opts).unwrap().0;
+    assert_eq!(d.verdict, Verdict::DoesNotFollowModel, "{:#?}", d.findings);
+    assert!(d.effects.is_empty() && d.best.is_none(), "{:?}", d.effects);
+    let m = d.misfit.as_ref().expect("a gross misfit says where");
+    assert!(
+        m.nis_ratio > navkf_diagnose::misfit::GROSS_NIS_RATIO,
+        "{m:?}"
+    );
+    assert!(
+        ["L", "lambda"].contains(&m.channels[0].channel.as_str()),
+        "the worst channel is a GPS one: {m:?}"
+    );
+    let first = &m.spans[0];
+    assert!(
+        first.t[0] < start + duration && first.t[1] > start && first.excess_share > 0.5,
+        "the largest span holds the step: {m:?}"
+    );
+    assert!(
+        d.findings
+            .iter()
+            .any(|f| f.contains("do not follow this model")),
+        "{:#?}",
+        d.findings
+    );
+}

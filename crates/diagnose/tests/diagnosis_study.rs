@@ -135,3 +135,102 @@ fn the_committed_study_hides_at_least_300_things_outside_the_catalogue_of_five_k
     assert_eq!(kinds.len(), 5, "{kinds:?}");
     assert!(kinds.values().all(|&n| n == 60), "{kinds:?}");
 }
+
+/// The classes of data of another kind than the model: planned as the file says, and
+/// simulated as such (the truth's noise a MEMS unit's while the stated one is not; the
+/// azimuth prior stated; the unit actually changed, so that its warning fires).
+#[test]
+fn the_committed_study_holds_data_of_another_kind_and_makes_them() {
+    use navkf_diagnose::diagnosis_study::content::{simulate, WrongUnit};
+    use navkf_dynamics::dataset::Doubt;
+    use navkf_dynamics::{Attitude, NoiseConfig, Trajectory};
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../studies/diagnosis.toml");
+    let config = DiagnosisStudyConfig::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let planned = plan(&config).unwrap();
+    let of = |c: Class| planned.iter().filter(move |p| p.class == c);
+    assert!(of(Class::MemsNoise).count() >= 100);
+    for p in of(Class::MemsNoise) {
+        let Hidden::MemsNoise { factors } = &p.hidden[0] else {
+            panic!("{p:?}")
+        };
+        assert!(
+            factors.iter().all(|f| (100.0..=1000.0).contains(f)),
+            "{factors:?}"
+        );
+    }
+    for attitude in [Attitude::SmallAngle, Attitude::Exact] {
+        let n = of(Class::Misaligned)
+            .filter(|p| matches!(p.hidden[0], Hidden::Misaligned { attitude: a, sigma_deg } if a == attitude && (1.0..=10.0).contains(&sigma_deg)))
+            .count();
+        assert_eq!(n, 60, "{attitude:?}");
+    }
+    let units: std::collections::BTreeSet<WrongUnit> = of(Class::WrongUnits)
+        .map(|p| match p.hidden[0] {
+            Hidden::WrongUnit { unit } => unit,
+            _ => panic!("{p:?}"),
+        })
+        .collect();
+    assert_eq!(units.len(), 4);
+
+    let trajectory = std::sync::Arc::new(Trajectory::build(&config.trajectory).unwrap());
+    let first = |c: Class| of(c).next().unwrap();
+    let stated = NoiseConfig::default();
+    let mems = simulate(&config, &trajectory, first(Class::MemsNoise)).unwrap();
+    assert_eq!(mems.noise, stated, "the dataset states navigation grade");
+    let clean = simulate(&config, &trajectory, &planned[0]).unwrap();
+    // The truth's tilt wanders as a MEMS gyro's noise makes it (docs/model.md eq. (16)):
+    // its largest step between updates dwarfs a navigation-grade one's.
+    let tilt_steps = |ds: &navkf_dynamics::dataset::Dataset| {
+        let truth = ds.truth.as_ref().unwrap();
+        truth
+            .states
+            .windows(2)
+            .map(|w| (w[1][0] - w[0][0]).abs())
+            .fold(0.0, f64::max)
+    };
+    assert!(
+        tilt_steps(&mems) > 30.0 * tilt_steps(&clean),
+        "{} against {}",
+        tilt_steps(&mems),
+        tilt_steps(&clean)
+    );
+    let misaligned = first(Class::Misaligned);
+    let Hidden::Misaligned { sigma_deg, .. } = misaligned.hidden[0] else {
+        unreachable!()
+    };
+    let ds = simulate(&config, &trajectory, misaligned).unwrap();
+    assert_eq!(ds.prior.azimuth_rad, Some(sigma_deg.to_radians()));
+    for p in of(Class::WrongUnits) {
+        let Hidden::WrongUnit { unit } = p.hidden[0] else {
+            unreachable!()
+        };
+        if unit != WrongUnit::G {
+            continue;
+        }
+        let ds = simulate(&config, &trajectory, p).unwrap();
+        let doubts: Vec<Doubt> = ds.warnings().iter().map(|w| w.doubt).collect();
+        assert!(
+            doubts.contains(&Doubt::SpecificForceNotGravity),
+            "{doubts:?}"
+        );
+        break;
+    }
+}
+
+#[test]
+fn classes_of_the_platform_are_refused_in_a_strapdown_study() {
+    for class in [
+        "kind = \"mems-noise\"\ncount = 3\nsizes = [100.0, 1000.0]",
+        "kind = \"misaligned\"\ncount = 3\nsizes = [1.0, 10.0]\nattitude = \"exact\"",
+        "kind = \"wrong-units\"\ncount = 3\nunit = \"g\"",
+    ] {
+        let e = parse(&format!(
+            "[model]\nkind = \"strapdown\"\n\n[[content]]\n{class}\n"
+        ))
+        .unwrap_err();
+        assert!(e.contains("content[0]") && e.contains("platform"), "{e}");
+    }
+    let e = parse("[[content]]\nkind = \"misaligned\"\ncount = 3\nsizes = [1.0, 90.0]\nattitude = \"exact\"\n")
+        .unwrap_err();
+    assert!(e.contains("content[0].sizes") && e.contains("45"), "{e}");
+}

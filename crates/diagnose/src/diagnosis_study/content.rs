@@ -8,7 +8,7 @@
 //! study file says (a gyrocompassed platform by default), as a real platform's would be.
 
 use super::hidden::{log_uniform, sign};
-pub use super::hidden::{misstate, Class, Hidden, Planned};
+pub use super::hidden::{misstate, Class, Hidden, Planned, WrongUnit};
 use super::{ContentClass, DiagnosisStudyConfig, OutsideEffect};
 use crate::error::DiagnoseError;
 use navkf_dynamics::dataset::Dataset;
@@ -166,6 +166,23 @@ pub fn plan(config: &DiagnosisStudyConfig) -> Result<Vec<Planned>, DiagnoseError
                         vec![Hidden::MisstatedNoise { factors }],
                     )
                 }
+                ContentClass::MemsNoise { sizes, .. } => {
+                    let factors =
+                        vec![log_uniform(&mut rng, *sizes), log_uniform(&mut rng, *sizes)];
+                    (Class::MemsNoise, vec![Hidden::MemsNoise { factors }])
+                }
+                ContentClass::Misaligned {
+                    sizes, attitude, ..
+                } => (
+                    Class::Misaligned,
+                    vec![Hidden::Misaligned {
+                        sigma_deg: log_uniform(&mut rng, *sizes),
+                        attitude: *attitude,
+                    }],
+                ),
+                ContentClass::WrongUnits { unit, .. } => {
+                    (Class::WrongUnits, vec![Hidden::WrongUnit { unit: *unit }])
+                }
             };
             out.push(Planned {
                 index,
@@ -202,6 +219,11 @@ fn simulate_platform(
     let mut warm_up = None;
     let mut faults = Vec::new();
     let mut stated = noise;
+    let mut true_noise = noise;
+    let mut attitude = navkf_dynamics::Attitude::SmallAngle;
+    let mut initial_tilt = config.truth.initial_tilt;
+    let mut azimuth_prior = None;
+    let mut wrong_unit = None;
     for h in &p.hidden {
         match h {
             Hidden::Effect { name, values, .. } => {
@@ -233,18 +255,38 @@ fn simulate_platform(
             }
             Hidden::Fault { fault, .. } => faults.push(*fault),
             Hidden::MisstatedNoise { factors } => stated = misstate(&noise, factors),
+            Hidden::MemsNoise { factors } => {
+                // The truth's gyro and accelerometer are the MEMS unit's; the dataset states
+                // the navigation-grade defaults.
+                let f = |i: usize| factors.get(i).copied().unwrap_or(1.0);
+                true_noise.gyro_psd *= f(0) * f(0);
+                true_noise.accel_psd *= f(1) * f(1);
+            }
+            Hidden::Misaligned { sigma_deg, .. } => {
+                // Levelled as usual, but the azimuth drawn with degrees of sigma, which the
+                // dataset states as its prior; only exact attitude equations carry it.
+                attitude = navkf_dynamics::Attitude::Exact;
+                let sigma = sigma_deg.to_radians();
+                initial_tilt = navkf_dynamics::simulate::InitialTilt {
+                    azimuth_rad: sigma,
+                    alignment: navkf_dynamics::simulate::Alignment::Independent,
+                    ..Default::default()
+                };
+                azimuth_prior = Some(sigma);
+            }
+            Hidden::WrongUnit { unit } => wrong_unit = Some(*unit),
         }
     }
-    let model = Arc::new(PlatformModel::new(effects, &noise)?);
+    let model = Arc::new(PlatformModel::new(effects, &true_noise)?.with_attitude(attitude));
     let t = &config.truth;
     let truth_cfg = TruthConfig {
         rate_hz: t.rate_hz,
         input_rate_hz: t.input_rate_hz,
         measurement_rate_hz: t.measurement_rate_hz,
-        initial_tilt: t.initial_tilt,
+        initial_tilt,
         coefficients,
     };
-    let mut sim = Simulator::new(model, trajectory.clone(), truth_cfg, noise)?;
+    let mut sim = Simulator::new(model, trajectory.clone(), truth_cfg, true_noise)?;
     if let Some(w) = warm_up {
         sim = sim.with_specific_force_error(move |t| w.at(t));
     }
@@ -254,5 +296,11 @@ fn simulate_platform(
         fault.apply(&mut ds).map_err(DiagnoseError::Content)?;
     }
     ds.noise = stated;
+    if azimuth_prior.is_some() {
+        ds.prior.azimuth_rad = azimuth_prior;
+    }
+    if let Some(unit) = wrong_unit {
+        unit.apply(&mut ds);
+    }
     Ok(ds)
 }

@@ -3,8 +3,9 @@
 //! (`content` for the platform, `strapdown`) and the plan that dispatches to it import it
 //! and not each other.
 
+use navkf_dynamics::dataset::{Dataset, Doubt};
 use navkf_dynamics::sensor_faults::SensorFault;
-use navkf_dynamics::NoiseConfig;
+use navkf_dynamics::{Attitude, NoiseConfig};
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -53,6 +54,90 @@ pub enum Hidden {
         /// tolerance): true sigma over stated sigma.
         factors: Vec<f64>,
     },
+    /// Nothing hidden, but the gyro and accelerometer are a MEMS unit's while the dataset
+    /// states the navigation-grade defaults: their true sigma over the stated one.
+    MemsNoise {
+        /// Gyro, then accelerometer: true sigma over stated sigma.
+        factors: Vec<f64>,
+    },
+    /// Nothing hidden, but the platform starts misaligned in azimuth by degrees (drawn with
+    /// this sigma, the truth's attitude equations exact), the dataset states that sigma as
+    /// its azimuth prior, and the diagnosis uses `attitude`.
+    Misaligned {
+        /// Azimuth sigma, deg.
+        sigma_deg: f64,
+        /// The attitude equations the dataset is diagnosed with.
+        attitude: Attitude,
+    },
+    /// Nothing hidden, but one column is written in another unit than data-format.md's.
+    WrongUnit {
+        /// Which.
+        unit: WrongUnit,
+    },
+}
+
+/// A column written in another unit, as users do.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum WrongUnit {
+    /// Every time column in milliseconds.
+    Milliseconds,
+    /// GPS latitude in radians (longitude in degrees: both in radians, the reader refuses
+    /// the file with the line of the first fix).
+    Radians,
+    /// The specific force in g.
+    G,
+    /// The odometer's velocities in km/h.
+    KmH,
+}
+
+impl WrongUnit {
+    /// Rewrites `ds` as a user writing this unit would have.
+    pub fn apply(self, ds: &mut Dataset) {
+        match self {
+            WrongUnit::Milliseconds => {
+                ds.inputs.iter_mut().for_each(|i| i.t *= 1e3);
+                ds.measurements.iter_mut().for_each(|m| m.t *= 1e3);
+                if let Some(t) = ds.truth.as_mut() {
+                    t.t.iter_mut().for_each(|t| *t *= 1e3);
+                }
+            }
+            // Latitude only: with both columns in radians the reader refuses the file
+            // (dataset/read/units.rs), so the warnings meet the case it cannot see.
+            WrongUnit::Radians => ds
+                .measurements
+                .iter_mut()
+                .filter_map(|m| m.position_deg.as_mut())
+                .for_each(|p| p[0] = p[0].to_radians()),
+            WrongUnit::G => ds.inputs.iter_mut().for_each(|i| {
+                i.f.iter_mut()
+                    .for_each(|f| *f /= navkf_dynamics::earth::STANDARD_GRAVITY)
+            }),
+            WrongUnit::KmH => ds
+                .measurements
+                .iter_mut()
+                .filter_map(|m| m.velocity.as_mut())
+                .for_each(|v| *v = [3.6 * v[0], 3.6 * v[1]]),
+        }
+    }
+    /// The warnings that name this unit (radians may show on either GPS column).
+    pub fn doubts(self) -> &'static [Doubt] {
+        match self {
+            WrongUnit::Milliseconds => &[Doubt::TimesInMilliseconds],
+            WrongUnit::Radians => &[Doubt::LatitudeInRadians, Doubt::LongitudeInRadians],
+            WrongUnit::G => &[Doubt::SpecificForceNotGravity],
+            WrongUnit::KmH => &[Doubt::OdometerNotMetresPerSecond],
+        }
+    }
+    /// Short label.
+    pub fn label(self) -> &'static str {
+        match self {
+            WrongUnit::Milliseconds => "times in ms",
+            WrongUnit::Radians => "GPS latitude in radians",
+            WrongUnit::G => "specific force in g",
+            WrongUnit::KmH => "odometer in km/h",
+        }
+    }
 }
 
 impl Hidden {
@@ -71,16 +156,29 @@ impl Hidden {
             Hidden::AccelWarmUp { .. } => "accel warm-up (outside)".into(),
             Hidden::Fault { fault, .. } => format!("{} (outside)", fault.label()),
             Hidden::MisstatedNoise { .. } => "mis-stated noise".into(),
+            Hidden::MemsNoise { .. } => "MEMS noise stated at navigation grade".into(),
+            Hidden::Misaligned { attitude, .. } => format!(
+                "misaligned by degrees, diagnosed {}",
+                match attitude {
+                    Attitude::SmallAngle => "small-angle",
+                    Attitude::Exact => "exact",
+                }
+            ),
+            Hidden::WrongUnit { unit } => format!("{} (wrong unit)", unit.label()),
         }
     }
-    /// Its size as a multiple of its typical size (1 for mis-stated noise).
+    /// Its size as a multiple of its typical size (1 for noise and units; degrees of azimuth
+    /// sigma for a misalignment).
     pub fn multiple(&self) -> f64 {
         match self {
             Hidden::Effect { multiple, .. }
             | Hidden::Drag { multiple, .. }
             | Hidden::AccelWarmUp { multiple, .. }
             | Hidden::Fault { multiple, .. } => *multiple,
-            Hidden::MisstatedNoise { .. } => 1.0,
+            Hidden::Misaligned { sigma_deg, .. } => *sigma_deg,
+            Hidden::MisstatedNoise { .. } | Hidden::MemsNoise { .. } | Hidden::WrongUnit { .. } => {
+                1.0
+            }
         }
     }
 }
@@ -99,6 +197,12 @@ pub enum Class {
     Outside,
     /// Nothing hidden, but the stated noise is wrong.
     MisstatedNoise,
+    /// Nothing hidden, but the unit is MEMS-class and stated at navigation grade.
+    MemsNoise,
+    /// Nothing hidden, but the platform is misaligned by degrees.
+    Misaligned,
+    /// Nothing hidden, but a column is in another unit.
+    WrongUnits,
 }
 
 /// A dataset of the study before it is simulated.

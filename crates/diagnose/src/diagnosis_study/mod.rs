@@ -154,6 +154,32 @@ pub enum ContentClass {
         /// Bounds of the factor (true over stated sigma, or its inverse).
         sizes: [f64; 2],
     },
+    /// Nothing hidden, but the gyro and accelerometer noise are a MEMS unit's, each drawn
+    /// `sizes` times the stated (navigation-grade) sigma; the platform family only.
+    MemsNoise {
+        /// Datasets.
+        count: usize,
+        /// Bounds of the factor, true over stated sigma.
+        sizes: [f64; 2],
+    },
+    /// Nothing hidden, but the platform starts misaligned in azimuth by an angle drawn with a
+    /// sigma of `sizes` degrees (log-uniform), stated as the dataset's azimuth prior, and
+    /// diagnosed with `attitude`; the platform family only.
+    Misaligned {
+        /// Datasets.
+        count: usize,
+        /// Bounds of the azimuth sigma, deg.
+        sizes: [f64; 2],
+        /// The attitude equations of the diagnosis.
+        attitude: navkf_dynamics::Attitude,
+    },
+    /// Nothing hidden, but one column written in another unit; the platform family only.
+    WrongUnits {
+        /// Datasets.
+        count: usize,
+        /// Which unit.
+        unit: content::WrongUnit,
+    },
 }
 
 impl ContentClass {
@@ -164,7 +190,10 @@ impl ContentClass {
             ContentClass::Nothing { count }
             | ContentClass::Pair { count, .. }
             | ContentClass::Outside { count, .. }
-            | ContentClass::MisstatedNoise { count, .. } => *count,
+            | ContentClass::MisstatedNoise { count, .. }
+            | ContentClass::MemsNoise { count, .. }
+            | ContentClass::Misaligned { count, .. }
+            | ContentClass::WrongUnits { count, .. } => *count,
         }
     }
 }
@@ -330,6 +359,35 @@ impl DiagnosisStudyConfig {
                 | ContentClass::MisstatedNoise { sizes, .. } => {
                     bounds(format!("content[{i}].sizes"), *sizes)?
                 }
+                ContentClass::MemsNoise { sizes, .. } | ContentClass::Misaligned { sizes, .. }
+                    if self.model.kind != ModelKind::Platform =>
+                {
+                    let _ = sizes;
+                    return Err(format!(
+                        "content[{i}]: a platform class (MEMS noise and misalignment are the \
+                         strapdown family's normal state, which its own classes cover); \
+                         expected it in a study with kind = \"platform\""
+                    ));
+                }
+                ContentClass::WrongUnits { .. } if self.model.kind != ModelKind::Platform => {
+                    return Err(format!(
+                        "content[{i}]: wrong-units is a platform class for now; expected it in \
+                         a study with kind = \"platform\""
+                    ));
+                }
+                ContentClass::MemsNoise { sizes, .. } => {
+                    bounds(format!("content[{i}].sizes"), *sizes)?
+                }
+                ContentClass::Misaligned { sizes, .. } => {
+                    bounds(format!("content[{i}].sizes"), *sizes)?;
+                    if sizes[1] > 45.0 {
+                        return Err(format!(
+                            "content[{i}].sizes = [{}, {}]: deg of azimuth sigma; expected at \
+                             most 45",
+                            sizes[0], sizes[1]
+                        ));
+                    }
+                }
                 ContentClass::Pair { effects, sizes, .. } => {
                     for (j, name) in effects.iter().enumerate() {
                         catalogued(format!("content[{i}].effects"), name)?;
@@ -396,6 +454,17 @@ pub struct Record {
     pub estimate_errors: BTreeMap<String, f64>,
     /// The error, if the diagnosis stopped.
     pub error: Option<String>,
+    /// The final model's mean NIS over its dimension (what the verdict
+    /// [`Verdict::DoesNotFollowModel`] is decided on).
+    #[serde(default)]
+    pub nis_ratio: Option<f64>,
+    /// The dataset's unit warnings ([`navkf_dynamics::dataset::Dataset::warnings`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<navkf_dynamics::dataset::Doubt>,
+    /// The last noise check's fitted over stated sigma per source, `None` where the data
+    /// could not fix it (empty without a noise check).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub noise_ratios: Vec<Option<f64>>,
 }
 
 /// Simulates and diagnoses planned dataset `p`.
@@ -417,12 +486,33 @@ fn run_one(
         first_round_bic: BTreeMap::new(),
         estimate_errors: BTreeMap::new(),
         error: None,
+        nis_ratio: None,
+        warnings: Vec::new(),
+        noise_ratios: Vec::new(),
     };
+    // A misaligned platform is diagnosed with the attitude equations its class says.
+    let mut options = options.clone();
+    for h in &p.hidden {
+        if let Hidden::Misaligned { attitude, .. } = h {
+            options.filter.attitude = *attitude;
+        }
+    }
     let result = content::simulate(config, trajectory, p)
-        .and_then(|ds| diagnose(&ds, &*crate::catalogue::of(&ds)?, options));
+        .and_then(|ds| diagnose(&ds, &*crate::catalogue::of(&ds)?, &options));
     match result {
         Ok((d, _)) => {
             record.verdict = Some(d.verdict);
+            record.nis_ratio = Some(d.model.nis.mean / d.model.nis.dof).filter(|r| r.is_finite());
+            record.warnings = d.data_warnings.iter().map(|w| w.doubt).collect();
+            record.noise_ratios = d
+                .noise
+                .iter()
+                .flat_map(|n| &n.sources)
+                .map(|s| {
+                    (s.verdict != crate::noise::levels::NoiseVerdict::Unresolved)
+                        .then_some(s.sigma_ratio)
+                })
+                .collect();
             record.named = d.effects.clone();
             record.withdrawn = d.withdrawn.iter().map(|w| w.effect.clone()).collect();
             record.rounds = d.rounds.len();

@@ -102,6 +102,28 @@ pub fn markdown(
         r.noise_named.to_string(),
         format!("noise refitted: {}", r.noise_found),
     ]);
+    for (label, rate) in &r.other_kind_named {
+        let other = match r.wrong_units_warned.get(label) {
+            Some(w) => format!("its warning given: {w}"),
+            None if label.starts_with("MEMS") => {
+                let per: Vec<String> = r
+                    .mems_levels_within_20
+                    .iter()
+                    .map(|(s, q)| format!("{s} {}/{}", q.k, q.n))
+                    .collect();
+                format!(
+                    "fitted levels within 20 % of the truth: {} ({}); unresolved, and said so: {}",
+                    r.mems_levels_pooled
+                        .map_or("-".to_string(), |q| q.to_string()),
+                    per.join(", "),
+                    r.mems_levels_unresolved
+                        .map_or("-".to_string(), |q| q.to_string())
+                )
+            }
+            None => String::new(),
+        };
+        attribution.row([label.to_string(), rate.to_string(), other]);
+    }
     out.push_str(&attribution.render());
     let _ = writeln!(
         out,

@@ -9,6 +9,7 @@ use super::sentences::{
 use super::words::times;
 use crate::candidates::evidence::{Candidate, CandidateKind, Outcome, DECISIVE_BIC};
 use crate::diagnosis::{Diagnosis, RoundKind};
+use crate::misfit::{GROSS_NIS_RATIO, SUGGEST_SHARE};
 use crate::noise::levels::NoiseVerdict;
 use crate::verdict::Verdict;
 use navkf_dynamics::prior::PriorSource;
@@ -199,48 +200,33 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
             d.model.nis.bounds[0],
             d.model.nis.bounds[1]
         )),
-        Verdict::PartlyExplained => out.push(format!(
-            "With {} the model fits decisively better, but a misfit remains that nothing in \
+        Verdict::PartlyExplained => out.push(
+            format!(
+                "With {} the model fits decisively better, but a misfit remains that nothing in \
              the catalogue explains (NIS {:.3}, bounds {:.3}-{:.3}), so they are suggested, \
              not named: an effect that does not make the model fit may only stand in for what \
              is missing. {}",
-            named_list(d),
-            d.model.nis.mean,
-            d.model.nis.bounds[0],
-            d.model.nis.bounds[1],
-            failing_channels_and_phases(&d.model)
-        )),
+                named_list(d),
+                d.model.nis.mean,
+                d.model.nis.bounds[0],
+                d.model.nis.bounds[1],
+                failing_channels_and_phases(&d.model)
+            ) + &when(d),
+        ),
         Verdict::ImplausibleData => {}
+        Verdict::DoesNotFollowModel => out.extend(does_not_follow(d)),
         Verdict::Unexplained => {
             consistency_findings(&d.model, &mut out);
-            let last = d.rounds.last().map(|r| &r.candidates[..]).unwrap_or(&[]);
-            let confounded: Vec<String> = last
-                .iter()
-                .filter(|c| c.outcome == Outcome::Confounded)
-                .map(|c| format!("`{}`", c.effect))
-                .collect();
-            if let Some(s) = looks_like_outside_instead(last) {
-                out.push(s);
-            } else if let Some(s) = indistinguishable_instead(last) {
-                out.push(s);
-            } else if let Some(s) = unphysical_instead(last) {
-                out.push(s);
-            } else if confounded.is_empty() {
-                out.push(format!(
+            if let Some(m) = &d.misfit {
+                out.push(format!("When: {}.", m.when()));
+            }
+            out.push(why_nothing_named(d).unwrap_or_else(|| {
+                format!(
                     "No catalogued effect explains the misfit: none has decisive evidence \
                      (BIC gain > {DECISIVE_BIC}) that it can carry on its own. The cause is \
                      outside the catalogue, or too small to attribute on this dataset."
-                ));
-            } else {
-                out.push(format!(
-                    "No catalogued effect can be named: {} has decisive evidence but cannot be \
-                     told apart from coefficients already in the model on this trajectory \
-                     (see below), so the data cannot say whether it or those coefficients carry \
-                     the misfit. A trajectory that separates them (for `gyro-fz`, one with \
-                     varying vertical specific force) would.",
-                    confounded.join(", ")
-                ));
-            }
+                )
+            }));
         }
     }
     // Last round: what was decisive but not named, and what cannot be told apart.
@@ -361,6 +347,131 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
         ));
     }
     out
+}
+
+/// Why the last round named nothing although something had decisive evidence: it looks like
+/// something outside the catalogue, cannot be told from another candidate, has values no
+/// real sensor has, or cannot be told from the model's own coefficients. `None` when nothing
+/// had decisive evidence.
+fn why_nothing_named(d: &Diagnosis) -> Option<String> {
+    let last = d.rounds.last().map(|r| &r.candidates[..]).unwrap_or(&[]);
+    let confounded: Vec<String> = last
+        .iter()
+        .filter(|c| c.outcome == Outcome::Confounded)
+        .map(|c| format!("`{}`", c.effect))
+        .collect();
+    looks_like_outside_instead(last)
+        .or_else(|| indistinguishable_instead(last))
+        .or_else(|| unphysical_instead(last))
+        .or_else(|| {
+            (!confounded.is_empty()).then(|| {
+                format!(
+                    "No catalogued effect can be named: {} has decisive evidence but cannot be \
+                     told apart from coefficients already in the model on this trajectory \
+                     (see below), so the data cannot say whether it or those coefficients carry \
+                     the misfit. A trajectory that separates them (for `gyro-fz`, one with \
+                     varying vertical specific force) would.",
+                    confounded.join(", ")
+                )
+            })
+        })
+}
+
+/// The findings of a gross misfit: how far off, where, what the rounds' candidates were
+/// worth, and what kind of cause to look for.
+fn does_not_follow(d: &Diagnosis) -> Vec<String> {
+    let mut out = Vec::new();
+    let noise = match d.noise_checks.last() {
+        Some(n) if n.mis_stated() => "at the fitted noise levels",
+        Some(_) => "at the stated noise levels, which the noise check could not improve",
+        None => "at the stated noise levels (the noise check was off)",
+    };
+    let failed = d
+        .model
+        .failure
+        .as_ref()
+        .map(|f| format!(" Its filter failed: {f}."))
+        .unwrap_or_default();
+    out.push(format!(
+        "The data do not follow this model: {noise}, and after every catalogued effect was \
+         tried, its NIS is {:.3} against {:.2}, {:.1} times what a consistent model gives \
+         (more than {GROSS_NIS_RATIO} times is a gross misfit, which no noise level or \
+         catalogued effect left untried can explain).{failed} No effect is named.",
+        d.model.nis.mean,
+        d.model.nis.dof,
+        d.model.nis.mean / d.model.nis.dof,
+    ));
+    if let Some(m) = &d.misfit {
+        out.push(format!("Where it fails: {m}."));
+    }
+    out.extend(why_nothing_named(d));
+    let mut tried: Vec<&Candidate> = d
+        .rounds
+        .iter()
+        .filter(|r| r.kind == RoundKind::Automatic)
+        .flat_map(|r| &r.candidates)
+        .filter(|c| c.kind != CandidateKind::NoiseLevels && c.bic_gain > DECISIVE_BIC)
+        .collect();
+    tried.sort_by(|a, b| b.excess_removed.total_cmp(&a.excess_removed));
+    tried.dedup_by(|a, b| a.effect == b.effect);
+    if !tried.is_empty() {
+        let shares: Vec<String> = tried
+            .iter()
+            .take(4)
+            .map(|c| format!("`{}` {:.0} %", c.effect, 100.0 * c.excess_removed))
+            .collect();
+        out.push(format!(
+            "Catalogued effects with decisive evidence removed these shares of the excess of \
+             the model they were tried in: {}. {}",
+            shares.join(", "),
+            if let Some(c) = tried
+                .iter()
+                .find(|c| c.excess_removed >= SUGGEST_SHARE && !d.suggested.contains(&c.effect))
+            {
+                format!(
+                    "`{}` removed most of it but cannot be named ({}); the model still fails \
+                     grossly without it.",
+                    c.effect, c.outcome
+                )
+            } else if d.suggested.is_empty() {
+                format!(
+                    "None removed {:.0} % or more: each stands in for a part of the misfit, \
+                     not for its cause.",
+                    100.0 * SUGGEST_SHARE
+                )
+            } else {
+                format!(
+                    "{} removed most of it and is suggested; what remains is of another kind.",
+                    d.suggested
+                        .iter()
+                        .map(|e| format!("`{e}`"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            }
+        ));
+    }
+    let mut causes = vec![
+        "content no catalogued effect describes (a GPS offset for minutes, wheel slip, an \
+         antenna away from the unit: look where it fails, above)",
+    ];
+    if d.family.is_platform() && d.attitude == navkf_dynamics::Attitude::SmallAngle {
+        causes.push("a platform misaligned by degrees (diagnose again with `--attitude exact`)");
+    }
+    if !d.data_warnings.is_empty() {
+        causes.push("a column in another unit (the warnings above)");
+    }
+    causes.push("a recording of another kind of unit than the model's family");
+    out.push(format!("Look for: {}.", causes.join("; ")));
+    out
+}
+
+/// " When: ..." for a diagnosis whose final model is inconsistent.
+fn when(d: &Diagnosis) -> String {
+    d.misfit
+        .as_ref()
+        .map(|m| format!(" When: {}.", m.when()))
+        .unwrap_or_default()
 }
 
 fn named_list(d: &Diagnosis) -> String {

@@ -220,7 +220,46 @@ pub struct Rates {
     pub estimate_error_rms: f64,
     /// The targets.
     pub targets: Vec<Target>,
+    /// Data of another kind than the model's, nothing catalogued hidden: any effect named,
+    /// by row label (MEMS noise stated at navigation grade, misaligned platforms by the
+    /// attitude equations diagnosed with, wrong units).
+    #[serde(default)]
+    pub other_kind_named: BTreeMap<String, Rate>,
+    /// MEMS noise stated at navigation grade: each source's fitted level within 20 % of the
+    /// truth, by source; and the levels the data could not fix (said so).
+    #[serde(default)]
+    pub mems_levels_within_20: BTreeMap<String, Rate>,
+    /// The same, pooled over the sources.
+    #[serde(default)]
+    pub mems_levels_pooled: Option<Rate>,
+    /// MEMS noise: levels left unresolved, pooled.
+    #[serde(default)]
+    pub mems_levels_unresolved: Option<Rate>,
+    /// Wrong units: the warning that names the unit fired, by unit.
+    #[serde(default)]
+    pub wrong_units_warned: BTreeMap<String, Rate>,
 }
+
+/// Per noise source of `r` (gyro, accelerometer, odometer, GPS): the fitted level over the
+/// truth, `None` where unresolved; for a MEMS-noise record.
+fn mems_level_errors(r: &Record) -> Vec<Option<f64>> {
+    let factors = r
+        .hidden
+        .iter()
+        .find_map(|h| match h {
+            Hidden::MemsNoise { factors } => Some(factors.clone()),
+            _ => None,
+        })
+        .unwrap_or_default();
+    r.noise_ratios
+        .iter()
+        .enumerate()
+        .map(|(j, ratio)| ratio.map(|q| q / factors.get(j).copied().unwrap_or(1.0)))
+        .collect()
+}
+
+/// Names of the noise sources in a record's `noise_ratios` order.
+const SOURCE_LABELS: [&str; 5] = ["gyro", "accelerometer", "odometer", "GPS", "constraints"];
 
 /// `v` with `digits` significant digits, without an exponent between 1e-3 and 1e5.
 pub fn sig(v: f64, digits: usize) -> String {
@@ -518,6 +557,9 @@ pub fn rates(records: &[Record], scales: &[EffectScale]) -> Rates {
             Class::Pair => 20,
             Class::Outside => 21,
             Class::MisstatedNoise => 30,
+            Class::MemsNoise => 31,
+            Class::Misaligned => 32,
+            Class::WrongUnits => 33,
         };
         let row = rows.entry((order, label.clone())).or_insert(ConfusionRow {
             hidden: label,
@@ -586,6 +628,82 @@ pub fn rates(records: &[Record], scales: &[EffectScale]) -> Rates {
         measured: pairs_both_above.to_string(),
         met: pairs_both_above.n > 0 && pairs_both_above.rate >= 0.9,
     });
+    // Data of another kind than the model's.
+    let mut other_kind_named = BTreeMap::new();
+    let mut wrong_units_warned = BTreeMap::new();
+    for class in [Class::MemsNoise, Class::Misaligned, Class::WrongUnits] {
+        let labels: Vec<String> = {
+            let mut v: Vec<String> = of_class(class).map(row_label).collect();
+            v.sort();
+            v.dedup();
+            v
+        };
+        for l in labels {
+            let named = count(
+                &mut of_class(class).filter(|r| row_label(r) == l),
+                &any_named,
+            );
+            targets.push(Target {
+                what: format!("{l}: an effect named"),
+                target: "at most 2 %".into(),
+                measured: named.to_string(),
+                met: named.rate <= 0.02,
+            });
+            other_kind_named.insert(l.clone(), named);
+            if class == Class::WrongUnits {
+                let warned = count(
+                    &mut of_class(class).filter(|r| row_label(r) == l),
+                    &|r: &Record| {
+                        r.hidden.iter().any(|h| match h {
+                            Hidden::WrongUnit { unit } => {
+                                unit.doubts().iter().any(|d| r.warnings.contains(d))
+                            }
+                            _ => false,
+                        })
+                    },
+                );
+                targets.push(Target {
+                    what: format!("{l}: its warning given"),
+                    target: "every time".into(),
+                    measured: warned.to_string(),
+                    met: warned.n > 0 && warned.k == warned.n,
+                });
+                wrong_units_warned.insert(l, warned);
+            }
+        }
+    }
+    let mems: Vec<Vec<Option<f64>>> = of_class(Class::MemsNoise)
+        .filter(|r| r.error.is_none())
+        .map(mems_level_errors)
+        .collect();
+    let within = |e: &Option<f64>| e.is_some_and(|q| (q - 1.0).abs() <= 0.2);
+    let mut mems_levels_within_20 = BTreeMap::new();
+    for (j, label) in SOURCE_LABELS.iter().enumerate() {
+        let column: Vec<&Option<f64>> = mems.iter().filter_map(|v| v.get(j)).collect();
+        if !column.is_empty() {
+            let k = column.iter().filter(|e| within(e)).count();
+            mems_levels_within_20.insert(label.to_string(), Rate::of(k, column.len()));
+        }
+    }
+    let pooled: Vec<&Option<f64>> = mems.iter().flatten().collect();
+    let (mems_levels_pooled, mems_levels_unresolved) = if pooled.is_empty() {
+        (None, None)
+    } else {
+        let k = pooled.iter().filter(|e| within(e)).count();
+        let unresolved = pooled.iter().filter(|e| e.is_none()).count();
+        let rate = Rate::of(k, pooled.len());
+        targets.push(Target {
+            what: "MEMS noise stated at navigation grade: fitted levels within 20 % of the truth"
+                .into(),
+            target: "at least 95 %".into(),
+            measured: format!(
+                "{rate}; unresolved (and said so): {}",
+                Rate::of(unresolved, pooled.len())
+            ),
+            met: rate.rate >= 0.95,
+        });
+        (Some(rate), Some(Rate::of(unresolved, pooled.len())))
+    };
     let z: Vec<f64> = records
         .iter()
         .flat_map(|r| r.estimate_errors.values().copied())
@@ -612,6 +730,11 @@ pub fn rates(records: &[Record], scales: &[EffectScale]) -> Rates {
         confusion: rows.into_values().collect(),
         effect_matrix,
         targets,
+        other_kind_named,
+        mems_levels_within_20,
+        mems_levels_pooled,
+        mems_levels_unresolved,
+        wrong_units_warned,
     }
 }
 

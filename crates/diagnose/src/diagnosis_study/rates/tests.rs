@@ -96,7 +96,78 @@ fn single(index: usize, multiple: f64, named: bool) -> Record {
         first_round_bic: BTreeMap::new(),
         estimate_errors: BTreeMap::new(),
         error: None,
+        nis_ratio: Some(1.0),
+        warnings: Vec::new(),
+        noise_ratios: Vec::new(),
     }
+}
+
+/// A record of nothing catalogued hidden in data of another kind.
+fn other_kind(index: usize, class: Class, hidden: Hidden) -> Record {
+    Record {
+        class,
+        hidden: vec![hidden],
+        verdict: Some(Verdict::Consistent),
+        named: Vec::new(),
+        ..single(index, 1.0, false)
+    }
+}
+
+#[test]
+fn mems_levels_are_judged_against_the_truth_and_wrong_units_by_their_own_warning() {
+    use crate::diagnosis_study::content::WrongUnit;
+    use navkf_dynamics::dataset::Doubt;
+    let mems = |index, gyro: Option<f64>| {
+        let mut r = other_kind(
+            index,
+            Class::MemsNoise,
+            Hidden::MemsNoise {
+                factors: vec![300.0, 500.0],
+            },
+        );
+        // Fitted over stated: the accelerometer 5 % off its truth of 500, odometer and GPS
+        // as stated.
+        r.noise_ratios = vec![gyro, Some(525.0), Some(1.0), Some(1.0)];
+        r
+    };
+    let km_h = |index, warned: bool| {
+        let mut r = other_kind(
+            index,
+            Class::WrongUnits,
+            Hidden::WrongUnit {
+                unit: WrongUnit::KmH,
+            },
+        );
+        if warned {
+            // Another unit's warning does not count.
+            r.warnings = vec![
+                Doubt::TimesInMilliseconds,
+                Doubt::OdometerNotMetresPerSecond,
+            ];
+        } else {
+            r.warnings = vec![Doubt::TimesInMilliseconds];
+        }
+        r
+    };
+    let records = vec![
+        mems(0, Some(330.0)), // 10 % over the truth: within
+        mems(1, Some(450.0)), // 50 % over: not within
+        mems(2, None),        // unresolved: not within, but said so
+        km_h(3, true),
+        km_h(4, false),
+    ];
+    let r = rates(&records, &[]);
+    assert_eq!(r.mems_levels_within_20["gyro"].k, 1);
+    assert_eq!(r.mems_levels_within_20["accelerometer"].k, 3);
+    let pooled = r.mems_levels_pooled.unwrap();
+    assert_eq!((pooled.k, pooled.n), (10, 12));
+    assert_eq!(r.mems_levels_unresolved.unwrap().k, 1);
+    let warned = &r.wrong_units_warned["odometer in km/h (wrong unit)"];
+    assert_eq!((warned.k, warned.n), (1, 2));
+    let target = |what: &str| r.targets.iter().find(|t| t.what.contains(what)).unwrap();
+    assert!(!target("its warning given").met);
+    assert!(!target("within 20 %").met);
+    assert!(target("MEMS noise stated at navigation grade: an effect named").met);
 }
 
 #[test]

@@ -54,12 +54,19 @@ pub struct Naming {
 /// documentation). A noise-only choice must beat its rival outside the catalogue; if it does
 /// not, it is set aside and the choice made again. A structured choice with a look-alike
 /// outside the catalogue must beat it too; if it does not, nothing is named in the round.
+///
+/// With `beyond_small_angle` (a platform diagnosed with the small-angle equations under a
+/// tilt prior beyond their depth, [`crate::priors::beyond_small_angle`]) no effect is named:
+/// a misalignment of degrees can pass for one (measured on the error-rate study: 2 of 60
+/// platforms misaligned by 1-10 deg were "explained by `torquer-scale`"). The choice is
+/// suggested instead, and the findings ask for `--attitude exact`.
 pub fn name(
     ds: &Dataset,
     model: &Model<'_>,
     mut ranked: Vec<Evaluated>,
     catalogue: &dyn Catalogue,
     opts: &Options,
+    beyond_small_angle: bool,
 ) -> Result<Naming, DiagnoseError> {
     let filter = &opts.filter;
     let mut candidates: Vec<Candidate> = ranked.iter().map(|e| e.candidate.clone()).collect();
@@ -83,6 +90,18 @@ pub fn name(
             notes.push(note);
             choice = None;
         }
+    }
+    if let Some(i) =
+        choice.filter(|&i| beyond_small_angle && candidates[i].kind != CandidateKind::NoiseLevels)
+    {
+        candidates[i].outcome = Outcome::BeyondSmallAngle;
+        notes.push(format!(
+            "`{}` would explain the misfit (BIC gain {:.0}), but the small-angle model is out of \
+             its depth under this tilt prior, and a misalignment of degrees can pass for it: \
+             not named. Diagnose again with `--attitude exact`.",
+            candidates[i].effect, candidates[i].bic_gain
+        ));
+        choice = None;
     }
     candidates.sort_by(|a, b| b.bic_gain.total_cmp(&a.bic_gain));
     let named = choice.map(|i| {

@@ -137,3 +137,27 @@ pub fn resolve(
         entries,
     )
 }
+
+/// A tilt prior sigma beyond which the small-angle model is out of its depth (0.5 deg:
+/// `results/misalignment/` finds its EKF consistent at 0.1 deg and not at 1 deg).
+pub const SMALL_ANGLE_LIMIT_RAD: f64 = 8.7e-3;
+
+/// The starting tilt priors (`level_rad`, `azimuth_rad`) beyond [`SMALL_ANGLE_LIMIT_RAD`],
+/// when a platform is diagnosed with the small-angle attitude equations: then a misalignment
+/// of degrees can pass for a missing effect, and no effect is named ([`crate::naming`]).
+pub fn beyond_small_angle(
+    entries: &[PriorEntry],
+    attitude: navkf_dynamics::Attitude,
+    family: navkf_dynamics::ModelKind,
+) -> Vec<&PriorEntry> {
+    if attitude != navkf_dynamics::Attitude::SmallAngle || !family.is_platform() {
+        return Vec::new();
+    }
+    entries
+        .iter()
+        .filter(|p| {
+            matches!(p.name.as_str(), "azimuth_rad" | "level_rad")
+                && p.sigma > SMALL_ANGLE_LIMIT_RAD
+        })
+        .collect()
+}

@@ -63,6 +63,7 @@ use crate::misfit::{is_gross, Misfit, SUGGEST_SHARE};
 use crate::naming::name;
 use crate::noise;
 use crate::options::Options;
+use crate::priors::beyond_small_angle;
 use crate::report::findings::findings;
 use crate::stand_ins::withdraw_stand_ins;
 use crate::summary::{summarize_fit, window_width};
@@ -96,6 +97,12 @@ pub fn diagnose(
     let mut noise_theta: crate::noise::Theta = [0.0; crate::noise::MAX_SOURCES];
     let mut noise_checks = Vec::new();
     let mut confounded = Confounded::default();
+    let beyond_small_angle = !beyond_small_angle(
+        &under_test.prior_entries,
+        opts.filter.attitude,
+        catalogue.kind(),
+    )
+    .is_empty();
     for _ in 0..opts.max_rounds {
         crate::error::stop_if_requested()?;
         let summary = summarize_fit(ds, &model, opts);
@@ -125,7 +132,14 @@ pub fn diagnose(
             opts,
         )?;
         // 2.3 Name.
-        let naming = name(ds, &as_it_stands, ranked, catalogue, opts)?;
+        let naming = name(
+            ds,
+            &as_it_stands,
+            ranked,
+            catalogue,
+            opts,
+            beyond_small_angle,
+        )?;
         confounded.remember(&naming.candidates);
         rounds.push(Round {
             kind: RoundKind::Automatic,
@@ -181,7 +195,7 @@ pub fn diagnose(
     for c in rounds.iter().flat_map(|r| &r.candidates) {
         let undecided = matches!(
             c.outcome,
-            Outcome::Indistinguishable | Outcome::LooksLikeOutside
+            Outcome::Indistinguishable | Outcome::LooksLikeOutside | Outcome::BeyondSmallAngle
         );
         if undecided && !suggested.contains(&c.effect) {
             suggested.push(c.effect.clone());

@@ -608,3 +608,51 @@ fn a_gross_misfit_names_nothing_and_says_where() {
         d.findings
     );
 }
+
+/// Two platforms of the error-rate study misaligned by degrees (azimuth sigma 5.6 and 4.0 deg,
+/// stated as the prior), which the small-angle model called "explained by `torquer-scale`":
+/// under a tilt prior beyond the small-angle depth nothing is named, the effect is suggested
+/// and the findings ask for `--attitude exact`; with it, nothing is named either.
+#[test]
+fn a_platform_misaligned_by_degrees_is_not_explained_by_an_effect() {
+    use navkf_diagnose::diagnosis_study::content::{plan, simulate};
+    use navkf_diagnose::diagnosis_study::DiagnosisStudyConfig;
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../studies/diagnosis.toml");
+    let config = DiagnosisStudyConfig::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let planned = plan(&config).unwrap();
+    let trajectory = Arc::new(Trajectory::build(&config.trajectory).unwrap());
+    for index in [1334, 1379] {
+        let p = &planned[index];
+        assert!(
+            matches!(
+                p.hidden[0],
+                navkf_diagnose::diagnosis_study::content::Hidden::Misaligned { .. }
+            ),
+            "{p:?}"
+        );
+        let ds = simulate(&config, &trajectory, p).unwrap();
+        let d = run(&ds);
+        assert!(
+            d.effects.is_empty(),
+            "{index}: {:?} {:#?}",
+            d.effects,
+            d.findings
+        );
+        assert!(
+            d.suggested.iter().any(|e| e == "torquer-scale"),
+            "{index}: {:?}",
+            d.suggested
+        );
+        let beyond = d
+            .rounds
+            .iter()
+            .flat_map(|r| &r.candidates)
+            .any(|c| c.effect == "torquer-scale" && c.outcome == Outcome::BeyondSmallAngle);
+        assert!(beyond, "{index}: {:#?}", d.rounds);
+        assert!(
+            d.findings[0].contains("--attitude exact"),
+            "{index}: {}",
+            d.findings[0]
+        );
+    }
+}

@@ -86,6 +86,10 @@ pub enum Outcome {
     /// Decisive, but an explanation outside the catalogue that looks like it on this
     /// trajectory explains the misfit as well ([`crate::rivals`]): not named.
     LooksLikeOutside,
+    /// Decisive, but the platform is diagnosed with the small-angle attitude equations under a
+    /// tilt prior beyond their depth ([`crate::priors::beyond_small_angle`]), where a
+    /// misalignment of degrees can pass for it: suggested, not named.
+    BeyondSmallAngle,
 }
 
 impl std::fmt::Display for Outcome {
@@ -106,6 +110,9 @@ impl std::fmt::Display for Outcome {
                 "decisive, but something outside the catalogue fits as well"
             }
             Outcome::Indistinguishable => "decisive, but another explains as well: suggested",
+            Outcome::BeyondSmallAngle => {
+                "decisive, but the small-angle model is out of its depth: suggested"
+            }
         })
     }
 }

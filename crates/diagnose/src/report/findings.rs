@@ -11,13 +11,9 @@ use crate::candidates::evidence::{Candidate, CandidateKind, Outcome, DECISIVE_BI
 use crate::diagnosis::{Diagnosis, RoundKind};
 use crate::misfit::{GROSS_NIS_RATIO, SUGGEST_SHARE};
 use crate::noise::levels::NoiseVerdict;
+use crate::priors::beyond_small_angle;
 use crate::verdict::Verdict;
 use navkf_dynamics::prior::PriorSource;
-
-/// A tilt prior sigma beyond which the diagnosis warns that the small-angle model is out of
-/// its depth (0.5 deg: `results/misalignment/` finds its EKF consistent at 0.1 deg and not at
-/// 1 deg).
-pub const SMALL_ANGLE_LIMIT_RAD: f64 = 8.7e-3;
 
 /// Plain-language findings, in the order a user should read them: the noise, where the model
 /// under test fails, what each round named and why, what remains, and what cannot be told.
@@ -36,25 +32,19 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
         );
     }
     // A misalignment of degrees breaks the small-angle model before anything else: first.
-    if d.attitude == navkf_dynamics::Attitude::SmallAngle && d.family.is_platform() {
-        let large: Vec<String> = d
-            .priors
-            .iter()
-            .filter(|p| {
-                matches!(p.name.as_str(), "azimuth_rad" | "level_rad")
-                    && p.sigma > SMALL_ANGLE_LIMIT_RAD
-            })
-            .map(|p| format!("{} = {:.2} deg", p.name, p.sigma.to_degrees()))
-            .collect();
-        if !large.is_empty() {
-            out.push(format!(
-                "The tilt prior ({}) allows errors where the small-angle model does not hold \
-                 (in studies/misalignment.toml its EKF turns inconsistent from 1 deg of \
-                 azimuth sigma and inaccurate from 3 deg), and such a misalignment can pass \
-                 for a missing effect. Diagnose again with `--attitude exact`.",
-                large.join(", ")
-            ));
-        }
+    let large: Vec<String> = beyond_small_angle(&d.priors, d.attitude, d.family)
+        .iter()
+        .map(|p| format!("{} = {:.2} deg", p.name, p.sigma.to_degrees()))
+        .collect();
+    if !large.is_empty() {
+        out.push(format!(
+            "The tilt prior ({}) allows errors where the small-angle model does not hold \
+             (in studies/misalignment.toml its EKF turns inconsistent from 1 deg of \
+             azimuth sigma and inaccurate from 3 deg), and such a misalignment can pass \
+             for a missing effect: no effect is named. Diagnose again with `--attitude \
+             exact`.",
+            large.join(", ")
+        ));
     }
     // Noise first: a wrong noise level is not a missing effect.
     if let (Some(first), Some(last)) = (d.noise_checks.first(), d.noise_checks.last()) {

@@ -17,6 +17,7 @@
 
 use crate::consistency::{phase_name, NisStat};
 use crate::fit::pass::Fit;
+use navkf_dynamics::trajectory::Phase;
 use navkf_report::stats::Band;
 use serde::{Deserialize, Serialize};
 
@@ -27,8 +28,10 @@ use serde::{Deserialize, Serialize};
 /// gives the ratios its out-of-catalogue and misaligned datasets end at.
 pub const GROSS_NIS_RATIO: f64 = 2.0;
 
-/// Share of the base model's excess NIS a candidate must remove to be suggested beside the
-/// verdict [`crate::Verdict::DoesNotFollowModel`]: a stand-in removes a small share (1-6 %
+/// Share of the excess NIS of the model it was tried in (its round's) an effect the rounds
+/// named must have removed to be suggested beside the verdict
+/// [`crate::Verdict::DoesNotFollowModel`] (a decisive candidate left unnamed because another
+/// explanation fits as well is suggested as always): a stand-in removes a small share (1-6 %
 /// on the real drive of issue 26), an effect that is there most of it.
 pub const SUGGEST_SHARE: f64 = 0.5;
 
@@ -91,14 +94,8 @@ impl Misfit {
             .iter()
             .enumerate()
             .filter_map(|(c, ch)| {
-                let e: Vec<f64> = fit
-                    .z
-                    .iter()
-                    .zip(&fit.z_hat)
-                    .zip(&fit.s_sigma)
-                    .map(|((z, zh), s)| (z[c] - zh[c]) / s[c])
-                    .filter(|e| e.is_finite())
-                    .collect();
+                let mut e = fit.normalised_innovations(c);
+                e.retain(|e| e.is_finite());
                 let n = e.len();
                 (n > 0).then(|| ChannelMisfit {
                     channel: ch.name.to_string(),
@@ -109,12 +106,15 @@ impl Misfit {
             })
             .collect();
         channels.sort_by(|a, b| b.variance.total_cmp(&a.variance));
-        let mut phases: Vec<(String, f64, usize)> = Vec::new();
-        for phase in fit.phases.iter().copied() {
-            let name = phase_name(phase);
-            if phases.iter().any(|p| p.0 == name) {
-                continue;
+        // Each phase once, in the order it first occurs.
+        let mut seen: Vec<Phase> = Vec::new();
+        for p in &fit.phases {
+            if !seen.contains(p) {
+                seen.push(*p);
             }
+        }
+        let mut phases: Vec<(String, f64, usize)> = Vec::new();
+        for phase in seen {
             let (nis, dims): (Vec<f64>, Vec<usize>) = fit
                 .phases
                 .iter()
@@ -124,11 +124,15 @@ impl Misfit {
                 .unzip();
             let stat = NisStat::of(&nis, &dims);
             if stat.count > 0 && !stat.within(Band::Percent99) && stat.mean > stat.dof {
-                phases.push((name.to_string(), stat.mean / stat.dof, stat.count));
+                phases.push((
+                    phase_name(phase).to_string(),
+                    stat.mean / stat.dof,
+                    stat.count,
+                ));
             }
         }
         phases.sort_by(|a, b| b.1.total_cmp(&a.1));
-        let (spans, time_share) = spans_above(fit, width);
+        let (spans, time_share) = spans_above(&fit.t, &fit.nis, &fit.dims, width);
         Misfit {
             nis_ratio: all.mean / all.dof,
             channels,
@@ -139,16 +143,19 @@ impl Misfit {
     }
 }
 
-/// Spans where windows of `width` updates (stepping by half) lie above their 99 % bound,
-/// overlapping windows merged; with the share of the record's duration they cover.
-fn spans_above(fit: &Fit, width: usize) -> (Vec<SpanMisfit>, f64) {
-    let n = fit.nis.len();
+/// Spans where windows of `width` updates (stepping by half) of NIS values `nis` of dimensions
+/// `dims` at times `t` lie above their 99 % bound, overlapping windows merged; with the share
+/// of the record's duration they cover. A span's share of the excess is over the larger of
+/// the record's net excess and the spans' own, so that shares stay within 100 % where the
+/// model over-predicts elsewhere.
+fn spans_above(t: &[f64], nis: &[f64], dims: &[usize], width: usize) -> (Vec<SpanMisfit>, f64) {
+    let n = nis.len();
     let width = width.clamp(2, n.max(2));
     let mut marked: Vec<[usize; 2]> = Vec::new();
     let mut start = 0;
     while start + width <= n {
         let end = start + width;
-        let stat = NisStat::of(&fit.nis[start..end], &fit.dims[start..end]);
+        let stat = NisStat::of(&nis[start..end], &dims[start..end]);
         if !stat.within(Band::Percent99) && stat.mean > stat.dof {
             match marked.last_mut() {
                 Some(last) if last[1] >= start => last[1] = end,
@@ -157,25 +164,27 @@ fn spans_above(fit: &Fit, width: usize) -> (Vec<SpanMisfit>, f64) {
         }
         start += width / 2;
     }
-    let excess = |r: [usize; 2]| -> f64 {
-        (r[0]..r[1])
-            .map(|k| fit.nis[k] - fit.dims[k] as f64)
-            .sum::<f64>()
-    };
-    let total = excess([0, n]);
-    let duration = match (fit.t.first(), fit.t.last()) {
+    let excess =
+        |r: [usize; 2]| -> f64 { (r[0]..r[1]).map(|k| nis[k] - dims[k] as f64).sum::<f64>() };
+    let in_spans: f64 = marked.iter().map(|&r| excess(r).max(0.0)).sum();
+    let total = excess([0, n]).max(in_spans);
+    let duration = match (t.first(), t.last()) {
         (Some(a), Some(b)) if b > a => b - a,
         _ => 0.0,
     };
-    let covered: f64 = marked.iter().map(|r| fit.t[r[1] - 1] - fit.t[r[0]]).sum();
+    let covered: f64 = marked.iter().map(|r| t[r[1] - 1] - t[r[0]]).sum();
     let mut spans: Vec<SpanMisfit> = marked
         .iter()
         .map(|&r| {
-            let stat = NisStat::of(&fit.nis[r[0]..r[1]], &fit.dims[r[0]..r[1]]);
+            let stat = NisStat::of(&nis[r[0]..r[1]], &dims[r[0]..r[1]]);
             SpanMisfit {
-                t: [fit.t[r[0]], fit.t[r[1] - 1]],
+                t: [t[r[0]], t[r[1] - 1]],
                 nis_ratio: stat.mean / stat.dof,
-                excess_share: if total > 0.0 { excess(r) / total } else { 0.0 },
+                excess_share: if total > 0.0 {
+                    excess(r).max(0.0) / total
+                } else {
+                    0.0
+                },
             }
         })
         .collect();
@@ -250,5 +259,75 @@ impl Misfit {
             100.0 * self.time_share,
             spans.join(", ")
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// NIS exactly at its dimension (2) everywhere but `high`, where it is `level`.
+    fn record(
+        n: usize,
+        high: std::ops::Range<usize>,
+        level: f64,
+    ) -> (Vec<f64>, Vec<f64>, Vec<usize>) {
+        let t: Vec<f64> = (0..n).map(|k| k as f64).collect();
+        let nis: Vec<f64> = (0..n)
+            .map(|k| if high.contains(&k) { level } else { 2.0 })
+            .collect();
+        (t, nis, vec![2; n])
+    }
+
+    #[test]
+    fn one_block_of_misfit_is_one_span_holding_its_excess() {
+        let (t, nis, dims) = record(1000, 400..520, 20.0);
+        let (spans, share) = spans_above(&t, &nis, &dims, 60);
+        assert_eq!(spans.len(), 1, "{spans:?}");
+        let s = &spans[0];
+        // Windows of 60 stepping by 30 that touch the block: from 360 to 580.
+        assert!(
+            s.t[0] <= 400.0 && s.t[0] >= 340.0 && s.t[1] >= 519.0 && s.t[1] <= 580.0,
+            "{s:?}"
+        );
+        assert!((s.excess_share - 1.0).abs() < 1e-12, "{s:?}");
+        assert!(s.nis_ratio > 1.0);
+        assert!((share - (s.t[1] - s.t[0]) / 999.0).abs() < 1e-12, "{share}");
+    }
+
+    #[test]
+    fn shares_stay_within_the_whole_where_the_model_over_predicts_elsewhere() {
+        // A block above, and NIS half its dimension everywhere else: the record's net excess is
+        // negative, yet the block's share is 100 %, not more and not 0 %.
+        let (t, mut nis, dims) = record(1000, 100..160, 12.0);
+        for (k, v) in nis.iter_mut().enumerate() {
+            if !(100..160).contains(&k) {
+                *v = 1.0;
+            }
+        }
+        let (spans, _) = spans_above(&t, &nis, &dims, 60);
+        assert!(!spans.is_empty());
+        let sum: f64 = spans.iter().map(|s| s.excess_share).sum();
+        assert!(
+            sum <= 1.0 + 1e-12 && spans[0].excess_share > 0.9,
+            "{spans:?}"
+        );
+    }
+
+    #[test]
+    fn two_distant_blocks_are_two_spans_and_a_consistent_record_none() {
+        let (t, mut nis, dims) = record(2000, 200..260, 20.0);
+        for v in &mut nis[1500..1600] {
+            *v = 20.0;
+        }
+        let (spans, _) = spans_above(&t, &nis, &dims, 60);
+        assert_eq!(spans.len(), 2, "{spans:?}");
+        // The longer block holds more of the excess and comes first.
+        assert!(spans[0].t[0] > 1000.0 && spans[1].t[1] < 400.0, "{spans:?}");
+        let (t, nis, dims) = record(2000, 0..0, 0.0);
+        let (spans, share) = spans_above(&t, &nis, &dims, 60);
+        assert!(spans.is_empty() && share == 0.0);
+        let (spans, share) = spans_above(&[], &[], &[], 60);
+        assert!(spans.is_empty() && share == 0.0);
     }
 }

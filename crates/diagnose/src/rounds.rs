@@ -186,8 +186,20 @@ pub fn diagnose(
     };
     let kept: Vec<String> = stand_ins.kept.iter().map(Named::to_string).collect();
     // An effect that leaves the model inconsistent is suggested, not named (crate::verdict).
+    // Beside a gross misfit, a named effect is suggested only if it removed most of its
+    // round's excess; the rest stood in for a part of it (crate::misfit).
+    let removed_most = |e: &String| {
+        rounds
+            .iter()
+            .flat_map(|r| &r.candidates)
+            .filter(|c| &c.effect == e)
+            .any(|c| c.excess_removed >= SUGGEST_SHARE)
+    };
     let (effects, mut suggested) = match verdict {
-        Verdict::PartlyExplained | Verdict::DoesNotFollowModel => (Vec::new(), kept),
+        Verdict::PartlyExplained => (Vec::new(), kept),
+        Verdict::DoesNotFollowModel => {
+            (Vec::new(), kept.into_iter().filter(removed_most).collect())
+        }
         _ => (kept, Vec::new()),
     };
     // Explanations the data could not tell apart from each other or from something outside
@@ -200,17 +212,6 @@ pub fn diagnose(
         if undecided && !suggested.contains(&c.effect) {
             suggested.push(c.effect.clone());
         }
-    }
-    // Beside a gross misfit, only what removed most of its round's excess is worth a
-    // suggestion; the rest stood in for a part of it (crate::misfit).
-    if verdict == Verdict::DoesNotFollowModel {
-        suggested.retain(|e| {
-            rounds
-                .iter()
-                .flat_map(|r| &r.candidates)
-                .filter(|c| &c.effect == e)
-                .any(|c| c.excess_removed >= SUGGEST_SHARE)
-        });
     }
     let mut d = Diagnosis {
         dataset: ds.name.clone(),

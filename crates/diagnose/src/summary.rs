@@ -93,14 +93,7 @@ pub fn summarize_fit(ds: &Dataset, fit: &Fit, opts: &Options) -> FitSummary {
         .iter()
         .enumerate()
         .map(|(c, channel)| {
-            let e: Vec<f64> = fit
-                .z
-                .iter()
-                .zip(&fit.z_hat)
-                .zip(&fit.s_sigma)
-                .filter(|((z, _), _)| z[c].is_finite())
-                .map(|((z, zh), s)| (z[c] - zh[c]) / s[c])
-                .collect();
+            let e = fit.normalised_innovations(c);
             whiteness(
                 channel.name,
                 &e,

@@ -654,5 +654,21 @@ fn a_platform_misaligned_by_degrees_is_not_explained_by_an_effect() {
             "{index}: {}",
             d.findings[0]
         );
+        // Why nothing is named says the same, not "none has decisive evidence".
+        assert!(
+            d.findings
+                .iter()
+                .any(|f| f.starts_with("No catalogued effect can be named")
+                    && f.contains("small-angle model is out of its depth")),
+            "{index}: {:#?}",
+            d.findings
+        );
+        assert!(
+            !d.findings
+                .iter()
+                .any(|f| f.contains("none has decisive evidence")),
+            "{index}: {:#?}",
+            d.findings
+        );
     }
 }

@@ -66,7 +66,7 @@ pub fn ignored_setting() -> Option<String> {
     (!FORCE_VALUES.contains(&text.as_ref())).then(|| {
         format!(
             "{FORCE_VARIABLE}={text:?} is ignored: expected \"baseline\" (the plain copies of \
-             the kernels) or nothing; running the {} copies",
+             the kernels) or nothing; running: {}",
             instruction_set()
         )
     })

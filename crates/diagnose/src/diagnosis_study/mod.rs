@@ -511,6 +511,7 @@ fn run_one(
                 .map(|s| {
                     (s.verdict != crate::noise::levels::NoiseVerdict::Unresolved)
                         .then_some(s.sigma_ratio)
+                        .filter(|r| r.is_finite())
                 })
                 .collect();
             record.named = d.effects.clone();

@@ -108,6 +108,18 @@ pub struct Fit {
 }
 
 impl Fit {
+    /// The normalised innovations `(z - z_hat) / sigma` of channel `c` of
+    /// [`Fit::channels`], at the updates that measured it.
+    pub fn normalised_innovations(&self, c: usize) -> Vec<f64> {
+        self.z
+            .iter()
+            .zip(&self.z_hat)
+            .zip(&self.s_sigma)
+            .filter(|((z, _), _)| z[c].is_finite())
+            .map(|((z, zh), s)| (z[c] - zh[c]) / s[c])
+            .collect()
+    }
+
     /// Number of scalar measurements used.
     pub fn measurement_count(&self) -> usize {
         self.dims.iter().sum()

@@ -4,7 +4,7 @@
 use super::sentences::{
     consistency_findings, failing_channels_and_phases, implausible_findings,
     indistinguishable_instead, looks_like_outside_instead, noise_findings, refusal_findings,
-    unphysical_instead,
+    small_angle_instead, unphysical_instead,
 };
 use super::words::times;
 use crate::candidates::evidence::{Candidate, CandidateKind, Outcome, DECISIVE_BIC};
@@ -350,7 +350,8 @@ fn why_nothing_named(d: &Diagnosis) -> Option<String> {
         .filter(|c| c.outcome == Outcome::Confounded)
         .map(|c| format!("`{}`", c.effect))
         .collect();
-    looks_like_outside_instead(last)
+    small_angle_instead(last)
+        .or_else(|| looks_like_outside_instead(last))
         .or_else(|| indistinguishable_instead(last))
         .or_else(|| unphysical_instead(last))
         .or_else(|| {
@@ -371,26 +372,56 @@ fn why_nothing_named(d: &Diagnosis) -> Option<String> {
 /// worth, and what kind of cause to look for.
 fn does_not_follow(d: &Diagnosis) -> Vec<String> {
     let mut out = Vec::new();
-    let noise = match d.noise_checks.last() {
-        Some(n) if n.mis_stated() => "at the fitted noise levels",
-        Some(_) => "at the stated noise levels, which the noise check could not improve",
-        None => "at the stated noise levels (the noise check was off)",
+    // The final model's noise is the fitted one only if a round named the refitted levels.
+    let fitted = d.rounds.iter().any(|r| r.named_noise_levels());
+    let (noise, untried) = match (d.noise_checks.last(), fitted) {
+        (Some(_), true) => ("at the fitted noise levels", true),
+        (Some(_), false) => ("at the stated noise levels, which no refit replaced", true),
+        (None, _) => (
+            "at the stated noise levels (the noise check was off)",
+            false,
+        ),
     };
-    let failed = d
+    let why = if untried {
+        ", which no noise level or catalogued effect left untried can explain"
+    } else {
+        ""
+    };
+    out.push(match &d.model.failure {
+        Some(f) => format!(
+            "The data do not follow this model: {noise}, and after every catalogued effect was \
+             tried, its filter fails: {f}. No effect is named."
+        ),
+        None => format!(
+            "The data do not follow this model: {noise}, and after every catalogued effect was \
+             tried, its NIS is {:.3} against {:.2}, {:.1} times what a consistent model gives \
+             (more than {GROSS_NIS_RATIO} times is a gross misfit{why}). No effect is named.",
+            d.model.nis.mean,
+            d.model.nis.dof,
+            d.model.nis.mean / d.model.nis.dof,
+        ),
+    });
+    let held: Vec<String> = d
         .model
-        .failure
-        .as_ref()
-        .map(|f| format!(" Its filter failed: {f}."))
-        .unwrap_or_default();
-    out.push(format!(
-        "The data do not follow this model: {noise}, and after every catalogued effect was \
-         tried, its NIS is {:.3} against {:.2}, {:.1} times what a consistent model gives \
-         (more than {GROSS_NIS_RATIO} times is a gross misfit, which no noise level or \
-         catalogued effect left untried can explain).{failed} No effect is named.",
-        d.model.nis.mean,
-        d.model.nis.dof,
-        d.model.nis.mean / d.model.nis.dof,
-    ));
+        .effects
+        .iter()
+        .filter(|e| {
+            let manual = d
+                .rounds
+                .iter()
+                .any(|r| r.kind == RoundKind::Manual && r.named.contains(e));
+            !manual && !d.suggested.contains(e)
+        })
+        .map(|e| format!("`{e}`"))
+        .collect();
+    if !held.is_empty() {
+        out.push(format!(
+            "The final model's fit, whose NIS and coefficients the report gives, holds {}: \
+             each helped decisively in its round but removed too little of the misfit to be \
+             named or suggested.",
+            held.join(", ")
+        ));
+    }
     if let Some(m) = &d.misfit {
         out.push(format!("Where it fails: {m}."));
     }
@@ -403,7 +434,13 @@ fn does_not_follow(d: &Diagnosis) -> Vec<String> {
         .filter(|c| c.kind != CandidateKind::NoiseLevels && c.bic_gain > DECISIVE_BIC)
         .collect();
     tried.sort_by(|a, b| b.excess_removed.total_cmp(&a.excess_removed));
-    tried.dedup_by(|a, b| a.effect == b.effect);
+    // Each effect once, at its largest share (every round ranks every candidate).
+    let mut seen: Vec<&str> = Vec::new();
+    tried.retain(|c| {
+        let first = !seen.contains(&c.effect.as_str());
+        seen.push(&c.effect);
+        first
+    });
     if !tried.is_empty() {
         let shares: Vec<String> = tried
             .iter()

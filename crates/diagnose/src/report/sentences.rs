@@ -198,6 +198,20 @@ pub fn unphysical_instead(last: &[Candidate]) -> Option<String> {
     })
 }
 
+/// When the last round's choice was not named because the small-angle model is out of its
+/// depth under the tilt prior ([`crate::naming`]): why no catalogued effect is named.
+pub fn small_angle_instead(last: &[Candidate]) -> Option<String> {
+    let held = quoted_with(last, Outcome::BeyondSmallAngle);
+    (!held.is_empty()).then(|| {
+        format!(
+            "No catalogued effect can be named: {} explains the misfit decisively, but the \
+             small-angle model is out of its depth under this tilt prior, and a misalignment of \
+             degrees can pass for it. It is suggested; diagnose again with `--attitude exact`.",
+            held.join(", ")
+        )
+    })
+}
+
 /// When the last round found decisive explanations it could not tell apart
 /// ([`crate::naming`]'s tie rule): why no catalogued effect is named.
 pub fn indistinguishable_instead(last: &[Candidate]) -> Option<String> {

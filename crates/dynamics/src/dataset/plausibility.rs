@@ -134,10 +134,17 @@ impl Dataset {
         };
         if let Some(t) = travel.as_ref().filter(|_| compared) {
             let odo = t.odometer[0].hypot(t.odometer[1]);
-            // GPS in radians also leaves the odometer far ahead (57 times); over spans of
-            // seconds, where GPS noise adds no travel, milliseconds make it 1000 times.
+            // GPS in radians also leaves the odometer far ahead (57 times). Milliseconds
+            // show besides in the input interval (2-100 for a 10-500 Hz record) or, over
+            // spans where GPS noise adds no travel, in a ratio near 1000. (Spans are measured
+            // in the file's units: with fixes every few milliseconds the noise is not averaged
+            // out, which the input interval covers.)
+            let slow_inputs = median_interval(self.inputs.iter().map(|i| i.t))
+                .is_some_and(|dt| dt > SLOWEST_INPUT_S);
             let (odo_spans, gps_spans) = over_spans();
-            let not_radians = !(gps_spans > 0.0) || odo_spans > MILLISECONDS_SPAN_RATIO * gps_spans;
+            let not_radians = slow_inputs
+                || !(gps_spans > 0.0)
+                || odo_spans > MILLISECONDS_SPAN_RATIO * gps_spans;
             if odo > MILLISECONDS_RATIO * t.gps_total && not_radians {
                 out.push(warn(
                     Doubt::TimesInMilliseconds,

@@ -15,3 +15,11 @@ pub fn instruction_set() -> &'static str {
         InstructionSet::CompiledIn => "native",
     }
 }
+
+/// The warning for a `NAVKF_SIMD` value the kernels ignore, or `None`
+/// (`navkf_dynamics::instruction_set::ignored_setting`); the package warns with it on import,
+/// as the command line does on start.
+#[pyfunction]
+pub fn ignored_simd_setting() -> Option<String> {
+    navkf_dynamics::instruction_set::ignored_setting()
+}

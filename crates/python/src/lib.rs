@@ -30,6 +30,7 @@ fn _navkf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(study::plan, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose::diagnose, m)?)?;
     m.add_function(wrap_pyfunction!(instruction_set::instruction_set, m)?)?;
+    m.add_function(wrap_pyfunction!(instruction_set::ignored_simd_setting, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -3,6 +3,7 @@
 import json
 import os
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -102,3 +103,22 @@ def test_ctrl_c_stops_a_study_and_writes_nothing(root, tmp_path):
     assert "interrupted" in rest
     assert not out.exists()
     assert not any(n.name.startswith(".out.navkf-partial") for n in tmp_path.iterdir())
+
+
+def test_an_ignored_instruction_set_setting_is_warned_about_on_import():
+    # NAVKF_SIMD=plain is no value the kernels know: importing says so, as the command line
+    # does; baseline says nothing.
+    def imported(value):
+        env = dict(os.environ, NAVKF_SIMD=value)
+        return subprocess.run(
+            [sys.executable, "-W", "always", "-c", "import navkf"],
+            capture_output=True,
+            text=True,
+            env=env,
+        )
+
+    plain = imported("plain")
+    assert plain.returncode == 0, plain.stderr
+    assert "RuntimeWarning" in plain.stderr and 'NAVKF_SIMD="plain" is ignored' in plain.stderr
+    quiet = imported("baseline")
+    assert quiet.returncode == 0 and "NAVKF_SIMD" not in quiet.stderr, quiet.stderr

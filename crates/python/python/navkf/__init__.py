@@ -45,6 +45,12 @@ __all__ = [
     "__version__",
 ]
 
+# NAVKF_SIMD set to a value the kernels ignore is said, not passed over (as the command line
+# says it on start).
+_ignored = _navkf.ignored_simd_setting()
+if _ignored is not None:
+    warnings.warn(_ignored, RuntimeWarning, stacklevel=2)
+
 Progress = Callable[[int, int], Any]
 PathLike = Union[str, "os.PathLike[str]"]
 

@@ -65,8 +65,6 @@ pub struct SpanMisfit {
 /// Where a model fails.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Misfit {
-    /// Mean NIS over its dimension, over the whole record.
-    pub nis_ratio: f64,
     /// Every channel with innovations, the worst first.
     pub channels: Vec<ChannelMisfit>,
     /// Motion phases whose NIS lies above its 99 % bound: name, NIS over its dimension,
@@ -88,7 +86,6 @@ pub fn is_gross(nis: &NisStat, failed: bool) -> bool {
 impl Misfit {
     /// Where `fit` fails, with sliding windows of `width` updates (as the summary's).
     pub fn of(fit: &Fit, width: usize) -> Misfit {
-        let all = NisStat::of(&fit.nis, &fit.dims);
         let mut channels: Vec<ChannelMisfit> = fit
             .channels
             .iter()
@@ -134,7 +131,6 @@ impl Misfit {
         phases.sort_by(|a, b| b.1.total_cmp(&a.1));
         let (spans, time_share) = spans_above(&fit.t, &fit.nis, &fit.dims, width);
         Misfit {
-            nis_ratio: all.mean / all.dof,
             channels,
             phases,
             spans,

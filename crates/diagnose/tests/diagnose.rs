@@ -588,7 +588,7 @@ fn a_gross_misfit_names_nothing_and_says_where() {
     assert!(d.effects.is_empty() && d.best.is_none(), "{:?}", d.effects);
     let m = d.misfit.as_ref().expect("a gross misfit says where");
     assert!(
-        m.nis_ratio > navkf_diagnose::misfit::GROSS_NIS_RATIO,
+        d.model.nis.mean > navkf_diagnose::misfit::GROSS_NIS_RATIO * d.model.nis.dof,
         "{m:?}"
     );
     assert!(

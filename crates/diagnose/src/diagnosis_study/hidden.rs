@@ -76,6 +76,9 @@ pub enum Hidden {
     },
 }
 
+/// The label of [`Hidden::MemsNoise`] (its report row).
+pub const MEMS_NOISE_LABEL: &str = "MEMS noise stated at navigation grade";
+
 /// A column written in another unit, as users do.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -156,7 +159,7 @@ impl Hidden {
             Hidden::AccelWarmUp { .. } => "accel warm-up (outside)".into(),
             Hidden::Fault { fault, .. } => format!("{} (outside)", fault.label()),
             Hidden::MisstatedNoise { .. } => "mis-stated noise".into(),
-            Hidden::MemsNoise { .. } => "MEMS noise stated at navigation grade".into(),
+            Hidden::MemsNoise { .. } => MEMS_NOISE_LABEL.into(),
             Hidden::Misaligned { attitude, .. } => format!(
                 "misaligned by degrees, diagnosed {}",
                 match attitude {

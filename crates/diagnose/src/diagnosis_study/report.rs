@@ -105,7 +105,7 @@ pub fn markdown(
     for (label, rate) in &r.other_kind_named {
         let other = match r.wrong_units_warned.get(label) {
             Some(w) => format!("its warning given: {w}"),
-            None if label.starts_with("MEMS") => {
+            None if label == super::hidden::MEMS_NOISE_LABEL => {
                 let per: Vec<String> = r
                     .mems_levels_within_20
                     .iter()

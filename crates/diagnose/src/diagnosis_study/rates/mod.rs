@@ -8,6 +8,7 @@
 //! that falls again at large sizes, the symptom of a capping prior, shows there).
 
 use super::content::{Class, Hidden};
+use super::hidden::MEMS_NOISE_LABEL;
 use super::Record;
 use crate::Verdict;
 use navkf_dynamics::Registry;
@@ -456,6 +457,18 @@ fn row_label(r: &Record) -> String {
     }
 }
 
+/// The distinct row labels of `class`'s records, sorted.
+fn labels_of(records: &[Record], class: Class) -> Vec<String> {
+    let mut v: Vec<String> = records
+        .iter()
+        .filter(|r| r.class == class)
+        .map(row_label)
+        .collect();
+    v.sort();
+    v.dedup();
+    v
+}
+
 fn verdict_name(v: Option<Verdict>) -> String {
     v.map_or("error".to_string(), |v| v.to_string())
 }
@@ -489,13 +502,7 @@ pub fn rates(records: &[Record], scales: &[EffectScale]) -> Rates {
     });
     let outside_named = count(&mut of_class(Class::Outside), &any_named);
     let mut outside_by_effect = BTreeMap::new();
-    let labels: Vec<String> = {
-        let mut v: Vec<String> = of_class(Class::Outside).map(row_label).collect();
-        v.sort();
-        v.dedup();
-        v
-    };
-    for l in labels {
+    for l in labels_of(records, Class::Outside) {
         let rate = count(
             &mut of_class(Class::Outside).filter(|r| row_label(r) == l),
             &any_named,
@@ -632,13 +639,7 @@ pub fn rates(records: &[Record], scales: &[EffectScale]) -> Rates {
     let mut other_kind_named = BTreeMap::new();
     let mut wrong_units_warned = BTreeMap::new();
     for class in [Class::MemsNoise, Class::Misaligned, Class::WrongUnits] {
-        let labels: Vec<String> = {
-            let mut v: Vec<String> = of_class(class).map(row_label).collect();
-            v.sort();
-            v.dedup();
-            v
-        };
-        for l in labels {
+        for l in labels_of(records, class) {
             let named = count(
                 &mut of_class(class).filter(|r| row_label(r) == l),
                 &any_named,
@@ -690,19 +691,15 @@ pub fn rates(records: &[Record], scales: &[EffectScale]) -> Rates {
         (None, None)
     } else {
         let k = pooled.iter().filter(|e| within(e)).count();
-        let unresolved = pooled.iter().filter(|e| e.is_none()).count();
+        let unresolved = Rate::of(pooled.iter().filter(|e| e.is_none()).count(), pooled.len());
         let rate = Rate::of(k, pooled.len());
         targets.push(Target {
-            what: "MEMS noise stated at navigation grade: fitted levels within 20 % of the truth"
-                .into(),
+            what: format!("{MEMS_NOISE_LABEL}: fitted levels within 20 % of the truth"),
             target: "at least 95 %".into(),
-            measured: format!(
-                "{rate}; unresolved (and said so): {}",
-                Rate::of(unresolved, pooled.len())
-            ),
+            measured: format!("{rate}; unresolved (and said so): {unresolved}"),
             met: rate.rate >= 0.95,
         });
-        (Some(rate), Some(Rate::of(unresolved, pooled.len())))
+        (Some(rate), Some(unresolved))
     };
     let z: Vec<f64> = records
         .iter()

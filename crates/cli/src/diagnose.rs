@@ -11,6 +11,7 @@
 use navkf_diagnose::request::DiagnoseRequest;
 use navkf_diagnose::{diagnose, report, Options, RoundKind};
 use navkf_dynamics::dataset::Dataset;
+use navkf_dynamics::model_kind::ModelKind;
 use navkf_report::{write_atomic, SettingNames};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -103,7 +104,8 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     // A large recording takes seconds to read and minutes to diagnose: a spinner with the
     // elapsed time says it is working (drawn only on a terminal).
     let spinner = navkf_report::progress::spinner(format!("reading {}", a.dataset.display()));
-    let (registry, declared) = crate::effects::registry_with_file(a.effects_file.as_deref())?;
+    let (registry, declared, declared_for) =
+        crate::effects::registry_for_either(a.effects_file.as_deref())?;
     let request = DiagnoseRequest {
         with,
         window_s: a.window,
@@ -118,6 +120,22 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         max_rounds: a.max_rounds,
     };
     let ds = Dataset::read_with(&a.dataset, &registry)?;
+    if let Some(file) = a.effects_file.as_ref().filter(|_| declared_for != ds.model) {
+        return Err(format!(
+            "--effects-file {}: declares {} effects ({}); dataset `{}` is a {} one; expected \
+             a file of {} effects",
+            file.display(),
+            declared_for.name(),
+            match declared_for {
+                ModelKind::Strapdown => "`places`",
+                ModelKind::Platform => "`rates` and `measurement` terms",
+            },
+            ds.name,
+            ds.model.name(),
+            ds.model.name()
+        )
+        .into());
+    }
     // The settings that depend on the dataset's family, checked before anything is fitted.
     let (catalogue, opts) = request.check(&ds, SettingNames::CommandLine)?;
     let out = match a.out {

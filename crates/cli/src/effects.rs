@@ -12,6 +12,7 @@
 //! (`navkf_dynamics::partials_check`), reporting each one's worst entry.
 
 use navkf_dynamics::declared::{read_declarations, EffectDeclaration};
+use navkf_dynamics::model_kind::ModelKind;
 use navkf_dynamics::partials_check::check_effect;
 use navkf_dynamics::prior::base_coefficient_sigma;
 use navkf_dynamics::state::{BASE_DIM, BASE_MEANINGS, BASE_NAMES, BASE_UNITS, NAV_DIM};
@@ -36,7 +37,7 @@ pub struct Args {
     #[arg(long)]
     unit: Option<String>,
     /// A TOML file of `[[effect]]` tables: effects declared without Rust
-    /// (docs/declared-effects.md), listed after the catalogue's (platform family).
+    /// (docs/declared-effects.md), listed after the catalogue's (either family).
     #[arg(long, value_name = "FILE")]
     effects_file: Option<PathBuf>,
     /// Check every listed effect's partial derivatives against finite differences and report
@@ -55,13 +56,57 @@ pub fn registry_with_file(
         return Ok((registry, Vec::new()));
     };
     let declarations = read_declarations(path)?;
-    registry.declare(&declarations).map_err(|e| match e {
+    registry
+        .declare(&declarations)
+        .map_err(|e| located(path, e))?;
+    Ok((registry, declarations))
+}
+
+/// For a command that reads a dataset of either family (`diagnose`): the platform catalogue
+/// the dataset is read with (with `file`'s effects when they are platform ones), `file`'s
+/// declarations, and the family they belong to (the strapdown's when any states `places`).
+pub fn registry_for_either(
+    file: Option<&Path>,
+) -> Result<(Registry, Vec<EffectDeclaration>, ModelKind), Box<dyn std::error::Error>> {
+    let strapdown = match file {
+        Some(path) => read_declarations(path)?
+            .iter()
+            .any(|d| !d.places.is_empty()),
+        None => false,
+    };
+    match (file, strapdown) {
+        (Some(path), true) => Ok((
+            Registry::catalogue(),
+            strapdown_declarations(path)?,
+            ModelKind::Strapdown,
+        )),
+        _ => {
+            let (registry, declared) = registry_with_file(file)?;
+            Ok((registry, declared, ModelKind::Platform))
+        }
+    }
+}
+
+/// The effects declared in `file` for the strapdown family, checked against its catalogue;
+/// errors name the file and the key.
+pub fn strapdown_declarations(
+    file: &Path,
+) -> Result<Vec<EffectDeclaration>, Box<dyn std::error::Error>> {
+    let declarations = read_declarations(file)?;
+    StrapdownRegistry::catalogue()
+        .declare(&declarations)
+        .map_err(|e| located(file, e))?;
+    Ok(declarations)
+}
+
+/// A declaration's error with the file it came from.
+fn located(path: &Path, e: DynamicsError) -> String {
+    match e {
         DynamicsError::Config { key, message } => {
             format!("{}: {key}: {message}", path.display())
         }
         other => format!("{}: {other}", path.display()),
-    })?;
-    Ok((registry, declarations))
+    }
 }
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
@@ -91,14 +136,19 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             text
         }
         "strapdown" => {
-            if a.effects_file.is_some() || a.check {
+            if a.check {
                 return Err(
-                    "--effects-file and --check: declared effects and the partials \
-                            check are the platform family's; expected --model platform"
+                    "--check: the partials check of declared terms is the platform \
+                     family's; a strapdown effect's partials are the model's own, checked \
+                     by its tests for any place and factor; expected --model platform"
                         .into(),
                 );
             }
-            strapdown_listing(a.unit.as_deref().unwrap_or("mems").parse()?)
+            let mut registry = StrapdownRegistry::catalogue();
+            if let Some(file) = &a.effects_file {
+                registry.declare(&strapdown_declarations(file)?)?;
+            }
+            strapdown_listing(a.unit.as_deref().unwrap_or("mems").parse()?, &registry)
         }
         other => {
             return Err(format!("--model {other}: expected platform or strapdown").into());
@@ -108,8 +158,9 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// The strapdown family's catalogue at the sizes of `class`, after its six biases.
-fn strapdown_listing(class: UnitClass) -> String {
+/// The strapdown family's effects in `registry` (its catalogue and any declared ones) at the
+/// sizes of `class`, after its six biases.
+fn strapdown_listing(class: UnitClass, registry: &StrapdownRegistry) -> String {
     let mut out = String::new();
     let unit = class.errors();
     let _ = writeln!(
@@ -130,7 +181,6 @@ fn strapdown_listing(class: UnitClass) -> String {
         };
         row(&mut out, SD_NAMES[i], SD_UNITS[i], sigma, meaning);
     }
-    let registry = StrapdownRegistry::catalogue();
     let names = registry.names();
     let _ = writeln!(
         out,

@@ -67,14 +67,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         _ => ModelKind::Platform,
     };
     let declarations = match (&a.effects_file, model) {
-        (Some(_), ModelKind::Strapdown) => {
-            return Err(
-                "--effects-file: declared effects are the platform family's; a \
-                        strapdown unit's effects are the strapdown catalogue's (`navkf effects \
-                        --model strapdown`); expected no --effects-file with --model strapdown"
-                    .into(),
-            )
-        }
+        (Some(file), ModelKind::Strapdown) => crate::effects::strapdown_declarations(file)?,
         (file, _) => crate::effects::registry_with_file(file.as_deref())?.1,
     };
     let mut trajectory = match &a.trajectory {

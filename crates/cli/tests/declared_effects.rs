@@ -157,3 +157,153 @@ fn a_study_file_declares_effects_for_study_and_plan() {
     assert!(text(&o.stdout).contains("kd"), "{}", text(&o.stdout));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+const STRAPDOWN_EFFECTS: &str = "../../studies/effects/strapdown-examples.toml";
+
+/// A 900-s drive on short legs, as a `[trajectory]` table.
+const SHORT_DRIVE: &str =
+    "[trajectory]\nduration_s = 900.0\nleg_north_m = 1500.0\nleg_east_m = 1000.0\n";
+
+/// Strapdown effects declared with `places`: listed, hidden in a simulated dataset whose
+/// `dataset.toml` carries them, tried by `diagnose` without the file, and refused with a
+/// file of the other family.
+#[test]
+fn strapdown_effects_are_declared_with_places() {
+    let o = navkf([
+        "effects",
+        "--model",
+        "strapdown",
+        "--effects-file",
+        STRAPDOWN_EFFECTS,
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert!(
+        out.lines()
+            .any(|l| l == "  n_axy     rad             2.000e-3"),
+        "{out}"
+    );
+    let dir = scratch("strapdown");
+    let drive = dir.join("drive.toml");
+    std::fs::write(&drive, SHORT_DRIVE).unwrap();
+    let data = dir.join("skew");
+    let o = navkf([
+        "simulate".as_ref(),
+        "--model".as_ref(),
+        "strapdown".as_ref(),
+        "--trajectory".as_ref(),
+        drive.as_os_str(),
+        "--out".as_ref(),
+        data.as_os_str(),
+        "--effects-file".as_ref(),
+        STRAPDOWN_EFFECTS.as_ref(),
+        "--effects".as_ref(),
+        "accel-xy-skew,n_axy=5e-3".as_ref(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let toml = std::fs::read_to_string(data.join("dataset.toml")).unwrap();
+    assert!(
+        toml.contains("name = \"accel-xy-skew\"")
+            && toml.contains("place = \"E_a[y][x]\"")
+            && !toml.contains("mast"),
+        "{toml}"
+    );
+    let truth = std::fs::read_to_string(data.join("truth.csv")).unwrap();
+    assert!(
+        truth.lines().next().unwrap().ends_with(",n_axy"),
+        "{truth:.200}"
+    );
+    // dataset.toml declares it: a candidate of the diagnosis without the file.
+    let o = navkf([
+        "diagnose".as_ref(),
+        data.as_os_str(),
+        "--out".as_ref(),
+        dir.join("diagnosis").as_os_str(),
+        "--max-rounds".as_ref(),
+        "1".as_ref(),
+        "--noise".as_ref(),
+        "stated".as_ref(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let report = text(&o.stdout);
+    assert!(
+        report.lines().any(|l| l.starts_with("accel-xy-skew ")),
+        "{report}"
+    );
+    // A file of the other family is refused, naming both.
+    for (file, says) in [
+        (EFFECTS, "declares platform effects"),
+        (STRAPDOWN_EFFECTS, "declares strapdown effects"),
+    ] {
+        let platform = file == STRAPDOWN_EFFECTS;
+        let target = if platform {
+            let p = dir.join("platform");
+            let o = navkf([
+                "simulate".as_ref(),
+                "--trajectory".as_ref(),
+                drive.as_os_str(),
+                "--out".as_ref(),
+                p.as_os_str(),
+            ]);
+            assert!(o.status.success(), "{}", text(&o.stderr));
+            p
+        } else {
+            data.clone()
+        };
+        let o = navkf([
+            "diagnose".as_ref(),
+            target.as_os_str(),
+            "--out".as_ref(),
+            dir.join("refused").as_os_str(),
+            "--effects-file".as_ref(),
+            file.as_ref(),
+        ]);
+        assert_eq!(o.status.code(), Some(1));
+        let err = text(&o.stderr);
+        assert!(
+            err.contains(says) && err.contains("expected a file of"),
+            "{err}"
+        );
+        assert!(!dir.join("refused").exists());
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A strapdown study file's `[[effect]]` tables reach `study` and `plan`.
+#[test]
+fn a_strapdown_study_file_declares_effects() {
+    let dir = scratch("strapdown-study");
+    let file = dir.join("skew-study.toml");
+    let declarations = std::fs::read_to_string(STRAPDOWN_EFFECTS).unwrap();
+    std::fs::write(
+        &file,
+        format!(
+            "[study]\nname = \"skew-study\"\nruns = 2\nseed = 7\nfilters = [\"ekf\"]\n\n\
+             [model]\nkind = \"strapdown\"\n\n{SHORT_DRIVE}\n\
+             [truth]\neffects = [\"accel-xy-skew\"]\n\n[filter]\neffects = \
+             [\"accel-xy-skew\"]\n\n{declarations}"
+        ),
+    )
+    .unwrap();
+    let o = navkf([
+        "study".as_ref(),
+        file.as_os_str(),
+        "--out".as_ref(),
+        dir.join("study").as_os_str(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let summary = std::fs::read_to_string(dir.join("study").join("summary.json")).unwrap();
+    assert!(
+        summary.contains("\"n_axy\""),
+        "n_axy is not among the states"
+    );
+    let o = navkf([
+        "plan".as_ref(),
+        file.as_os_str(),
+        "--out".as_ref(),
+        dir.join("plan").as_os_str(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("n_axy"), "{}", text(&o.stdout));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -103,6 +103,7 @@ pub fn diagnose(
         catalogue.kind(),
     )
     .is_empty();
+    let mut untried: Vec<String> = Vec::new();
     for _ in 0..opts.max_rounds {
         crate::error::stop_if_requested()?;
         let summary = summarize_fit(ds, &model, opts);
@@ -141,6 +142,14 @@ pub fn diagnose(
             beyond_small_angle,
         )?;
         confounded.remember(&naming.candidates);
+        let mut notes = naming.notes;
+        for (effect, note) in not_tried(catalogue, &model.effects) {
+            // Said once, in the first round that could not try it.
+            if !untried.contains(&effect) {
+                untried.push(effect);
+                notes.push(note);
+            }
+        }
         rounds.push(Round {
             kind: RoundKind::Automatic,
             model: model.effects.clone(),
@@ -148,7 +157,7 @@ pub fn diagnose(
             consistent: summary.consistent,
             candidates: naming.candidates,
             named: naming.named.iter().map(|(n, _)| n.to_string()).collect(),
-            notes: naming.notes,
+            notes,
         });
         noise_checks.extend(check);
         let Some((what, with_it)) = naming.named else {
@@ -242,6 +251,25 @@ pub fn diagnose(
 }
 
 /// Refuses a dataset too short to judge, and options under which nothing is tested.
+/// Each catalogue effect a round could not try beside `effects`
+/// ([`Catalogue::cannot_join`]), with its note.
+fn not_tried(catalogue: &dyn Catalogue, effects: &[String]) -> Vec<(String, String)> {
+    catalogue
+        .effect_names()
+        .into_iter()
+        .filter(|e| !effects.contains(e))
+        .filter_map(|e| {
+            catalogue.cannot_join(effects, &e).map(|why| {
+                let note = format!(
+                    "`{e}` not tried: it cannot join this model ({why}); a model holds one \
+                     coefficient in each place of the sensor errors"
+                );
+                (e, note)
+            })
+        })
+        .collect()
+}
+
 fn judgeable(ds: &Dataset, catalogue: &dyn Catalogue, opts: &Options) -> Result<(), DiagnoseError> {
     if ds.model != catalogue.kind() {
         return Err(DiagnoseError::Data(format!(

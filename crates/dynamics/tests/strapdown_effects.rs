@@ -31,7 +31,11 @@ fn drive() -> Arc<Trajectory> {
 }
 
 fn model_with(list: &str, noise: &NoiseConfig) -> StrapdownModel {
-    let list = StrapdownEffectList::parse_entries(&[list], &StrapdownRegistry::catalogue())
+    model_in(list, noise, &StrapdownRegistry::catalogue())
+}
+
+fn model_in(list: &str, noise: &NoiseConfig, registry: &StrapdownRegistry) -> StrapdownModel {
+    let list = StrapdownEffectList::parse_entries(&[list], registry)
         .unwrap_or_else(|(_, e)| panic!("{e}"));
     StrapdownModel::base(noise)
         .with_effects(&list, UnitClass::Mems, 1.0)
@@ -114,15 +118,71 @@ fn steps_for(model: &StrapdownModel) -> Vec<f64> {
         .collect()
 }
 
+/// Effects a user declares (docs/declared-effects.md): the whole unit turned on its mount
+/// about z (one angle in four places, two with factor -1), an antenna on a mast that leans
+/// forward with its height, and an odometer scale given as twice its coefficient. They take
+/// places of `gyro-misalignment`, `accel-misalignment`, `gps-lever-arm` and `odometer-scale`
+/// ([`TAKEN`]), so cannot join a model with those.
+const DECLARED: &str = r#"
+[[effect]]
+name = "mount-yaw"
+coefficients = [{ name = "d_mz", unit = "rad", sigma = 2e-3 }]
+places = [
+    { coefficient = "d_mz", place = "E_g[x][y]", factor = -1 },
+    { coefficient = "d_mz", place = "E_g[y][x]" },
+    { coefficient = "d_mz", place = "E_a[x][y]", factor = -1 },
+    { coefficient = "d_mz", place = "E_a[y][x]" },
+]
+
+[[effect]]
+name = "mast"
+coefficients = [{ name = "h_mast", unit = "m", sigma = 1.0 }]
+places = [
+    { coefficient = "h_mast", place = "l[z]" },
+    { coefficient = "h_mast", place = "l[x]", factor = 0.5 },
+]
+
+[[effect]]
+name = "odometer-double"
+coefficients = [{ name = "k2", unit = "1", sigma = 5e-3 }]
+places = [{ coefficient = "k2", place = "kod", factor = 2 }]
+"#;
+
+/// The catalogued effects whose places [`DECLARED`] take.
+const TAKEN: [&str; 4] = [
+    "gyro-misalignment",
+    "accel-misalignment",
+    "gps-lever-arm",
+    "odometer-scale",
+];
+
+/// Every effect of `names` that can join one model with all of [`DECLARED`]'s.
+fn beside_declared<'a>(names: impl IntoIterator<Item = &'a str>) -> String {
+    names
+        .into_iter()
+        .filter(|n| !TAKEN.contains(n))
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+fn declared_registry() -> StrapdownRegistry {
+    let mut registry = StrapdownRegistry::catalogue();
+    registry
+        .declare(&navkf_dynamics::declared::parse_declarations(DECLARED).unwrap())
+        .unwrap();
+    registry
+}
+
 #[test]
 fn every_effects_jacobians_match_central_differences() {
-    let registry = StrapdownRegistry::catalogue();
+    let registry = declared_registry();
     let noise = NoiseConfig::default();
     let mut lists: Vec<String> = registry.names().iter().map(|n| n.to_string()).collect();
-    lists.push(registry.names().join(","));
+    lists.push(StrapdownRegistry::catalogue().names().join(","));
+    lists.push(beside_declared(registry.names()));
     let mut rng = ChaCha8Rng::seed_from_u64(63);
     for list in &lists {
-        let model = model_with(list, &noise);
+        let model = model_in(list, &noise, &registry);
         let names = model.state_names();
         let (n, d) = (model.dim(), model.dynamic_dim());
         let steps = steps_for(&model);
@@ -176,6 +236,109 @@ fn every_effects_jacobians_match_central_differences() {
             check_jacobian(list, &x, MEAS_DIM, &h, &steps, measure, &names);
         }
     }
+}
+
+/// A declared effect is the catalogued one it restates: the unit turned by `d` about z is
+/// gyro and accelerometer misalignments of `-d` and `d`, an odometer scale declared as
+/// `2 k2` is `kod = 2 k2`. The rates and the measurement agree bit for bit (a factor of -1 or
+/// 2 is exact), and so the filters' arithmetic would.
+#[test]
+fn a_declared_effect_is_the_catalogued_one_it_restates() {
+    let registry = declared_registry();
+    let noise = NoiseConfig::default();
+    let declared = model_in("mount-yaw,odometer-double", &noise, &registry);
+    let catalogued = model_with(
+        "gyro-misalignment,accel-misalignment,odometer-scale",
+        &noise,
+    );
+    let index =
+        |m: &StrapdownModel, name: &str| m.state_names().iter().position(|n| n == name).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(65);
+    for _ in 0..20 {
+        let mut x = random_state(&declared, &mut rng);
+        let (d, k2) = (x[index(&declared, "d_mz")], x[index(&declared, "k2")]);
+        let mut y = x[..BASE_DIM].to_vec();
+        y.resize(catalogued.dim(), 0.0);
+        for (name, v) in [
+            ("m_gxy", -d),
+            ("m_gyx", d),
+            ("m_axy", -d),
+            ("m_ayx", d),
+            ("kod", 2.0 * k2),
+        ] {
+            y[index(&catalogued, name)] = v;
+        }
+        let u = input_of(&random_imu(&mut rng));
+        let (mut a, mut b) = (vec![0.0; NAV_DIM], vec![0.0; NAV_DIM]);
+        declared.rates(&x, &u, &mut a);
+        catalogued.rates(&y, &u, &mut b);
+        assert_eq!(a, b, "rates at d = {d:e}");
+        let (mut za, mut zb) = ([0.0; MEAS_DIM], [0.0; MEAS_DIM]);
+        declared.measure(&x, &mut za);
+        catalogued.measure(&y, &mut zb);
+        assert_eq!(za, zb, "measurement at k2 = {k2:e}");
+        // And the declared coefficient does act: without it the odometer reads otherwise.
+        x[index(&declared, "k2")] = 0.0;
+        declared.measure(&x, &mut za);
+        assert_ne!(za[0], zb[0]);
+    }
+}
+
+/// What a strapdown declaration cannot mean is refused, naming the key and what was expected.
+#[test]
+fn strapdown_declarations_are_refused_by_key() {
+    let head =
+        "[[effect]]\nname = \"e\"\ncoefficients = [{ name = \"c\", unit = \"1\", sigma = 1e-3 }]\n";
+    let cases = [
+        ("places = [{ coefficient = \"c\", place = \"E_g[x][w]\" }]", "effect[0].places[0].place", "expected one of"),
+        ("places = [{ coefficient = \"q\", place = \"kod\" }]", "effect[0].places[0].coefficient", "`q`"),
+        ("places = [{ coefficient = \"c\", place = \"kod\", factor = 0 }]", "effect[0].places[0].factor", "other than 0"),
+        ("places = [{ coefficient = \"c\", place = \"kod\" }, { coefficient = \"c\", place = \"kod\" }]", "effect[0].places[1].place", "already"),
+        ("places = [{ coefficient = \"c\", place = \"tau\" }, { coefficient = \"c\", place = \"kod\" }]", "effect[0].coefficients[0].name", "`tau` alone"),
+        ("places = []", "effect[0].places", "empty"),
+        ("rates = [{ to = \"v_x\", coefficient = \"c\", feature = \"v_x\" }]", "effect[0].rates", "platform family"),
+    ];
+    for (tail, key, says) in cases {
+        let text = format!("{head}{tail}\n");
+        let d = navkf_dynamics::declared::parse_declarations(&text).unwrap();
+        let e = StrapdownRegistry::catalogue()
+            .declare(&d)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(key) && e.contains(says), "{tail}: {e}");
+    }
+    // Names the catalogue holds: an effect's, a coefficient's, a bias's, a parameter's.
+    for (name, coefficient, key) in [
+        ("gyro-scale", "c", "effect[0].name"),
+        ("e", "s_gx", "effect[0].coefficients[0].name"),
+        ("e", "bgz", "effect[0].coefficients[0].name"),
+        ("e", "T_g", "effect[0].coefficients[0].name"),
+    ] {
+        let text = format!(
+            "[[effect]]\nname = \"{name}\"\ncoefficients = [{{ name = \"{coefficient}\", unit = \"1\", sigma = 1e-3 }}]\nplaces = [{{ coefficient = \"{coefficient}\", place = \"kod\" }}]\n"
+        );
+        let d = navkf_dynamics::declared::parse_declarations(&text).unwrap();
+        let e = StrapdownRegistry::catalogue()
+            .declare(&d)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(key), "{name}/{coefficient}: {e}");
+    }
+    // A platform registry refuses places, and a strapdown one keeps a declaration it holds.
+    let text = format!("{head}places = [{{ coefficient = \"c\", place = \"kod\" }}]\n");
+    let d = navkf_dynamics::declared::parse_declarations(&text).unwrap();
+    let e = navkf_dynamics::Registry::catalogue()
+        .declare(&d)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("effect[0].places") && e.contains("strapdown"),
+        "{e}"
+    );
+    let mut r = StrapdownRegistry::catalogue();
+    r.declare(&d).unwrap();
+    r.declare(&d).unwrap();
+    assert_eq!(r.declarations(), d);
 }
 
 /// An effect whose coefficients are all zero changes nothing: the model with it gives the
@@ -234,16 +397,22 @@ fn the_model_that_knows_the_hidden_effects_follows_the_simulated_run() {
         nhc_m_s: None,
         zupt_m_s: None,
     };
-    let registry = StrapdownRegistry::catalogue();
+    let registry = declared_registry();
     let hidden: Vec<&str> = registry
         .names()
         .into_iter()
         .filter(|n| !n.ends_with("instability"))
         .collect();
     let mut lists: Vec<String> = hidden.iter().map(|n| n.to_string()).collect();
-    lists.push(hidden.join(","));
+    let catalogued: Vec<&str> = StrapdownRegistry::catalogue()
+        .names()
+        .into_iter()
+        .filter(|n| !n.ends_with("instability"))
+        .collect();
+    lists.push(catalogued.join(","));
+    lists.push(beside_declared(hidden.iter().copied()));
     for list in &lists {
-        let model = Arc::new(model_with(list, &quiet));
+        let model = Arc::new(model_in(list, &quiet, &registry));
         let sim = StrapdownSimulator::new(
             model.clone(),
             traj.clone(),

@@ -32,7 +32,8 @@ pub fn rank(
     Ok(ranked)
 }
 
-/// Evaluates every catalogue effect not in `model`, in parallel, ranked by BIC gain.
+/// Evaluates every catalogue effect not in `model` that can join it
+/// ([`Catalogue::cannot_join`]), in parallel, ranked by BIC gain.
 pub fn evaluate_all(
     ds: &Dataset,
     model: &Model<'_>,
@@ -43,6 +44,7 @@ pub fn evaluate_all(
         .effect_names()
         .into_iter()
         .filter(|e| !model.fit.effects.contains(e))
+        .filter(|e| catalogue.cannot_join(&model.fit.effects, e).is_none())
         .collect();
     let mut out = names
         .par_iter()

@@ -138,6 +138,12 @@ pub trait Catalogue: Send + Sync + std::fmt::Debug {
     fn pinned(&self) -> &'static [&'static str] {
         &[]
     }
+    /// Why `candidate` cannot join a model holding `effects`, if it cannot: the strapdown
+    /// family holds one coefficient per place of its sensor errors, and a declared effect
+    /// may take a place of a catalogued one. The rounds then do not try it, and say so.
+    fn cannot_join(&self, _effects: &[String], _candidate: &str) -> Option<String> {
+        None
+    }
     /// The motion phase of the step ending at `m`, from the inputs of its window.
     fn phase(&self, window: &InputWindow, m: &Measurement) -> Phase;
     /// The catalogue with the rival of a noise-only candidate added (a random walk of the
@@ -194,8 +200,8 @@ pub fn first_full_measurement(
         })
 }
 
-/// The catalogue of `ds`'s family: the platform's, with the effects its `dataset.toml`
-/// declares ([`navkf_dynamics::declared`]), or the strapdown's.
+/// The catalogue of `ds`'s family, with the effects its `dataset.toml` declares
+/// ([`navkf_dynamics::declared`]).
 pub fn of(ds: &Dataset) -> Result<Box<dyn Catalogue>, DiagnoseError> {
     with_declared(ds, &[])
 }
@@ -212,14 +218,12 @@ pub fn with_declared(
             registry.declare(more)?;
             Ok(Box::new(registry))
         }
-        ModelKind::Strapdown if !more.is_empty() || !ds.effects.is_empty() => {
-            Err(DiagnoseError::Data(format!(
-                "{}: declared effects are the platform family's; a strapdown dataset's are \
-                 the strapdown catalogue's (`navkf effects --model strapdown`)",
-                ds.name
-            )))
+        ModelKind::Strapdown => {
+            let mut catalogue = strapdown::StrapdownCatalogue::for_dataset(ds);
+            catalogue.registry.declare(&ds.effects)?;
+            catalogue.registry.declare(more)?;
+            Ok(Box::new(catalogue))
         }
-        ModelKind::Strapdown => Ok(Box::new(strapdown::StrapdownCatalogue::for_dataset(ds))),
     }
 }
 

@@ -13,7 +13,8 @@ use crate::error::DiagnoseError;
 use navkf_dynamics::dataset::{Dataset, Measurement};
 use navkf_dynamics::earth::WIE;
 use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
-use navkf_dynamics::strapdown::effects::StrapdownRegistry;
+use navkf_dynamics::strapdown::effects::{StrapdownEffect, StrapdownRegistry};
+use navkf_dynamics::strapdown::errors::ErrorLayout;
 use navkf_dynamics::strapdown::model::{StrapdownModel, MEAS_DIM};
 use navkf_dynamics::strapdown::sensors::StrapdownSensors;
 use navkf_dynamics::strapdown::state::*;
@@ -310,6 +311,14 @@ impl Catalogue for StrapdownCatalogue {
             .iter()
             .fold((0.0, 0.0), |(w, a), f| (w + f[2], a + f[3]));
         crate::consistency::moving_phase(turn / knots, along / knots)
+    }
+    fn cannot_join(&self, effects: &[String], candidate: &str) -> Option<String> {
+        let list: Vec<StrapdownEffect> = effects
+            .iter()
+            .chain(std::iter::once(&candidate.to_string()))
+            .filter_map(|e| self.registry.get(e).ok().cloned())
+            .collect();
+        ErrorLayout::new(&list, |_| 1.0).err()
     }
     fn with_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str, f64)> {
         None

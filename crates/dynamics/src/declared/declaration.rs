@@ -24,6 +24,24 @@ pub struct EffectDeclaration {
     /// Terms added to the predicted measurement.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub measurement: Vec<TermDeclaration>,
+    /// A strapdown effect's places: where each coefficient sits in the sensor-error
+    /// description ([`super::strapdown`]). A platform effect has terms instead.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub places: Vec<PlaceDeclaration>,
+}
+
+/// One place of a strapdown effect's coefficient: `place` holds `factor x coefficient`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaceDeclaration {
+    /// The coefficient, by name.
+    pub coefficient: String,
+    /// The place, as docs/model.md writes it: `E_g[x][y]`, `E_a[z][z]`, `G[x]`, `kod`,
+    /// `a_y`, `a_p`, `l[x]` or `tau` ([`super::strapdown::PLACES`]).
+    pub place: String,
+    /// A constant factor (default 1; `-1` writes a minus sign).
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub factor: f64,
 }
 
 /// One coefficient of a declared effect.
@@ -95,6 +113,50 @@ impl EffectDeclaration {
         owner_of: impl Fn(&str) -> Option<String>,
     ) -> Result<(Vec<CheckedTerm>, Vec<CheckedTerm>), (String, String)> {
         let err = |key: String, message: String| Err((key, message));
+        self.check_name_and_coefficients(effects, owner_of, &BASE_NAMES)?;
+        if !self.places.is_empty() {
+            return err(
+                "places".into(),
+                "places are the strapdown family's (a sensor-error matrix entry, the \
+                 odometer's mounting, the lever arm); expected `rates` or `measurement` terms \
+                 for a platform effect"
+                    .into(),
+            );
+        }
+        if self.rates.is_empty() && self.measurement.is_empty() {
+            return err(
+                "rates".into(),
+                "no term; expected `rates` or `measurement` terms (coefficient x feature)".into(),
+            );
+        }
+        let rates = self.check_terms("rates", &self.rates, TermSide::Rate)?;
+        let measurement =
+            self.check_terms("measurement", &self.measurement, TermSide::Measurement)?;
+        for (i, c) in self.coefficients.iter().enumerate() {
+            if !rates.iter().chain(&measurement).any(|t| t.coefficient == i) {
+                return err(
+                    format!("coefficients[{i}].name"),
+                    format!(
+                        "`{}` is in no term; expected every coefficient in a rate or \
+                         measurement term (one in none cannot be estimated)",
+                        c.name
+                    ),
+                );
+            }
+        }
+        Ok((rates, measurement))
+    }
+
+    /// The checks both families make: a new effect name, and coefficients with new names
+    /// (none a state of the base model, `base_names`), units, positive sigmas and sensible
+    /// bounds.
+    pub(crate) fn check_name_and_coefficients(
+        &self,
+        effects: &[String],
+        owner_of: impl Fn(&str) -> Option<String>,
+        base_names: &[&str],
+    ) -> Result<(), (String, String)> {
+        let err = |key: String, message: String| Err((key, message));
         if !is_name(&self.name, true) {
             return err(
                 "name".into(),
@@ -137,7 +199,7 @@ impl EffectDeclaration {
             if self.coefficients[..i].iter().any(|d| d.name == c.name) {
                 return err(key("name"), format!("`{}` is given twice", c.name));
             }
-            if BASE_NAMES.contains(&c.name.as_str()) {
+            if base_names.contains(&c.name.as_str()) {
                 return err(
                     key("name"),
                     format!(
@@ -187,28 +249,7 @@ impl EffectDeclaration {
                 _ => {}
             }
         }
-        if self.rates.is_empty() && self.measurement.is_empty() {
-            return err(
-                "rates".into(),
-                "no term; expected `rates` or `measurement` terms (coefficient x feature)".into(),
-            );
-        }
-        let rates = self.check_terms("rates", &self.rates, TermSide::Rate)?;
-        let measurement =
-            self.check_terms("measurement", &self.measurement, TermSide::Measurement)?;
-        for (i, c) in self.coefficients.iter().enumerate() {
-            if !rates.iter().chain(&measurement).any(|t| t.coefficient == i) {
-                return err(
-                    format!("coefficients[{i}].name"),
-                    format!(
-                        "`{}` is in no term; expected every coefficient in a rate or \
-                         measurement term (one in none cannot be estimated)",
-                        c.name
-                    ),
-                );
-            }
-        }
-        Ok((rates, measurement))
+        Ok(())
     }
 
     fn check_terms(

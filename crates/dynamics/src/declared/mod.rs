@@ -35,8 +35,11 @@
 mod declaration;
 mod effect;
 mod feature;
+pub mod strapdown;
 
-pub use declaration::{CoefficientDeclaration, EffectDeclaration, TermDeclaration};
+pub use declaration::{
+    CoefficientDeclaration, EffectDeclaration, PlaceDeclaration, TermDeclaration,
+};
 pub use effect::DeclaredEffect;
 pub use feature::{TermFeature, TermSide};
 

@@ -19,18 +19,21 @@ use crate::real::Real;
 /// odometer's 3, the lever arm's 3, the latency).
 pub const MAX_DIM: usize = BASE_DIM + 28;
 
-/// Where each place of the sensor-error description reads its coefficient in the state, and
-/// which bias triads follow a Gauss-Markov law.
+/// A coefficient's state index and the factor it enters a place with.
+type Entry = Option<(usize, f64)>;
+
+/// Where each place of the sensor-error description reads its coefficient in the state (and
+/// with which factor), and which bias triads follow a Gauss-Markov law.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ErrorLayout {
-    gyro: [[Option<usize>; 3]; 3],
-    accel: [[Option<usize>; 3]; 3],
-    gyro_g: [Option<usize>; 3],
-    odometer_scale: Option<usize>,
-    odometer_yaw: Option<usize>,
-    odometer_pitch: Option<usize>,
-    lever_arm: [Option<usize>; 3],
-    latency: Option<usize>,
+    gyro: [[Entry; 3]; 3],
+    accel: [[Entry; 3]; 3],
+    gyro_g: [Entry; 3],
+    odometer_scale: Entry,
+    odometer_yaw: Entry,
+    odometer_pitch: Entry,
+    lever_arm: [Entry; 3],
+    latency: Entry,
     /// `1 / T` of the gyro biases' Gauss-Markov law, when they follow one.
     pub gyro_decay: Option<f64>,
     /// `1 / T` of the accelerometer biases' law.
@@ -39,14 +42,17 @@ pub struct ErrorLayout {
 
 impl ErrorLayout {
     /// The layout of `effects`, their coefficients numbered from [`BASE_DIM`] in order;
-    /// `decay(triad)` gives `1 / T` of an instability's law. Two coefficients in one place
-    /// are refused (only a user's effect can ask for that).
+    /// `decay(triad)` gives `1 / T` of an instability's law. A coefficient may act in several
+    /// places (a declared one), each with its factor. Two coefficients in one place are
+    /// refused (only a user's effect can ask for that).
     pub fn new(effects: &[StrapdownEffect], decay: impl Fn(Triad) -> f64) -> Result<Self, String> {
         let mut layout = ErrorLayout::default();
         let mut index = BASE_DIM;
         for effect in effects {
-            for c in effect.coefficients {
-                let place = match c.slot {
+            let numbered = effect.coefficients.iter().zip(index..);
+            for (c, state, p) in numbered.flat_map(|(c, s)| c.places.iter().map(move |p| (c, s, p)))
+            {
+                let place = match p.slot {
                     Slot::Gyro(i, j) if i < 3 && j < 3 => &mut layout.gyro[i][j],
                     Slot::Accel(i, j) if i < 3 && j < 3 => &mut layout.accel[i][j],
                     Slot::GyroG(i) if i < 3 => &mut layout.gyro_g[i],
@@ -55,17 +61,17 @@ impl ErrorLayout {
                     Slot::OdometerPitch => &mut layout.odometer_pitch,
                     Slot::LeverArm(i) if i < 3 => &mut layout.lever_arm[i],
                     Slot::Latency => &mut layout.latency,
-                    other => return Err(format!("`{}`: no such place {other:?}", c.name)),
+                    other => return Err(format!("`{}`: no such place {other}", c.name)),
                 };
                 if place.is_some() {
                     return Err(format!(
-                        "`{}` of `{}` acts where another coefficient already does ({:?})",
-                        c.name, effect.name, c.slot
+                        "`{}` of `{}` acts in {}, where another coefficient already does",
+                        c.name, effect.name, p.slot
                     ));
                 }
-                *place = Some(index);
-                index += 1;
+                *place = Some((state, p.factor));
             }
+            index += effect.coefficients.len();
             if let Some(law) = effect.instability {
                 let slot = match law.triad {
                     Triad::Gyro => &mut layout.gyro_decay,
@@ -106,18 +112,27 @@ impl ErrorLayout {
         self.odometer_yaw.is_some() || self.odometer_pitch.is_some()
     }
 
-    /// The state index of the GPS latency's coefficient.
-    pub fn latency_index(&self) -> Option<usize> {
+    /// The state index of the GPS latency's coefficient, and its factor.
+    pub fn latency_index(&self) -> Option<(usize, f64)> {
         self.latency
     }
 }
 
-fn at<T: Real>(x: &[T], i: Option<usize>) -> Option<T> {
-    i.map(|i| x[i])
+/// The value of the place `entry`: its coefficient in `x` times its factor (a factor of 1,
+/// every catalogued coefficient's, costs no multiplication).
+#[inline(always)]
+fn at<T: Real>(x: &[T], entry: Entry) -> Option<T> {
+    entry.map(|(i, factor)| {
+        if factor == 1.0 {
+            x[i]
+        } else {
+            x[i] * T::splat(factor)
+        }
+    })
 }
 
 /// `I + E` with the entries of `places` taken from `x`.
-fn one_plus<T: Real>(x: &[T], places: &[[Option<usize>; 3]; 3]) -> [[T; 3]; 3] {
+fn one_plus<T: Real>(x: &[T], places: &[[Entry; 3]; 3]) -> [[T; 3]; 3] {
     std::array::from_fn(|i| {
         std::array::from_fn(|j| {
             let identity = T::splat(if i == j { 1.0 } else { 0.0 });
@@ -166,9 +181,11 @@ pub fn corrected_reading<T: Real>(
 
 /// [`corrected_reading`] on `f64` with its partial derivatives: it returns `(w, f)` and calls
 /// `column(i, dw/dx_i, df/dx_i)` for each state `i` they depend on (the six biases and the
-/// reading errors' coefficients). With `A = I + E_a`, `B = I + E_g`: `df = -A^-1 e_i` for
-/// `ba_i` and `-A^-1 e_i f_j` for `E_a[i][j]`; `dw = -B^-1 e_i` for `bg_i`, `-B^-1 e_i w_j`
-/// for `E_g[i][j]`, `-B^-1 e_i f_i` for `g_i`, and `-B^-1 G df` through `f`.
+/// reading errors' coefficients), once per place of a coefficient acting in several: the
+/// caller adds them up. With `A = I + E_a`, `B = I + E_g`: `df = -A^-1 e_i` for `ba_i` and
+/// `-A^-1 e_i f_j` for `E_a[i][j]`; `dw = -B^-1 e_i` for `bg_i`, `-B^-1 e_i w_j` for
+/// `E_g[i][j]`, `-B^-1 e_i f_i` for `g_i`, and `-B^-1 G df` through `f`; each times the
+/// place's factor.
 pub fn corrected_reading_partials(
     layout: &ErrorLayout,
     imu: &ImuReading,
@@ -191,16 +208,16 @@ pub fn corrected_reading_partials(
     }
     for i in 0..3 {
         for j in 0..3 {
-            if let Some(c) = layout.accel[i][j] {
-                let df = minus_col(&a_inv, i, f[j]);
+            if let Some((c, factor)) = layout.accel[i][j] {
+                let df = minus_col(&a_inv, i, f[j] * factor);
                 column(c, through_f(df), df);
             }
-            if let Some(c) = layout.gyro[i][j] {
-                column(c, minus_col(&b_inv, i, w[j]), [0.0; 3]);
+            if let Some((c, factor)) = layout.gyro[i][j] {
+                column(c, minus_col(&b_inv, i, w[j] * factor), [0.0; 3]);
             }
         }
-        if let Some(c) = layout.gyro_g[i] {
-            column(c, minus_col(&b_inv, i, f[i]), [0.0; 3]);
+        if let Some((c, factor)) = layout.gyro_g[i] {
+            column(c, minus_col(&b_inv, i, f[i] * factor), [0.0; 3]);
         }
     }
     (w, f)

@@ -435,8 +435,8 @@ impl StrapdownSimulator {
         let mut z = [0.0; MEAS_DIM];
         measurement_with(layout, state, &mut z);
         let speed = z[0];
-        if let Some(i) = layout.latency_index() {
-            let before = (t - state[i]).max(0.0);
+        if let Some((i, factor)) = layout.latency_index() {
+            let before = (t - factor * state[i]).max(0.0);
             let mut then = earlier(before);
             then[i] = 0.0;
             measurement_with(layout, &then, &mut z);
@@ -510,7 +510,14 @@ impl StrapdownSimulator {
             truth: Some(run.truth.clone()),
             model: ModelKind::Strapdown,
             initial: Some(initial),
-            effects: Vec::new(),
+            // The declarations of the user's effects in the truth: the folder reads back
+            // with them known.
+            effects: self
+                .model
+                .effects()
+                .iter()
+                .filter_map(|e| e.declaration.as_deref().cloned())
+                .collect(),
         }
     }
 }

@@ -101,12 +101,12 @@ pub fn rate_jacobian(
     corrected_reading_partials(layout, imu, x, |col, dw, df| {
         for r in 0..NAV_DIM {
             let b = &base[r * BASE_DIM..(r + 1) * BASE_DIM];
-            jac[r * stride + col] = -(b[BG_X] * dw[0]
+            jac[r * stride + col] -= b[BG_X] * dw[0]
                 + b[BG_X + 1] * dw[1]
                 + b[BG_X + 2] * dw[2]
                 + b[BA_X] * df[0]
                 + b[BA_X + 1] * df[1]
-                + b[BA_X + 2] * df[2]);
+                + b[BA_X + 2] * df[2];
         }
     });
     if dynamic > NAV_DIM {

@@ -391,8 +391,8 @@ impl StudyConfig {
             ));
         }
         self.noise.validate()?;
+        self.check_declarations()?;
         model::check_family_keys(self)?;
-        self.registry()?;
         self.trajectory.validate().map_err(|e| e.to_string())?;
         let f = &self.filter;
         let i = &f.initial;

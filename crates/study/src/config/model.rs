@@ -36,11 +36,24 @@ impl StudyConfig {
     /// declarations. The message names the key (`effect[0].rates[1].feature`).
     pub fn registry(&self) -> Result<Registry, String> {
         let mut registry = Registry::catalogue();
-        registry.declare(&self.effect).map_err(|e| match e {
-            navkf_dynamics::DynamicsError::Config { key, message } => format!("{key}: {message}"),
-            other => other.to_string(),
-        })?;
+        registry.declare(&self.effect).map_err(declaration_error)?;
         Ok(registry)
+    }
+
+    /// The strapdown effects the study may name: the strapdown catalogue's and its
+    /// `[[effect]]` declarations (`places`).
+    pub fn strapdown_registry(&self) -> Result<StrapdownRegistry, String> {
+        let mut registry = StrapdownRegistry::catalogue();
+        registry.declare(&self.effect).map_err(declaration_error)?;
+        Ok(registry)
+    }
+
+    /// Checks the `[[effect]]` declarations against the study's family.
+    pub(super) fn check_declarations(&self) -> Result<(), String> {
+        match self.model.kind {
+            ModelKind::Platform => self.registry().map(drop),
+            ModelKind::Strapdown => self.strapdown_registry().map(drop),
+        }
     }
 
     /// The noise the truth is simulated with: `[noise]`, with the reading noise's densities
@@ -50,6 +63,14 @@ impl StudyConfig {
             ModelKind::Platform => self.noise,
             ModelKind::Strapdown => self.model.unit_class().errors().noise(self.noise),
         }
+    }
+}
+
+/// A declaration's error as its key and message (`effect[0].rates[1].feature: ...`).
+fn declaration_error(e: navkf_dynamics::DynamicsError) -> String {
+    match e {
+        navkf_dynamics::DynamicsError::Config { key, message } => format!("{key}: {message}"),
+        other => other.to_string(),
     }
 }
 
@@ -84,19 +105,12 @@ pub(super) fn check_family_keys(config: &StudyConfig) -> Result<(), String> {
         ModelKind::Strapdown => {
             let refuse =
                 |key: &str, why: &str| Err(format!("{key}: {why} (model.kind = \"strapdown\")"));
-            if !config.effect.is_empty() {
-                return refuse(
-                    "effect",
-                    "declared effects are the platform family's; a strapdown study names the \
-                     strapdown catalogue's effects (`navkf effects --model strapdown`), \
-                     expected no [[effect]]",
-                );
-            }
+            let registry = config.strapdown_registry()?;
             for (key, effects) in [
                 ("truth.effects", &config.truth.effects),
                 ("filter.effects", &config.filter.effects),
             ] {
-                StrapdownEffectList::parse_entries(effects, &StrapdownRegistry::catalogue())
+                StrapdownEffectList::parse_entries(effects, &registry)
                     .map_err(|(i, e)| format!("{key}[{i}]: {e} (model.kind = \"strapdown\")"))?;
             }
             let attitudes = [

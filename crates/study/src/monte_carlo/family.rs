@@ -9,7 +9,6 @@ use navkf_dynamics::effect_spec::EffectSpec;
 use navkf_dynamics::prior::typical_sigma;
 use navkf_dynamics::state::NAV_DIM;
 use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
-use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::model::StrapdownModel;
 use navkf_dynamics::strapdown::simulate::StrapdownSimulator;
 use navkf_dynamics::{
@@ -136,8 +135,9 @@ fn strapdown(config: &StudyConfig, trajectory: Arc<Trajectory>) -> Result<Family
         ..unit
     };
     let noise = config.truth_noise();
+    let registry = config.strapdown_registry().map_err(StudyError::Other)?;
     let list = |key: &str, entries: &[String]| {
-        StrapdownEffectList::parse_entries(entries, &StrapdownRegistry::catalogue())
+        StrapdownEffectList::parse_entries(entries, &registry)
             .map_err(|(i, e)| StudyError::Other(format!("{key}[{i}]: {e}")))
     };
     let model = |list: &StrapdownEffectList, noise: &NoiseConfig| {

@@ -24,17 +24,12 @@ const DEFAULT_HEADING_SIGMA: f64 = 0.035;
 /// Checks `req` for a strapdown unit and builds its simulator.
 pub(super) fn prepare(req: &SimulationRequest, names: SettingNames) -> Result<Ready, StudyError> {
     let other = StudyError::Other;
-    if !req.declarations.is_empty() {
-        return Err(other(format!(
-            "{}: declared effects are the platform family's; a strapdown unit's effects are \
-             the strapdown catalogue's (`navkf effects --model strapdown`); expected none with \
-             the strapdown model",
-            names.of("effects_file")
-        )));
-    }
-    let effects =
-        StrapdownEffectList::parse_entries(&[&req.effects], &StrapdownRegistry::catalogue())
-            .map_err(|(_, e)| other(format!("{}: {e}", names.of("effects"))))?;
+    let mut registry = StrapdownRegistry::catalogue();
+    registry
+        .declare(&req.declarations)
+        .map_err(|e| other(format!("{}: {e}", names.of("effects_file"))))?;
+    let effects = StrapdownEffectList::parse_entries(&[&req.effects], &registry)
+        .map_err(|(_, e)| other(format!("{}: {e}", names.of("effects"))))?;
     if req.attitude.is_some_and(|a| a != Attitude::SmallAngle) {
         return Err(other(format!(
             "{}: the platform's choice; the strapdown family's attitude equations are exact \

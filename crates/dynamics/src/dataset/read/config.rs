@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::declared::EffectDeclaration;
+use crate::strapdown::effects::StrapdownRegistry;
 
 /// `dataset.toml`: the `[noise]`, `[prior]`, `[simulation]`, `[model]` and `[initial]`
 /// tables, nothing else.
@@ -39,9 +40,9 @@ impl ConfigFile {
 }
 
 /// The coefficient names `[prior.coefficients]` and `truth.csv` may use in a strapdown
-/// dataset: the biases and the strapdown catalogue's coefficients.
-pub(super) fn strapdown_coefficients() -> Vec<String> {
-    let catalogue = crate::strapdown::effects::StrapdownRegistry::catalogue();
+/// dataset: the biases and the coefficients of `catalogue` (the strapdown catalogue with the
+/// dataset's declared effects).
+pub(super) fn strapdown_coefficients(catalogue: &StrapdownRegistry) -> Vec<String> {
     let effects = catalogue
         .names()
         .into_iter()
@@ -80,25 +81,24 @@ pub(super) fn read_config(
     let config: ConfigFile = toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))?;
     let kind = config.kind();
     let mut registry = registry.clone();
-    if kind == ModelKind::Strapdown && !config.effect.is_empty() {
-        return Err(DynamicsError::File {
-            path: path.to_path_buf(),
-            message: "[[effect]]: declared effects are the platform family's; a strapdown \
-                      dataset's effects are the strapdown catalogue's (`navkf effects \
-                      --model strapdown`); expected no [[effect]] with [model] kind = \
-                      \"strapdown\""
-                .into(),
-        });
-    }
-    registry
-        .declare(&config.effect)
-        .map_err(|e| DynamicsError::File {
-            path: path.to_path_buf(),
-            message: printable(&e.to_string().replace("configuration: ", "")),
-        })?;
+    let declaration_error = |e: DynamicsError| DynamicsError::File {
+        path: path.to_path_buf(),
+        message: printable(&e.to_string().replace("configuration: ", "")),
+    };
     let known = match kind {
-        ModelKind::Platform => known_coefficients(&registry),
-        ModelKind::Strapdown => strapdown_coefficients(),
+        ModelKind::Platform => {
+            registry
+                .declare(&config.effect)
+                .map_err(declaration_error)?;
+            known_coefficients(&registry)
+        }
+        ModelKind::Strapdown => {
+            let mut catalogue = StrapdownRegistry::catalogue();
+            catalogue
+                .declare(&config.effect)
+                .map_err(declaration_error)?;
+            strapdown_coefficients(&catalogue)
+        }
     };
     let located = |table: &str, key: &str, message: String| match key_line(&text, table, key) {
         Some(line) => data_error(path, line, &format!("{table}.{key}"), message),

@@ -87,7 +87,10 @@ impl Dataset {
             ModelKind::Strapdown => {
                 let navigation = &crate::strapdown::state::STATE_NAMES[..NAV_DIM_STRAPDOWN];
                 let mut names: Vec<String> = navigation.iter().map(|s| s.to_string()).collect();
-                names.extend(config::strapdown_coefficients());
+                // The declarations were checked with dataset.toml (read_config).
+                let mut catalogue = crate::strapdown::effects::StrapdownRegistry::catalogue();
+                catalogue.declare(&config.effect)?;
+                names.extend(config::strapdown_coefficients(&catalogue));
                 (read_imu(&dir.join(IMU_FILE))?, Layout::Strapdown, names)
             }
         };

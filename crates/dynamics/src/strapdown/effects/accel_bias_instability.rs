@@ -20,4 +20,5 @@ pub const ACCEL_BIAS_INSTABILITY: StrapdownEffect = StrapdownEffect {
         sigma: [10.0 * UG, 50.0 * UG, 250.0 * UG],
         parameter_names: ["T_a", "sigma_ba"],
     }),
+    declaration: None,
 };

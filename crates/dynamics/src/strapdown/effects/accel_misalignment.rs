@@ -5,7 +5,7 @@
 //!
 //! Sizes as `gyro-misalignment` (Groves, 2013, section 4.4.2).
 
-use super::{Coefficient, PhysicalBound, Slot, StrapdownEffect};
+use super::{Coefficient, PhysicalBound, Places, Slot, StrapdownEffect};
 
 const BOUND: PhysicalBound = PhysicalBound {
     limit: 0.05,
@@ -16,7 +16,7 @@ const fn lean(name: &'static str, i: usize, j: usize) -> Coefficient {
     Coefficient {
         name,
         unit: "rad",
-        slot: Slot::Accel(i, j),
+        places: Places::One(Slot::Accel(i, j)),
         sigma: [2e-5, 2e-4, 2e-3],
         bound: BOUND,
     }
@@ -35,4 +35,5 @@ pub const ACCEL_MISALIGNMENT: StrapdownEffect = StrapdownEffect {
         lean("m_azy", 2, 1),
     ],
     instability: None,
+    declaration: None,
 };

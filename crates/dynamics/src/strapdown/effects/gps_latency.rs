@@ -5,7 +5,7 @@
 //! Size: 0.1 s for any unit class (a receiver's unmodelled output delay: tens to a few
 //! hundred milliseconds).
 
-use super::{every_class, Coefficient, PhysicalBound, Slot, StrapdownEffect};
+use super::{every_class, Coefficient, PhysicalBound, Places, Slot, StrapdownEffect};
 
 /// See the module documentation.
 pub const GPS_LATENCY: StrapdownEffect = StrapdownEffect {
@@ -14,7 +14,7 @@ pub const GPS_LATENCY: StrapdownEffect = StrapdownEffect {
     coefficients: &[Coefficient {
         name: "tau",
         unit: "s",
-        slot: Slot::Latency,
+        places: Places::One(Slot::Latency),
         sigma: every_class(0.1),
         bound: PhysicalBound {
             limit: 2.0,
@@ -23,4 +23,5 @@ pub const GPS_LATENCY: StrapdownEffect = StrapdownEffect {
         },
     }],
     instability: None,
+    declaration: None,
 };

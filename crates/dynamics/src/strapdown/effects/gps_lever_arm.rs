@@ -4,7 +4,7 @@
 //!
 //! Size: 0.5 m per axis for any unit class (it is the installation's).
 
-use super::{every_class, Coefficient, PhysicalBound, Slot, StrapdownEffect};
+use super::{every_class, Coefficient, PhysicalBound, Places, Slot, StrapdownEffect};
 
 const BOUND: PhysicalBound = PhysicalBound {
     limit: 10.0,
@@ -15,7 +15,7 @@ const fn arm(name: &'static str, axis: usize) -> Coefficient {
     Coefficient {
         name,
         unit: "m",
-        slot: Slot::LeverArm(axis),
+        places: Places::One(Slot::LeverArm(axis)),
         sigma: every_class(0.5),
         bound: BOUND,
     }
@@ -27,4 +27,5 @@ pub const GPS_LEVER_ARM: StrapdownEffect = StrapdownEffect {
     description: "GPS reads p + C_b^n l, l = [l_x, l_y, l_z] in body axes (antenna lever arm)",
     coefficients: &[arm("l_x", 0), arm("l_y", 1), arm("l_z", 2)],
     instability: None,
+    declaration: None,
 };

@@ -20,4 +20,5 @@ pub const GYRO_BIAS_INSTABILITY: StrapdownEffect = StrapdownEffect {
         sigma: [0.003 * DEG_PER_H, 0.3 * DEG_PER_H, 10.0 * DEG_PER_H],
         parameter_names: ["T_g", "sigma_bg"],
     }),
+    declaration: None,
 };

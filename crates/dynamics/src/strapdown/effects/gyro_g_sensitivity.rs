@@ -6,7 +6,7 @@
 //! Sizes: negligible in ring-laser gyros (0.01 deg/h/g here), about 1 deg/h/g in fibre-optic
 //! ones, tens of deg/h/g in compensated MEMS (Groves, 2013, section 4.4.4).
 
-use super::{Coefficient, PhysicalBound, Slot, StrapdownEffect, DEG_PER_H, G0};
+use super::{Coefficient, PhysicalBound, Places, Slot, StrapdownEffect, DEG_PER_H, G0};
 
 const PER_G: f64 = DEG_PER_H / G0;
 
@@ -19,7 +19,7 @@ const fn sensitivity(name: &'static str, axis: usize) -> Coefficient {
     Coefficient {
         name,
         unit: "rad/s/(m/s^2)",
-        slot: Slot::GyroG(axis),
+        places: Places::One(Slot::GyroG(axis)),
         sigma: [0.01 * PER_G, 1.0 * PER_G, 30.0 * PER_G],
         bound: BOUND,
     }
@@ -35,4 +35,5 @@ pub const GYRO_G_SENSITIVITY: StrapdownEffect = StrapdownEffect {
         sensitivity("g_z", 2),
     ],
     instability: None,
+    declaration: None,
 };

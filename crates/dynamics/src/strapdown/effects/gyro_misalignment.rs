@@ -6,7 +6,7 @@
 //! Sizes: tens of microradians in a navigation unit, tenths of a milliradian in a tactical
 //! one, milliradians in a MEMS package (Groves, 2013, section 4.4.2, cross-coupling).
 
-use super::{Coefficient, PhysicalBound, Slot, StrapdownEffect};
+use super::{Coefficient, PhysicalBound, Places, Slot, StrapdownEffect};
 
 const BOUND: PhysicalBound = PhysicalBound {
     limit: 0.05,
@@ -17,7 +17,7 @@ const fn lean(name: &'static str, i: usize, j: usize) -> Coefficient {
     Coefficient {
         name,
         unit: "rad",
-        slot: Slot::Gyro(i, j),
+        places: Places::One(Slot::Gyro(i, j)),
         sigma: [2e-5, 2e-4, 2e-3],
         bound: BOUND,
     }
@@ -36,4 +36,5 @@ pub const GYRO_MISALIGNMENT: StrapdownEffect = StrapdownEffect {
         lean("m_gzy", 2, 1),
     ],
     instability: None,
+    declaration: None,
 };

@@ -6,14 +6,14 @@
 //! Sizes: a few ppm for ring-laser gyros, hundreds for fibre-optic ones, tenths of a per cent
 //! for calibrated MEMS (Groves, 2013, section 4.4.2, as the unit classes cite it).
 
-use super::{Coefficient, Slot, StrapdownEffect};
+use super::{Coefficient, Places, Slot, StrapdownEffect};
 use crate::sensor_classes::SCALE as BOUND;
 
 const fn scale(name: &'static str, axis: usize) -> Coefficient {
     Coefficient {
         name,
         unit: "1",
-        slot: Slot::Gyro(axis, axis),
+        places: Places::One(Slot::Gyro(axis, axis)),
         sigma: [1e-5, 3e-4, 3e-3],
         bound: BOUND,
     }
@@ -25,4 +25,5 @@ pub const GYRO_SCALE: StrapdownEffect = StrapdownEffect {
     description: "w~ = (I + diag(s_gx, s_gy, s_gz)) w + ... (gyro scale-factor errors)",
     coefficients: &[scale("s_gx", 0), scale("s_gy", 1), scale("s_gz", 2)],
     instability: None,
+    declaration: None,
 };

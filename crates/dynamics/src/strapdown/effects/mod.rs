@@ -24,8 +24,10 @@ mod odometer_misalignment;
 mod odometer_scale;
 
 use super::unit_class::UnitClass;
+use crate::declared::EffectDeclaration;
 use crate::error::DynamicsError;
 pub use crate::sensor_classes::PhysicalBound;
+use std::sync::Arc;
 
 /// Where a coefficient acts (docs/model.md eqs. (63)-(68)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -55,6 +57,61 @@ impl Slot {
     }
 }
 
+/// As docs/model.md writes the place (`E_g[x][y]`, `kod`, `l[z]`), which declarations use
+/// ([`crate::declared::strapdown::parse_place`] reads it back).
+impl std::fmt::Display for Slot {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let axis = |i: usize| ["x", "y", "z"].get(i).copied().unwrap_or("?");
+        match *self {
+            Slot::Gyro(i, j) => write!(f, "E_g[{}][{}]", axis(i), axis(j)),
+            Slot::Accel(i, j) => write!(f, "E_a[{}][{}]", axis(i), axis(j)),
+            Slot::GyroG(i) => write!(f, "G[{}]", axis(i)),
+            Slot::OdometerScale => f.write_str("kod"),
+            Slot::OdometerYaw => f.write_str("a_y"),
+            Slot::OdometerPitch => f.write_str("a_p"),
+            Slot::LeverArm(i) => write!(f, "l[{}]", axis(i)),
+            Slot::Latency => f.write_str("tau"),
+        }
+    }
+}
+
+/// A place and the factor a coefficient enters it with: the place holds `factor x c`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Place {
+    /// Where.
+    pub slot: Slot,
+    /// The constant factor (1 for every catalogued coefficient).
+    pub factor: f64,
+}
+
+/// Where a coefficient acts: one place as it is (every catalogued coefficient), or several,
+/// each with a factor (a declared one: a unit turned on its mount by a small angle `d` about
+/// z puts `-d` in `E_g[x][y]` and `d` in `E_g[y][x]`, and the same in `E_a`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Places {
+    /// One place, factor 1.
+    One(Slot),
+    /// Several places, each with its factor.
+    Many(&'static [Place]),
+}
+
+impl Places {
+    /// Each place with its factor.
+    pub fn iter(&self) -> impl Iterator<Item = Place> + '_ {
+        let (one, many) = match self {
+            Places::One(slot) => (
+                Some(Place {
+                    slot: *slot,
+                    factor: 1.0,
+                }),
+                &[][..],
+            ),
+            Places::Many(places) => (None, *places),
+        };
+        one.into_iter().chain(many.iter().copied())
+    }
+}
+
 /// One coefficient of an effect: a random constant that joins the state.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Coefficient {
@@ -63,7 +120,7 @@ pub struct Coefficient {
     /// Unit, for reports.
     pub unit: &'static str,
     /// Where it acts.
-    pub slot: Slot,
+    pub places: Places,
     /// Typical one-sigma size per unit class, in [`UnitClass::ALL`]'s order (navigation,
     /// tactical, MEMS): the default spread of the truth's draw and a filter's prior.
     pub sigma: [f64; 3],
@@ -123,6 +180,8 @@ pub struct StrapdownEffect {
     pub coefficients: &'static [Coefficient],
     /// The Gauss-Markov law it gives a triad's biases, if that is what it adds.
     pub instability: Option<Instability>,
+    /// The user's declaration it was made from (`None` for the catalogue's).
+    pub declaration: Option<Arc<EffectDeclaration>>,
 }
 
 impl StrapdownEffect {
@@ -169,6 +228,46 @@ impl StrapdownRegistry {
     pub fn register(&mut self, effect: StrapdownEffect) {
         self.effects.retain(|e| e.name != effect.name);
         self.effects.push(effect);
+    }
+
+    /// Adds effects declared in TOML ([`crate::declared::strapdown`]), each checked against
+    /// the effects known before it: a new name, new coefficient names, known places. The
+    /// error names the key (`effect[1].places[0].place`) and what was expected; on error
+    /// nothing is added. A declaration the registry holds already, word for word, is
+    /// skipped (a simulated dataset carries the declarations of its effects file).
+    pub fn declare(&mut self, declarations: &[EffectDeclaration]) -> Result<(), DynamicsError> {
+        let mut extended = self.clone();
+        for (i, d) in declarations.iter().enumerate() {
+            let same = extended
+                .get(&d.name)
+                .is_ok_and(|known| known.declaration.as_deref() == Some(d));
+            if same {
+                continue;
+            }
+            let known: Vec<String> = extended.names().iter().map(|n| n.to_string()).collect();
+            let effect = d
+                .strapdown_effect(&known, |c| {
+                    extended
+                        .owner_of(c)
+                        .map(|e| e.name.to_string())
+                        .or_else(|| extended.owner_of_parameter(c).map(|e| e.name.to_string()))
+                })
+                .map_err(|(key, message)| DynamicsError::Config {
+                    key: format!("effect[{i}].{key}"),
+                    message,
+                })?;
+            extended.register(effect);
+        }
+        *self = extended;
+        Ok(())
+    }
+
+    /// The user's declarations among the effects, in registration order.
+    pub fn declarations(&self) -> Vec<EffectDeclaration> {
+        self.effects
+            .iter()
+            .filter_map(|e| e.declaration.as_deref().cloned())
+            .collect()
     }
 
     /// Names, in registration order.

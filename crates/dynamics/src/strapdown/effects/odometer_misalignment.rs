@@ -6,7 +6,7 @@
 //!
 //! Size: 10 mrad (0.6 deg) per angle, for any unit class: it is the mounting's.
 
-use super::{every_class, Coefficient, PhysicalBound, Slot, StrapdownEffect};
+use super::{every_class, Coefficient, PhysicalBound, Places, Slot, StrapdownEffect};
 
 const BOUND: PhysicalBound = PhysicalBound {
     limit: 0.2,
@@ -23,17 +23,18 @@ pub const ODOMETER_MISALIGNMENT: StrapdownEffect = StrapdownEffect {
         Coefficient {
             name: "a_y",
             unit: "rad",
-            slot: Slot::OdometerYaw,
+            places: Places::One(Slot::OdometerYaw),
             sigma: every_class(1e-2),
             bound: BOUND,
         },
         Coefficient {
             name: "a_p",
             unit: "rad",
-            slot: Slot::OdometerPitch,
+            places: Places::One(Slot::OdometerPitch),
             sigma: every_class(1e-2),
             bound: BOUND,
         },
     ],
     instability: None,
+    declaration: None,
 };

@@ -4,7 +4,7 @@
 //! Size: 0.2 % (a tyre's radius changes by a few per cent over its life; a calibrated
 //! odometer is within tenths of one). The same for every unit class: it is the vehicle's.
 
-use super::{every_class, Coefficient, PhysicalBound, Slot, StrapdownEffect};
+use super::{every_class, Coefficient, PhysicalBound, Places, Slot, StrapdownEffect};
 
 /// See the module documentation.
 pub const ODOMETER_SCALE: StrapdownEffect = StrapdownEffect {
@@ -13,7 +13,7 @@ pub const ODOMETER_SCALE: StrapdownEffect = StrapdownEffect {
     coefficients: &[Coefficient {
         name: "kod",
         unit: "1",
-        slot: Slot::OdometerScale,
+        places: Places::One(Slot::OdometerScale),
         sigma: every_class(2e-3),
         bound: PhysicalBound {
             limit: 0.2,
@@ -21,4 +21,5 @@ pub const ODOMETER_SCALE: StrapdownEffect = StrapdownEffect {
         },
     }],
     instability: None,
+    declaration: None,
 };

@@ -51,15 +51,11 @@ pub struct Args {
 pub fn registry_with_file(
     file: Option<&Path>,
 ) -> Result<(Registry, Vec<EffectDeclaration>), Box<dyn std::error::Error>> {
-    let mut registry = Registry::catalogue();
     let Some(path) = file else {
-        return Ok((registry, Vec::new()));
+        return Ok((Registry::catalogue(), Vec::new()));
     };
     let declarations = read_declarations(path)?;
-    registry
-        .declare(&declarations)
-        .map_err(|e| located(path, e))?;
-    Ok((registry, declarations))
+    Ok((platform_registry(path, &declarations)?, declarations))
 }
 
 /// For a command that reads a dataset of either family (`diagnose`): the platform catalogue
@@ -68,22 +64,16 @@ pub fn registry_with_file(
 pub fn registry_for_either(
     file: Option<&Path>,
 ) -> Result<(Registry, Vec<EffectDeclaration>, ModelKind), Box<dyn std::error::Error>> {
-    let strapdown = match file {
-        Some(path) => read_declarations(path)?
-            .iter()
-            .any(|d| !d.places.is_empty()),
-        None => false,
+    let Some(path) = file else {
+        return Ok((Registry::catalogue(), Vec::new(), ModelKind::Platform));
     };
-    match (file, strapdown) {
-        (Some(path), true) => Ok((
-            Registry::catalogue(),
-            strapdown_declarations(path)?,
-            ModelKind::Strapdown,
-        )),
-        _ => {
-            let (registry, declared) = registry_with_file(file)?;
-            Ok((registry, declared, ModelKind::Platform))
-        }
+    let declarations = read_declarations(path)?;
+    if declarations.iter().any(|d| !d.places.is_empty()) {
+        strapdown_registry(path, &declarations)?;
+        Ok((Registry::catalogue(), declarations, ModelKind::Strapdown))
+    } else {
+        let registry = platform_registry(path, &declarations)?;
+        Ok((registry, declarations, ModelKind::Platform))
     }
 }
 
@@ -93,10 +83,32 @@ pub fn strapdown_declarations(
     file: &Path,
 ) -> Result<Vec<EffectDeclaration>, Box<dyn std::error::Error>> {
     let declarations = read_declarations(file)?;
-    StrapdownRegistry::catalogue()
-        .declare(&declarations)
-        .map_err(|e| located(file, e))?;
+    strapdown_registry(file, &declarations)?;
     Ok(declarations)
+}
+
+/// The platform catalogue with `declarations` (read from `path`) declared.
+fn platform_registry(
+    path: &Path,
+    declarations: &[EffectDeclaration],
+) -> Result<Registry, Box<dyn std::error::Error>> {
+    let mut registry = Registry::catalogue();
+    registry
+        .declare(declarations)
+        .map_err(|e| located(path, e))?;
+    Ok(registry)
+}
+
+/// The strapdown catalogue with `declarations` (read from `path`) declared.
+fn strapdown_registry(
+    path: &Path,
+    declarations: &[EffectDeclaration],
+) -> Result<StrapdownRegistry, Box<dyn std::error::Error>> {
+    let mut registry = StrapdownRegistry::catalogue();
+    registry
+        .declare(declarations)
+        .map_err(|e| located(path, e))?;
+    Ok(registry)
 }
 
 /// A declaration's error with the file it came from.
@@ -139,15 +151,16 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             if a.check {
                 return Err(
                     "--check: the partials check of declared terms is the platform \
-                     family's; a strapdown effect's partials are the model's own, checked \
-                     by its tests for any place and factor; expected --model platform"
+                     family's; a strapdown effect's partials are the model's own chain rule \
+                     through each place (crates/dynamics/tests/strapdown_effects.rs checks it \
+                     on declared effects); expected --model platform"
                         .into(),
                 );
             }
-            let mut registry = StrapdownRegistry::catalogue();
-            if let Some(file) = &a.effects_file {
-                registry.declare(&strapdown_declarations(file)?)?;
-            }
+            let registry = match &a.effects_file {
+                Some(file) => strapdown_registry(file, &read_declarations(file)?)?,
+                None => StrapdownRegistry::catalogue(),
+            };
             strapdown_listing(a.unit.as_deref().unwrap_or("mems").parse()?, &registry)
         }
         other => {

@@ -38,7 +38,7 @@ pub struct DiagnoseRequest {
     /// The attitude equations of the fits' model (the platform's choice; small-angle when
     /// `None`).
     pub attitude: Option<Attitude>,
-    /// Effects declared without Rust beside the dataset's own (platform family).
+    /// Effects declared without Rust beside the dataset's own (of the dataset's family).
     pub declared: Vec<EffectDeclaration>,
     /// Most automatic rounds.
     pub max_rounds: usize,

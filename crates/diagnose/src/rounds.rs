@@ -250,7 +250,6 @@ pub fn diagnose(
     Ok((d, Fits { model, before }))
 }
 
-/// Refuses a dataset too short to judge, and options under which nothing is tested.
 /// Each catalogue effect a round could not try beside `effects`
 /// ([`Catalogue::cannot_join`]), with its note.
 fn not_tried(catalogue: &dyn Catalogue, effects: &[String]) -> Vec<(String, String)> {
@@ -270,6 +269,7 @@ fn not_tried(catalogue: &dyn Catalogue, effects: &[String]) -> Vec<(String, Stri
         .collect()
 }
 
+/// Refuses a dataset too short to judge, and options under which nothing is tested.
 fn judgeable(ds: &Dataset, catalogue: &dyn Catalogue, opts: &Options) -> Result<(), DiagnoseError> {
     if ds.model != catalogue.kind() {
         return Err(DiagnoseError::Data(format!(

@@ -120,9 +120,10 @@ fn steps_for(model: &StrapdownModel) -> Vec<f64> {
 
 /// Effects a user declares (docs/declared-effects.md): the whole unit turned on its mount
 /// about z (one angle in four places, two with factor -1), an antenna on a mast that leans
-/// forward with its height, and an odometer scale given as twice its coefficient. They take
-/// places of `gyro-misalignment`, `accel-misalignment`, `gps-lever-arm` and `odometer-scale`
-/// ([`TAKEN`]), so cannot join a model with those.
+/// forward with its height, an odometer scale given as twice its coefficient, one coefficient
+/// in an accelerometer's, a gyro's and a g-sensitivity's places with three factors, and a
+/// latency in milliseconds. They take places of the catalogued effects in [`TAKEN`], so
+/// cannot join a model with those.
 const DECLARED: &str = r#"
 [[effect]]
 name = "mount-yaw"
@@ -146,14 +147,30 @@ places = [
 name = "odometer-double"
 coefficients = [{ name = "k2", unit = "1", sigma = 5e-3 }]
 places = [{ coefficient = "k2", place = "kod", factor = 2 }]
+
+[[effect]]
+name = "tilted-triad"
+coefficients = [{ name = "t_x", unit = "1", sigma = 2e-3 }]
+places = [
+    { coefficient = "t_x", place = "E_a[x][z]", factor = 0.5 },
+    { coefficient = "t_x", place = "E_g[y][z]", factor = -2 },
+    { coefficient = "t_x", place = "G[x]", factor = 1e-3 },
+]
+
+[[effect]]
+name = "late-fix"
+coefficients = [{ name = "tau_ms", unit = "ms", sigma = 50.0 }]
+places = [{ coefficient = "tau_ms", place = "tau", factor = 1e-3 }]
 "#;
 
 /// The catalogued effects whose places [`DECLARED`] take.
-const TAKEN: [&str; 4] = [
+const TAKEN: [&str; 6] = [
     "gyro-misalignment",
     "accel-misalignment",
     "gps-lever-arm",
     "odometer-scale",
+    "gyro-g-sensitivity",
+    "gps-latency",
 ];
 
 /// Every effect of `names` that can join one model with all of [`DECLARED`]'s.
@@ -180,6 +197,8 @@ fn every_effects_jacobians_match_central_differences() {
     let mut lists: Vec<String> = registry.names().iter().map(|n| n.to_string()).collect();
     lists.push(StrapdownRegistry::catalogue().names().join(","));
     lists.push(beside_declared(registry.names()));
+    // A declared effect first in the state.
+    lists.push("tilted-triad,gyro-scale,odometer-double".into());
     let mut rng = ChaCha8Rng::seed_from_u64(63);
     for list in &lists {
         let model = model_in(list, &noise, &registry);
@@ -338,7 +357,7 @@ fn strapdown_declarations_are_refused_by_key() {
     let mut r = StrapdownRegistry::catalogue();
     r.declare(&d).unwrap();
     r.declare(&d).unwrap();
-    assert_eq!(r.declarations(), d);
+    assert_eq!(r.get("e").unwrap().declaration.as_deref(), Some(&d[0]));
 }
 
 /// An effect whose coefficients are all zero changes nothing: the model with it gives the

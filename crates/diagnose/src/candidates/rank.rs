@@ -1,4 +1,5 @@
-//! The ranking of a round: every catalogued effect not yet in the model weighed against it,
+//! The ranking of a round: every catalogued effect not yet in the model that can join it
+//! ([`Catalogue::cannot_join`]) weighed against it,
 //! in parallel, best first, and the refitted noise levels after them when the noise check
 //! found the stated levels off. What the trajectory could not tell apart in an earlier round
 //! stays so ([`Confounded`]).

@@ -465,6 +465,10 @@ pub struct Record {
     /// could not fix it (empty without a noise check).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub noise_ratios: Vec<Option<f64>>,
+    /// The last noise check's 95 % interval of each source's fitted over stated sigma
+    /// (empty without a noise check, and in records made before it was kept).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub noise_intervals: Vec<[f64; 2]>,
 }
 
 /// Simulates and diagnoses planned dataset `p`.
@@ -489,6 +493,7 @@ fn run_one(
         nis_ratio: None,
         warnings: Vec::new(),
         noise_ratios: Vec::new(),
+        noise_intervals: Vec::new(),
     };
     // A misaligned platform is diagnosed with the attitude equations its class says.
     let mut options = options.clone();
@@ -513,6 +518,12 @@ fn run_one(
                         .then_some(s.sigma_ratio)
                         .filter(|r| r.is_finite())
                 })
+                .collect();
+            record.noise_intervals = d
+                .noise
+                .iter()
+                .flat_map(|n| &n.sources)
+                .map(|s| s.sigma_ratio_interval)
                 .collect();
             record.named = d.effects.clone();
             record.withdrawn = d.withdrawn.iter().map(|w| w.effect.clone()).collect();

@@ -1,6 +1,6 @@
 //! `report.md` and `summary.json` of a diagnosis study.
 
-use super::rates::{rates, sig, Rates};
+use super::rates::{rates, sig, Rate, Rates};
 use super::{DiagnosisStudyConfig, Record};
 use crate::error::DiagnoseError;
 use navkf_report::figure::FigureOutcome;
@@ -111,14 +111,23 @@ pub fn markdown(
                     .iter()
                     .map(|(s, q)| format!("{s} {}/{}", q.k, q.n))
                     .collect();
-                format!(
+                let rate = |q: Option<Rate>| q.map_or("-".to_string(), |q| q.to_string());
+                let mut text = format!(
                     "fitted levels within 20 % of the truth: {} ({}); unresolved, and said so: {}",
-                    r.mems_levels_pooled
-                        .map_or("-".to_string(), |q| q.to_string()),
+                    rate(r.mems_levels_pooled),
                     per.join(", "),
-                    r.mems_levels_unresolved
-                        .map_or("-".to_string(), |q| q.to_string())
-                )
+                    rate(r.mems_levels_unresolved)
+                );
+                if r.mems_levels_fixed.is_some() {
+                    text += &format!(
+                        "; called fixed (95 % interval within 20 %): {}, of which within 20 % \
+                         of the truth: {}; the truth inside the 95 % interval: {}",
+                        rate(r.mems_levels_fixed),
+                        rate(r.mems_fixed_within_20),
+                        rate(r.mems_intervals_cover)
+                    );
+                }
+                text
             }
             None => String::new(),
         };

@@ -12,6 +12,10 @@ use std::collections::BTreeMap;
 pub const Z_FLAG: f64 = 3.5;
 /// A source whose level the data fix only within this factor (in sigma, 95 %) is unresolved.
 pub const RESOLVED_SIGMA_FACTOR: f64 = 2.0;
+/// A fitted level is *fixed* when its 95 % interval lies within this share of the truth
+/// whichever point of it the truth is: the interval within `[r / (1 + s), r / (1 - s)]` of the
+/// fitted ratio `r`. A fitted level that is not is reported as coarse ([`SourceFit::fixed`]).
+pub const FIXED_WITHIN: f64 = 0.2;
 
 /// A noise source of the model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -153,15 +157,28 @@ pub struct SourceFit {
     pub verdict: NoiseVerdict,
     /// Fitted over stated, in sigma (the square root of the variance scale).
     pub sigma_ratio: f64,
-    /// 95 % interval of that ratio.
+    /// 95 % interval of that ratio: the likelihood ratio's for a mis-stated source
+    /// ([`super::likelihood_interval`]; 0 below, or 10^4 times the fit above, where the
+    /// likelihood never falls far enough), the curvature's otherwise.
     pub sigma_ratio_interval: [f64; 2],
     /// Stated values by `dataset.toml` key.
     pub stated: BTreeMap<String, f64>,
     /// Fitted values by key (the maximum-likelihood ones, used only when mis-stated).
     pub fitted: BTreeMap<String, f64>,
-    /// Why the level is unresolved, when it is.
+    /// Why the level is unresolved, when it is; or why a fitted level is not fixed
+    /// ([`SourceFit::fixed`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub unresolved_because: Option<WhyUnresolved>,
+}
+
+impl SourceFit {
+    /// Whether the level is fixed within [`FIXED_WITHIN`] of the truth, if the truth is
+    /// inside the 95 % interval: the interval within `[r / 1.2, r / 0.8]` of the fitted `r`.
+    pub fn fixed(&self) -> bool {
+        let [lo, hi] = self.sigma_ratio_interval;
+        let r = self.sigma_ratio;
+        lo >= r / (1.0 + FIXED_WITHIN) && hi <= r / (1.0 - FIXED_WITHIN)
+    }
 }
 
 /// The noise check of one model.

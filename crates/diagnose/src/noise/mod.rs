@@ -28,7 +28,10 @@
 //!    are also tried 10 and 100 times larger in sigma, after the local search (before it, a
 //!    process noise could stand in for the measurement noise that search finds at once).
 //! 4. **Resolution.** At the optimum, `sqrt(diag((-H)^-1))` is the standard error of each
-//!    log-scale: the data's resolution. A source is *under-stated* or *over-stated* when its
+//!    log-scale: the data's resolution. A fitted level's 95 % interval is the likelihood
+//!    ratio's ([`likelihood_interval`]): the curvature's claimed a factor of 2 either side of
+//!    a MEMS gyro level that the accelerometer's noise swamps, where the likelihood is flat
+//!    far beyond. A source is *under-stated* or *over-stated* when its
 //!    fitted log-scale is more than [`Z_FLAG`] standard errors from zero, *unresolved* when
 //!    the data cannot fix its level within a factor [`RESOLVED_SIGMA_FACTOR`] (a
 //!    navigation-grade gyro's white noise on a 40-minute drive, typically), and fits otherwise.
@@ -42,6 +45,7 @@
 
 mod grid;
 pub mod levels;
+pub mod likelihood_interval;
 pub mod search;
 
 pub use levels::{

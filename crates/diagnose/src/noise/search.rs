@@ -6,6 +6,7 @@ use super::levels::{
     scaled, NoiseFit, NoiseVerdict, SourceFit, Theta, WhyUnresolved, FEW_UPDATES, MAX_SOURCES,
     RESOLVED_SIGMA_FACTOR, SOURCES, TRADE_OFF, Z_FLAG,
 };
+use super::likelihood_interval;
 use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use crate::fit::pass::{fit, Fit};
@@ -502,6 +503,32 @@ pub fn check(
             1.0 / MIN_CURVATURE.sqrt()
         };
     }
+    // A fitted level's interval: the likelihood ratio's (super::likelihood_interval).
+    let mut interval: [[f64; 2]; MAX_SOURCES] = std::array::from_fn(|j| {
+        [
+            (0.5 * (theta[j] - 1.96 * se[j])).exp(),
+            (0.5 * (theta[j] + 1.96 * se[j])).exp(),
+        ]
+    });
+    if f.is_finite() {
+        for j in (0..k).filter(|&j| (theta[j] / se[j]).abs() > Z_FLAG) {
+            // The ridge: each other active source's best move per unit of this one's.
+            let ridge: Theta = std::array::from_fn(|i| {
+                if i == j {
+                    1.0
+                } else if active.contains(&i) && active.contains(&j) && se[j] > 0.0 {
+                    correlation[i][j] * se[i] / se[j]
+                } else {
+                    0.0
+                }
+            });
+            let [lo, hi] = likelihood_interval::bounds(&surface, theta, f, j, ridge, se[j])?;
+            interval[j] = [
+                lo.map_or(0.0, |t| (0.5 * t).exp()),
+                (0.5 * hi.unwrap_or(theta[j] + likelihood_interval::FARTHEST)).exp(),
+            ];
+        }
+    }
     let mut used_theta = [0.0; MAX_SOURCES];
     let ml = scaled(stated, theta);
     let updates = channel_updates(ds);
@@ -541,19 +568,19 @@ pub fn check(
             } else {
                 NoiseVerdict::Fits
             };
-            let unresolved_because = (verdict == NoiseVerdict::Unresolved).then(|| why(j));
-            SourceFit {
+            let mut fit = SourceFit {
                 source,
                 verdict,
                 sigma_ratio: (0.5 * theta[j]).exp(),
-                sigma_ratio_interval: [
-                    (0.5 * (theta[j] - 1.96 * se[j])).exp(),
-                    (0.5 * (theta[j] + 1.96 * se[j])).exp(),
-                ],
+                sigma_ratio_interval: interval[j],
                 stated: source.values(stated),
                 fitted: source.values(&ml),
-                unresolved_because,
-            }
+                unresolved_because: None,
+            };
+            let coarse = verdict != NoiseVerdict::Fits && !fit.fixed();
+            fit.unresolved_because =
+                (verdict == NoiseVerdict::Unresolved || coarse).then(|| why(j));
+            fit
         })
         .collect();
     Ok(NoiseFit {

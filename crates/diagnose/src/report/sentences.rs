@@ -5,7 +5,7 @@
 use super::words::{capitalise, times};
 use crate::candidates::evidence::{Candidate, Outcome};
 use crate::diagnosis::{Diagnosis, Round};
-use crate::noise::levels::{NoiseFit, NoiseVerdict, WhyUnresolved};
+use crate::noise::levels::{NoiseFit, NoiseVerdict, WhyUnresolved, FIXED_WITHIN};
 use crate::summary::FitSummary;
 use navkf_report::stats::Consistency;
 
@@ -27,9 +27,19 @@ pub fn noise_findings(check: &NoiseFit, out: &mut Vec<String>) {
                 } else {
                     ("over-stated", 1.0 / s.sigma_ratio)
                 };
+                let coarse = if s.fixed() {
+                    String::new()
+                } else {
+                    format!(
+                        " The record fixes this level only coarsely (its 95 % interval is wider \
+                         than {:.0} % either way){}: take it as an order of magnitude.",
+                        100.0 * FIXED_WITHIN,
+                        s.unresolved_because.map(why_unresolved).unwrap_or_default()
+                    )
+                };
                 out.push(format!(
                     "{} {word} about {} (in sigma; the data put it at {}-{} of the stated level): \
-                     fitted {} (stated {}). The diagnosis uses the fitted level.",
+                     fitted {} (stated {}). The diagnosis uses the fitted level.{coarse}",
                     capitalise(s.source.label()),
                     times(r),
                     times(lo),
@@ -66,7 +76,9 @@ fn why_unresolved(why: WhyUnresolved) -> String {
         WhyUnresolved::Flat => ", because the likelihood is flat in it: no measurement of this \
                                 record resolves that noise under the others"
             .to_string(),
-        WhyUnresolved::Weak => String::new(),
+        WhyUnresolved::Weak => ", because little of the innovations' variance is this noise's \
+                                beside the other sources'"
+            .to_string(),
     }
 }
 

@@ -79,6 +79,22 @@ pub struct TermDeclaration {
     pub factor: f64,
 }
 
+impl CoefficientDeclaration {
+    /// Its bound as the model holds it: unbounded when none is declared.
+    pub(crate) fn physical_bound(&self) -> crate::sensor_classes::PhysicalBound {
+        match self.bound {
+            Some(limit) => crate::sensor_classes::PhysicalBound {
+                limit,
+                reason: super::intern(self.bound_reason.as_deref().unwrap_or("declared")),
+            },
+            None => crate::sensor_classes::PhysicalBound {
+                limit: f64::INFINITY,
+                reason: "no bound declared",
+            },
+        }
+    }
+}
+
 fn one() -> f64 {
     1.0
 }
@@ -271,21 +287,7 @@ impl EffectDeclaration {
                     format!("`{}`: expected one of {}", t.to, rows.join(", ")),
                 ));
             };
-            let Some(coefficient) = self
-                .coefficients
-                .iter()
-                .position(|c| c.name == t.coefficient)
-            else {
-                let names: Vec<&str> = self.coefficients.iter().map(|c| c.name.as_str()).collect();
-                return Err((
-                    key("coefficient"),
-                    format!(
-                        "`{}`: expected one of this effect's coefficients ({})",
-                        t.coefficient,
-                        names.join(", ")
-                    ),
-                ));
-            };
+            let coefficient = self.coefficient_index(&t.coefficient, key("coefficient"))?;
             let feature = TermFeature::parse(&t.feature)
                 .filter(|f| f.allowed_on(side))
                 .ok_or_else(|| {
@@ -321,6 +323,27 @@ impl EffectDeclaration {
             });
         }
         Ok(checked)
+    }
+
+    /// The index of the coefficient called `name`, or the error at `key` listing the names.
+    pub(crate) fn coefficient_index(
+        &self,
+        name: &str,
+        key: String,
+    ) -> Result<usize, (String, String)> {
+        self.coefficients
+            .iter()
+            .position(|c| c.name == name)
+            .ok_or_else(|| {
+                let names: Vec<&str> = self.coefficients.iter().map(|c| c.name.as_str()).collect();
+                (
+                    key,
+                    format!(
+                        "`{name}`: expected one of this effect's coefficients ({})",
+                        names.join(", ")
+                    ),
+                )
+            })
     }
 
     /// The terms written out, for the description when the declaration gives none:

@@ -38,18 +38,7 @@ impl DeclaredEffect {
         let (rates, measurement) = declaration.check(effects, owner_of)?;
         let c = &declaration.coefficients;
         let bounds = if c.iter().any(|c| c.bound.is_some()) {
-            c.iter()
-                .map(|c| match c.bound {
-                    Some(limit) => PhysicalBound {
-                        limit,
-                        reason: intern(c.bound_reason.as_deref().unwrap_or("declared")),
-                    },
-                    None => PhysicalBound {
-                        limit: f64::INFINITY,
-                        reason: "no bound declared",
-                    },
-                })
-                .collect()
+            c.iter().map(|c| c.physical_bound()).collect()
         } else {
             Vec::new()
         };

@@ -30,7 +30,6 @@
 
 use super::declaration::EffectDeclaration;
 use super::intern;
-use crate::sensor_classes::PhysicalBound;
 use crate::strapdown::effects::{Coefficient, Place, Places, Slot, StrapdownEffect};
 use crate::strapdown::state::STATE_NAMES;
 use std::sync::{Arc, Mutex};
@@ -74,35 +73,23 @@ pub fn parse_place(text: &str) -> Option<Slot> {
     })
 }
 
-/// `places` as a `&'static` slice, each distinct list leaked once (as [`intern`] does for
-/// names): a [`StrapdownEffect`] lends its coefficients' places as `&'static`, like the
-/// catalogue's constants.
-fn intern_places(places: Vec<Place>) -> &'static [Place] {
-    static LISTS: Mutex<Vec<&'static [Place]>> = Mutex::new(Vec::new());
-    let mut lists = LISTS
+/// `items` as a `&'static` slice, each distinct list leaked once into `lists` (as [`intern`]
+/// does for names): a [`StrapdownEffect`] lends its coefficients and their places as
+/// `&'static`, like the catalogue's constants.
+fn intern_in<T: PartialEq>(lists: &Mutex<Vec<&'static [T]>>, items: Vec<T>) -> &'static [T] {
+    let mut lists = lists
         .lock()
         .unwrap_or_else(|poisoned| poisoned.into_inner());
-    if let Some(found) = lists.iter().find(|l| **l == places.as_slice()) {
+    if let Some(found) = lists.iter().find(|l| **l == items.as_slice()) {
         return found;
     }
-    let leaked: &'static [Place] = Box::leak(places.into_boxed_slice());
+    let leaked: &'static [T] = Box::leak(items.into_boxed_slice());
     lists.push(leaked);
     leaked
 }
 
-/// `coefficients` as a `&'static` slice (see [`intern_places`]).
-fn intern_coefficients(coefficients: Vec<Coefficient>) -> &'static [Coefficient] {
-    static LISTS: Mutex<Vec<&'static [Coefficient]>> = Mutex::new(Vec::new());
-    let mut lists = LISTS
-        .lock()
-        .unwrap_or_else(|poisoned| poisoned.into_inner());
-    if let Some(found) = lists.iter().find(|l| **l == coefficients.as_slice()) {
-        return found;
-    }
-    let leaked: &'static [Coefficient] = Box::leak(coefficients.into_boxed_slice());
-    lists.push(leaked);
-    leaked
-}
+static PLACE_LISTS: Mutex<Vec<&'static [Place]>> = Mutex::new(Vec::new());
+static COEFFICIENT_LISTS: Mutex<Vec<&'static [Coefficient]>> = Mutex::new(Vec::new());
 
 impl EffectDeclaration {
     /// The declaration as a strapdown effect, checked against the effects known already
@@ -139,21 +126,7 @@ impl EffectDeclaration {
         let mut slots: Vec<(usize, Place)> = Vec::with_capacity(self.places.len());
         for (i, p) in self.places.iter().enumerate() {
             let key = |k: &str| format!("places[{i}].{k}");
-            let Some(c) = self
-                .coefficients
-                .iter()
-                .position(|c| c.name == p.coefficient)
-            else {
-                let names: Vec<&str> = self.coefficients.iter().map(|c| c.name.as_str()).collect();
-                return Err((
-                    key("coefficient"),
-                    format!(
-                        "`{}`: expected one of this effect's coefficients ({})",
-                        p.coefficient,
-                        names.join(", ")
-                    ),
-                ));
-            };
+            let c = self.coefficient_index(&p.coefficient, key("coefficient"))?;
             let Some(slot) = parse_place(&p.place) else {
                 return Err((
                     key("place"),
@@ -187,12 +160,17 @@ impl EffectDeclaration {
                 },
             ));
         }
-        for (i, c) in self.coefficients.iter().enumerate() {
-            let mine: Vec<Place> = slots
-                .iter()
-                .filter(|(k, _)| *k == i)
-                .map(|(_, p)| *p)
-                .collect();
+        // Each coefficient's places.
+        let places: Vec<Vec<Place>> = (0..self.coefficients.len())
+            .map(|i| {
+                slots
+                    .iter()
+                    .filter(|(k, _)| *k == i)
+                    .map(|(_, p)| *p)
+                    .collect()
+            })
+            .collect();
+        for (i, (c, mine)) in self.coefficients.iter().zip(&places).enumerate() {
             if mine.is_empty() {
                 return Err((
                     format!("coefficients[{i}].name"),
@@ -219,32 +197,16 @@ impl EffectDeclaration {
         let coefficients = self
             .coefficients
             .iter()
-            .enumerate()
-            .map(|(i, c)| {
-                let mine: Vec<Place> = slots
-                    .iter()
-                    .filter(|(k, _)| *k == i)
-                    .map(|(_, p)| *p)
-                    .collect();
-                Coefficient {
-                    name: intern(&c.name),
-                    unit: intern(&c.unit),
-                    places: match mine.as_slice() {
-                        [only] if only.factor == 1.0 => Places::One(only.slot),
-                        _ => Places::Many(intern_places(mine)),
-                    },
-                    sigma: [c.sigma; 3],
-                    bound: match c.bound {
-                        Some(limit) => PhysicalBound {
-                            limit,
-                            reason: intern(c.bound_reason.as_deref().unwrap_or("declared")),
-                        },
-                        None => PhysicalBound {
-                            limit: f64::INFINITY,
-                            reason: "no bound declared",
-                        },
-                    },
-                }
+            .zip(places)
+            .map(|(c, mine)| Coefficient {
+                name: intern(&c.name),
+                unit: intern(&c.unit),
+                places: match mine.as_slice() {
+                    [only] if only.factor == 1.0 => Places::One(only.slot),
+                    _ => Places::Many(intern_in(&PLACE_LISTS, mine)),
+                },
+                sigma: [c.sigma; 3],
+                bound: c.physical_bound(),
             })
             .collect();
         let description = if self.description.trim().is_empty() {
@@ -255,7 +217,7 @@ impl EffectDeclaration {
         Ok(StrapdownEffect {
             name: intern(&self.name),
             description: intern(&description),
-            coefficients: intern_coefficients(coefficients),
+            coefficients: intern_in(&COEFFICIENT_LISTS, coefficients),
             instability: None,
             declaration: Some(Arc::new(self.clone())),
         })

@@ -48,6 +48,8 @@ impl ErrorLayout {
     pub fn new(effects: &[StrapdownEffect], decay: impl Fn(Triad) -> f64) -> Result<Self, String> {
         let mut layout = ErrorLayout::default();
         let mut index = BASE_DIM;
+        // Who holds each place taken so far, for the refusal.
+        let mut holders: Vec<(Slot, &str, &str)> = Vec::new();
         for effect in effects {
             let numbered = effect.coefficients.iter().zip(index..);
             for (c, state, p) in numbered.flat_map(|(c, s)| c.places.iter().map(move |p| (c, s, p)))
@@ -64,12 +66,18 @@ impl ErrorLayout {
                     other => return Err(format!("`{}`: no such place {other}", c.name)),
                 };
                 if place.is_some() {
+                    let (held_by, of) = holders
+                        .iter()
+                        .find(|(s, ..)| *s == p.slot)
+                        .map_or(("another coefficient", "?"), |(_, c, e)| (*c, *e));
                     return Err(format!(
-                        "`{}` of `{}` acts in {}, where another coefficient already does",
+                        "`{}` of `{}` acts in {}, which `{held_by}` of `{of}` holds already; a \
+                         model holds one coefficient in each place",
                         c.name, effect.name, p.slot
                     ));
                 }
                 *place = Some((state, p.factor));
+                holders.push((p.slot, c.name, effect.name));
             }
             index += effect.coefficients.len();
             if let Some(law) = effect.instability {
@@ -113,7 +121,7 @@ impl ErrorLayout {
     }
 
     /// The state index of the GPS latency's coefficient, and its factor.
-    pub fn latency_index(&self) -> Option<(usize, f64)> {
+    pub fn latency_entry(&self) -> Option<(usize, f64)> {
         self.latency
     }
 }

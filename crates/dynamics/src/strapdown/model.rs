@@ -129,6 +129,14 @@ impl StrapdownModel {
         &self.effects
     }
 
+    /// The user's declarations among the effects, in state order.
+    pub fn declarations(&self) -> Vec<crate::declared::EffectDeclaration> {
+        self.effects
+            .iter()
+            .filter_map(|e| e.declaration.as_deref().cloned())
+            .collect()
+    }
+
     /// Where the effects' coefficients act.
     pub fn layout(&self) -> &ErrorLayout {
         &self.layout

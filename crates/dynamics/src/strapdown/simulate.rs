@@ -435,7 +435,7 @@ impl StrapdownSimulator {
         let mut z = [0.0; MEAS_DIM];
         measurement_with(layout, state, &mut z);
         let speed = z[0];
-        if let Some((i, factor)) = layout.latency_index() {
+        if let Some((i, factor)) = layout.latency_entry() {
             let before = (t - factor * state[i]).max(0.0);
             let mut then = earlier(before);
             then[i] = 0.0;
@@ -512,12 +512,7 @@ impl StrapdownSimulator {
             initial: Some(initial),
             // The declarations of the user's effects in the truth: the folder reads back
             // with them known.
-            effects: self
-                .model
-                .effects()
-                .iter()
-                .filter_map(|e| e.declaration.as_deref().cloned())
-                .collect(),
+            effects: self.model.declarations(),
         }
     }
 }

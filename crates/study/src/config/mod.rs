@@ -282,7 +282,8 @@ pub struct StudyConfig {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sweep: Option<SweepSection>,
     /// `[[effect]]`: effects declared in TOML (docs/declared-effects.md), which
-    /// `truth.effects` and `filter.effects` may name like catalogued ones (platform family).
+    /// `truth.effects` and `filter.effects` may name like catalogued ones (terms for a
+    /// platform study, places for a strapdown one).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub effect: Vec<navkf_dynamics::declared::EffectDeclaration>,
 }

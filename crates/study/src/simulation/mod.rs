@@ -33,7 +33,7 @@ pub struct SimulationRequest {
     pub run: u64,
     /// Effects the truth carries (`gyro-fz,odometer-scale=0.002,Ka0x=1e-3`).
     pub effects: String,
-    /// Effects declared without Rust that `effects` may name (platform family).
+    /// Effects declared without Rust that `effects` may name (of the request's family).
     pub declarations: Vec<EffectDeclaration>,
     /// The test to drive.
     pub trajectory: TrajectoryConfig,

@@ -236,6 +236,17 @@ pub struct Rates {
     /// MEMS noise: levels left unresolved, pooled.
     #[serde(default)]
     pub mems_levels_unresolved: Option<Rate>,
+    /// MEMS noise: levels the report calls fixed (a fitted level whose 95 % interval lies
+    /// within 20 % of the truth wherever the truth is in it; `SourceFit::fixed`), pooled.
+    #[serde(default)]
+    pub mems_levels_fixed: Option<Rate>,
+    /// MEMS noise: of the levels called fixed, those within 20 % of the truth.
+    #[serde(default)]
+    pub mems_fixed_within_20: Option<Rate>,
+    /// MEMS noise: levels whose reported 95 % interval holds the truth, pooled (records that
+    /// keep their intervals only).
+    #[serde(default)]
+    pub mems_intervals_cover: Option<Rate>,
     /// Wrong units: the warning that names the unit fired, by unit.
     #[serde(default)]
     pub wrong_units_warned: BTreeMap<String, Rate>,
@@ -244,19 +255,23 @@ pub struct Rates {
 /// Per noise source of `r` (gyro, accelerometer, odometer, GPS): the fitted level over the
 /// truth, `None` where unresolved; for a MEMS-noise record.
 fn mems_level_errors(r: &Record) -> Vec<Option<f64>> {
-    let factors = r
-        .hidden
-        .iter()
-        .find_map(|h| match h {
-            Hidden::MemsNoise { factors } => Some(factors.clone()),
-            _ => None,
-        })
-        .unwrap_or_default();
     r.noise_ratios
         .iter()
         .enumerate()
-        .map(|(j, ratio)| ratio.map(|q| q / factors.get(j).copied().unwrap_or(1.0)))
+        .map(|(j, ratio)| ratio.map(|q| q / mems_truth(r, j)))
         .collect()
+}
+
+/// The truth's sigma over the stated one of source `j` of a MEMS-noise record (1 for the
+/// sources the class leaves as stated).
+fn mems_truth(r: &Record, j: usize) -> f64 {
+    r.hidden
+        .iter()
+        .find_map(|h| match h {
+            Hidden::MemsNoise { factors } => factors.get(j).copied(),
+            _ => None,
+        })
+        .unwrap_or(1.0)
 }
 
 /// Names of the noise sources in a record's `noise_ratios` order.
@@ -701,6 +716,40 @@ pub fn rates(records: &[Record], scales: &[EffectScale]) -> Rates {
         });
         (Some(rate), Some(unresolved))
     };
+    // The intervals: which levels the report calls fixed, and whether they hold the truth.
+    let mut fixed = (0, 0, 0);
+    let mut cover = (0, 0);
+    for r in of_class(Class::MemsNoise).filter(|r| r.error.is_none()) {
+        let truth = mems_level_errors(r);
+        for (j, interval) in r.noise_intervals.iter().enumerate() {
+            let factor = mems_truth(r, j);
+            cover.1 += 1;
+            cover.0 += usize::from(interval[0] <= factor && factor <= interval[1]);
+            if let Some(Some(ratio)) = r.noise_ratios.get(j) {
+                if interval[0] >= ratio / 1.2 && interval[1] <= ratio / 0.8 {
+                    fixed.0 += 1;
+                    fixed.1 += usize::from(truth.get(j).is_some_and(within));
+                }
+            }
+            fixed.2 += 1;
+        }
+    }
+    let (mems_levels_fixed, mems_fixed_within_20, mems_intervals_cover) = if fixed.2 == 0 {
+        (None, None, None)
+    } else {
+        let called = Rate::of(fixed.0, fixed.2);
+        let right = Rate::of(fixed.1, fixed.0);
+        targets.push(Target {
+            what: format!(
+                "{MEMS_NOISE_LABEL}: levels the report calls fixed (95 % interval within 20 %) \
+                 within 20 % of the truth"
+            ),
+            target: "at least 95 %".into(),
+            measured: format!("{right}; called fixed: {called}; the rest said to be coarse"),
+            met: right.rate >= 0.95,
+        });
+        (Some(called), Some(right), Some(Rate::of(cover.0, cover.1)))
+    };
     let z: Vec<f64> = records
         .iter()
         .flat_map(|r| r.estimate_errors.values().copied())
@@ -731,6 +780,9 @@ pub fn rates(records: &[Record], scales: &[EffectScale]) -> Rates {
         mems_levels_within_20,
         mems_levels_pooled,
         mems_levels_unresolved,
+        mems_levels_fixed,
+        mems_fixed_within_20,
+        mems_intervals_cover,
         wrong_units_warned,
     }
 }

@@ -99,6 +99,7 @@ fn single(index: usize, multiple: f64, named: bool) -> Record {
         nis_ratio: Some(1.0),
         warnings: Vec::new(),
         noise_ratios: Vec::new(),
+        noise_intervals: Vec::new(),
     }
 }
 
@@ -117,7 +118,7 @@ fn other_kind(index: usize, class: Class, hidden: Hidden) -> Record {
 fn mems_levels_are_judged_against_the_truth_and_wrong_units_by_their_own_warning() {
     use crate::diagnosis_study::content::WrongUnit;
     use navkf_dynamics::dataset::Doubt;
-    let mems = |index, gyro: Option<f64>| {
+    let mems = |index, gyro: Option<f64>, gyro_interval: [f64; 2]| {
         let mut r = other_kind(
             index,
             Class::MemsNoise,
@@ -128,6 +129,8 @@ fn mems_levels_are_judged_against_the_truth_and_wrong_units_by_their_own_warning
         // Fitted over stated: the accelerometer 5 % off its truth of 500, odometer and GPS
         // as stated.
         r.noise_ratios = vec![gyro, Some(525.0), Some(1.0), Some(1.0)];
+        // The accelerometer's interval misses its truth of 500; the aids' hold theirs.
+        r.noise_intervals = vec![gyro_interval, [510.0, 540.0], [0.95, 1.05], [0.95, 1.05]];
         r
     };
     let km_h = |index, warned: bool| {
@@ -150,9 +153,9 @@ fn mems_levels_are_judged_against_the_truth_and_wrong_units_by_their_own_warning
         r
     };
     let records = vec![
-        mems(0, Some(330.0)), // 10 % over the truth: within
-        mems(1, Some(450.0)), // 50 % over: not within
-        mems(2, None),        // unresolved: not within, but said so
+        mems(0, Some(330.0), [300.0, 360.0]), // 10 % over the truth: within, and fixed
+        mems(1, Some(450.0), [200.0, 900.0]), // 50 % over: not within, and coarse
+        mems(2, None, [1.0, 1e4]),            // unresolved: not within, but said so
         km_h(3, true),
         km_h(4, false),
     ];
@@ -162,11 +165,20 @@ fn mems_levels_are_judged_against_the_truth_and_wrong_units_by_their_own_warning
     let pooled = r.mems_levels_pooled.unwrap();
     assert_eq!((pooled.k, pooled.n), (10, 12));
     assert_eq!(r.mems_levels_unresolved.unwrap().k, 1);
+    // Called fixed: every level but the coarse and the unresolved gyro; all within 20 %. The
+    // three accelerometer intervals miss the truth.
+    let fixed = r.mems_levels_fixed.unwrap();
+    assert_eq!((fixed.k, fixed.n), (10, 12));
+    let right = r.mems_fixed_within_20.unwrap();
+    assert_eq!((right.k, right.n), (10, 10));
+    let cover = r.mems_intervals_cover.unwrap();
+    assert_eq!((cover.k, cover.n), (9, 12));
     let warned = &r.wrong_units_warned["odometer in km/h (wrong unit)"];
     assert_eq!((warned.k, warned.n), (1, 2));
     let target = |what: &str| r.targets.iter().find(|t| t.what.contains(what)).unwrap();
     assert!(!target("its warning given").met);
-    assert!(!target("within 20 %").met);
+    assert!(!target("fitted levels within 20 %").met);
+    assert!(target("calls fixed").met);
     assert!(target("MEMS noise stated at navigation grade: an effect named").met);
 }
 

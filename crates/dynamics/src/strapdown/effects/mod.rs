@@ -245,29 +245,29 @@ impl StrapdownRegistry {
                 continue;
             }
             let known: Vec<String> = extended.names().iter().map(|n| n.to_string()).collect();
+            let located = |(key, message): (String, String)| DynamicsError::Config {
+                key: format!("effect[{i}].{key}"),
+                message,
+            };
+            // A bias instability's parameter (`T_g`) is set by name as a coefficient is.
+            for (k, c) in d.coefficients.iter().enumerate() {
+                if let Some(owner) = extended.owner_of_parameter(&c.name) {
+                    return Err(located((
+                        format!("coefficients[{k}].name"),
+                        format!(
+                            "`{}` is a parameter of `{}` already; expected a new name",
+                            c.name, owner.name
+                        ),
+                    )));
+                }
+            }
             let effect = d
-                .strapdown_effect(&known, |c| {
-                    extended
-                        .owner_of(c)
-                        .map(|e| e.name.to_string())
-                        .or_else(|| extended.owner_of_parameter(c).map(|e| e.name.to_string()))
-                })
-                .map_err(|(key, message)| DynamicsError::Config {
-                    key: format!("effect[{i}].{key}"),
-                    message,
-                })?;
+                .strapdown_effect(&known, |c| extended.owner_of(c).map(|e| e.name.to_string()))
+                .map_err(located)?;
             extended.register(effect);
         }
         *self = extended;
         Ok(())
-    }
-
-    /// The user's declarations among the effects, in registration order.
-    pub fn declarations(&self) -> Vec<EffectDeclaration> {
-        self.effects
-            .iter()
-            .filter_map(|e| e.declaration.as_deref().cloned())
-            .collect()
     }
 
     /// Names, in registration order.

@@ -259,10 +259,7 @@ fn not_tried(catalogue: &dyn Catalogue, effects: &[String]) -> Vec<(String, Stri
         .filter(|e| !effects.contains(e))
         .filter_map(|e| {
             catalogue.cannot_join(effects, &e).map(|why| {
-                let note = format!(
-                    "`{e}` not tried: it cannot join this model ({why}); a model holds one \
-                     coefficient in each place of the sensor errors"
-                );
+                let note = format!("`{e}` not tried: it cannot join this model ({why})");
                 (e, note)
             })
         })

@@ -609,6 +609,13 @@ fn channel_updates(ds: &Dataset) -> [usize; MAX_SOURCES] {
         usize::MAX,
         count(&|m| m.velocity.is_some() || m.speed.is_some()),
         count(&|m| m.position_deg.is_some()),
-        count(&|m| m.nhc.is_some() || m.zupt.is_some()),
+        // The constraint reads at every standstill, and while moving when `nhc_m_s` is given
+        // (navkf_dynamics::strapdown::sensors), whether or not the file holds its zeros.
+        count(&|m| {
+            m.nhc.is_some()
+                || m.zupt.is_some()
+                || m.speed == Some(0.0)
+                || (m.speed.is_some() && ds.noise.nhc_m_s.is_some())
+        }),
     ]
 }

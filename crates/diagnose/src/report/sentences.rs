@@ -30,20 +30,30 @@ pub fn noise_findings(check: &NoiseFit, out: &mut Vec<String>) {
                 let coarse = if s.fixed() {
                     String::new()
                 } else {
+                    let why = if lo > 0.0 {
+                        s.unresolved_because.map(why_unresolved).unwrap_or_default()
+                    } else {
+                        ", because the likelihood keeps rising as the level falls (the noise is \
+                         too small for this record to see, or the readings are exact)"
+                            .to_string()
+                    };
                     format!(
                         " The record fixes this level only coarsely (its 95 % interval is wider \
-                         than {:.0} % either way){}: take it as an order of magnitude.",
+                         than {:.0} % either way){why}: take it as an order of magnitude.",
                         100.0 * FIXED_WITHIN,
-                        s.unresolved_because.map(why_unresolved).unwrap_or_default()
                     )
                 };
+                // A likelihood that never falls far enough below the fit leaves that side open.
+                let span = if lo > 0.0 {
+                    format!("at {}-{}", times(lo), times(hi))
+                } else {
+                    format!("below {}", times(hi))
+                };
                 out.push(format!(
-                    "{} {word} about {} (in sigma; the data put it at {}-{} of the stated level): \
+                    "{} {word} about {} (in sigma; the data put it {span} of the stated level): \
                      fitted {} (stated {}). The diagnosis uses the fitted level.{coarse}",
                     capitalise(s.source.label()),
                     times(r),
-                    times(lo),
-                    times(hi),
                     keys(&s.fitted),
                     keys(&s.stated)
                 ));

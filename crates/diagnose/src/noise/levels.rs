@@ -172,13 +172,16 @@ pub struct SourceFit {
 }
 
 impl SourceFit {
-    /// Whether the level is fixed within [`FIXED_WITHIN`] of the truth, if the truth is
-    /// inside the 95 % interval: the interval within `[r / 1.2, r / 0.8]` of the fitted `r`.
+    /// Whether the level is fixed ([`is_fixed`]).
     pub fn fixed(&self) -> bool {
-        let [lo, hi] = self.sigma_ratio_interval;
-        let r = self.sigma_ratio;
-        lo >= r / (1.0 + FIXED_WITHIN) && hi <= r / (1.0 - FIXED_WITHIN)
+        is_fixed(self.sigma_ratio, self.sigma_ratio_interval)
     }
+}
+
+/// Whether a fitted ratio `r` with 95 % interval `[lo, hi]` is fixed within [`FIXED_WITHIN`]
+/// of the truth, if the truth is inside the interval: the interval within `[r / 1.2, r / 0.8]`.
+pub fn is_fixed(r: f64, [lo, hi]: [f64; 2]) -> bool {
+    lo >= r / (1.0 + FIXED_WITHIN) && hi <= r / (1.0 - FIXED_WITHIN)
 }
 
 /// The noise check of one model.

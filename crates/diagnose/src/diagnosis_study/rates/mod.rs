@@ -717,28 +717,26 @@ pub fn rates(records: &[Record], scales: &[EffectScale]) -> Rates {
         (Some(rate), Some(unresolved))
     };
     // The intervals: which levels the report calls fixed, and whether they hold the truth.
-    let mut fixed = (0, 0, 0);
-    let mut cover = (0, 0);
+    let (mut levels, mut fixed, mut fixed_within, mut covered) = (0, 0, 0, 0);
     for r in of_class(Class::MemsNoise).filter(|r| r.error.is_none()) {
-        let truth = mems_level_errors(r);
-        for (j, interval) in r.noise_intervals.iter().enumerate() {
-            let factor = mems_truth(r, j);
-            cover.1 += 1;
-            cover.0 += usize::from(interval[0] <= factor && factor <= interval[1]);
-            if let Some(Some(ratio)) = r.noise_ratios.get(j) {
-                if interval[0] >= ratio / 1.2 && interval[1] <= ratio / 0.8 {
-                    fixed.0 += 1;
-                    fixed.1 += usize::from(truth.get(j).is_some_and(within));
+        let errors = mems_level_errors(r);
+        for (j, &interval) in r.noise_intervals.iter().enumerate() {
+            let truth = mems_truth(r, j);
+            levels += 1;
+            covered += usize::from(interval[0] <= truth && truth <= interval[1]);
+            if let Some(&Some(ratio)) = r.noise_ratios.get(j) {
+                if crate::noise::levels::is_fixed(ratio, interval) {
+                    fixed += 1;
+                    fixed_within += usize::from(errors.get(j).is_some_and(within));
                 }
             }
-            fixed.2 += 1;
         }
     }
-    let (mems_levels_fixed, mems_fixed_within_20, mems_intervals_cover) = if fixed.2 == 0 {
+    let (mems_levels_fixed, mems_fixed_within_20, mems_intervals_cover) = if levels == 0 {
         (None, None, None)
     } else {
-        let called = Rate::of(fixed.0, fixed.2);
-        let right = Rate::of(fixed.1, fixed.0);
+        let called = Rate::of(fixed, levels);
+        let right = Rate::of(fixed_within, fixed);
         targets.push(Target {
             what: format!(
                 "{MEMS_NOISE_LABEL}: levels the report calls fixed (95 % interval within 20 %) \
@@ -748,7 +746,7 @@ pub fn rates(records: &[Record], scales: &[EffectScale]) -> Rates {
             measured: format!("{right}; called fixed: {called}; the rest said to be coarse"),
             met: right.rate >= 0.95,
         });
-        (Some(called), Some(right), Some(Rate::of(cover.0, cover.1)))
+        (Some(called), Some(right), Some(Rate::of(covered, levels)))
     };
     let z: Vec<f64> = records
         .iter()

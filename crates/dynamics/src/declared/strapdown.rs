@@ -123,7 +123,8 @@ impl EffectDeclaration {
                 ),
             ));
         }
-        let mut slots: Vec<(usize, Place)> = Vec::with_capacity(self.places.len());
+        // Each coefficient's places.
+        let mut places: Vec<Vec<Place>> = vec![Vec::new(); self.coefficients.len()];
         for (i, p) in self.places.iter().enumerate() {
             let key = |k: &str| format!("places[{i}].{k}");
             let c = self.coefficient_index(&p.coefficient, key("coefficient"))?;
@@ -143,33 +144,23 @@ impl EffectDeclaration {
                     format!("{}: expected a finite factor other than 0", p.factor),
                 ));
             }
-            if let Some((other, _)) = slots.iter().find(|(_, q)| q.slot == slot) {
+            if let Some(other) = places
+                .iter()
+                .position(|mine| mine.iter().any(|q| q.slot == slot))
+            {
                 return Err((
                     key("place"),
                     format!(
                         "`{}` holds `{}` already; expected each place once",
-                        p.place, self.coefficients[*other].name
+                        p.place, self.coefficients[other].name
                     ),
                 ));
             }
-            slots.push((
-                c,
-                Place {
-                    slot,
-                    factor: p.factor,
-                },
-            ));
+            places[c].push(Place {
+                slot,
+                factor: p.factor,
+            });
         }
-        // Each coefficient's places.
-        let places: Vec<Vec<Place>> = (0..self.coefficients.len())
-            .map(|i| {
-                slots
-                    .iter()
-                    .filter(|(k, _)| *k == i)
-                    .map(|(_, p)| *p)
-                    .collect()
-            })
-            .collect();
         for (i, (c, mine)) in self.coefficients.iter().zip(&places).enumerate() {
             if mine.is_empty() {
                 return Err((

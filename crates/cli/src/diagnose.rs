@@ -11,7 +11,8 @@
 use navkf_diagnose::request::DiagnoseRequest;
 use navkf_diagnose::{diagnose, report, Options, RoundKind};
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::model_kind::ModelKind;
+use navkf_dynamics::declared::DeclaredFile;
+use navkf_dynamics::Registry;
 use navkf_report::{write_atomic, SettingNames};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -104,8 +105,16 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     // A large recording takes seconds to read and minutes to diagnose: a spinner with the
     // elapsed time says it is working (drawn only on a terminal).
     let spinner = navkf_report::progress::spinner(format!("reading {}", a.dataset.display()));
-    let (registry, declared, declared_for) =
-        crate::effects::registry_for_either(a.effects_file.as_deref())?;
+    let declared = a
+        .effects_file
+        .as_deref()
+        .map(DeclaredFile::read)
+        .transpose()?;
+    // A platform dataset's `[prior.coefficients]` and truth may name the file's coefficients.
+    let registry = match &declared {
+        Some(file) if file.family().is_platform() => file.platform_registry()?,
+        _ => Registry::catalogue(),
+    };
     let request = DiagnoseRequest {
         with,
         window_s: a.window,
@@ -120,22 +129,6 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         max_rounds: a.max_rounds,
     };
     let ds = Dataset::read_with(&a.dataset, &registry)?;
-    if let Some(file) = a.effects_file.as_ref().filter(|_| declared_for != ds.model) {
-        return Err(format!(
-            "--effects-file {}: declares {} effects ({}); dataset `{}` is a {} one; expected \
-             a file of {} effects",
-            file.display(),
-            declared_for.name(),
-            match declared_for {
-                ModelKind::Strapdown => "`places`",
-                ModelKind::Platform => "`rates` and `measurement` terms",
-            },
-            ds.name,
-            ds.model.name(),
-            ds.model.name()
-        )
-        .into());
-    }
     // The settings that depend on the dataset's family, checked before anything is fitted.
     let (catalogue, opts) = request.check(&ds, SettingNames::CommandLine)?;
     let out = match a.out {

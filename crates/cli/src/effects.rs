@@ -9,14 +9,16 @@
 //!
 //! `--effects-file FILE` adds the effects a user declared in TOML (docs/declared-effects.md),
 //! and `--check` compares every listed effect's partial derivatives with finite differences
-//! (`navkf_dynamics::partials_check`), reporting each one's worst entry.
+//! (`navkf_dynamics::partials_check`, `navkf_dynamics::strapdown::partials_check`), reporting
+//! each one's worst entry.
 
-use navkf_dynamics::declared::{read_declarations, EffectDeclaration};
+use navkf_dynamics::declared::DeclaredFile;
 use navkf_dynamics::model_kind::ModelKind;
 use navkf_dynamics::partials_check::check_effect;
 use navkf_dynamics::prior::base_coefficient_sigma;
 use navkf_dynamics::state::{BASE_DIM, BASE_MEANINGS, BASE_NAMES, BASE_UNITS, NAV_DIM};
 use navkf_dynamics::strapdown::effects::StrapdownRegistry;
+use navkf_dynamics::strapdown::partials_check::check_effect as strapdown_check_effect;
 use navkf_dynamics::strapdown::state::{
     BASE_DIM as SD_BASE_DIM, BA_X as SD_BA_X, NAV_DIM as SD_NAV_DIM, STATE_NAMES as SD_NAMES,
     STATE_UNITS as SD_UNITS,
@@ -41,84 +43,24 @@ pub struct Args {
     #[arg(long, value_name = "FILE")]
     effects_file: Option<PathBuf>,
     /// Check every listed effect's partial derivatives against finite differences and report
-    /// each one's worst entry; exit 1 if any disagrees.
+    /// each one's worst entry; exit 1 if any disagrees (either family).
     #[arg(long)]
     check: bool,
 }
 
-/// The catalogue with the effects declared in `file` (`--effects-file`), and the
-/// declarations; errors name the file and the key.
-pub fn registry_with_file(
+/// The effects file `file` (`--effects-file`), read and checked, when one is given, refused
+/// unless its effects are of `family` (the family of `what`, e.g. `--model platform`).
+pub fn effects_file_of(
     file: Option<&Path>,
-) -> Result<(Registry, Vec<EffectDeclaration>), Box<dyn std::error::Error>> {
+    family: ModelKind,
+    what: &str,
+) -> Result<Option<DeclaredFile>, DynamicsError> {
     let Some(path) = file else {
-        return Ok((Registry::catalogue(), Vec::new()));
+        return Ok(None);
     };
-    let declarations = read_declarations(path)?;
-    Ok((platform_registry(path, &declarations)?, declarations))
-}
-
-/// For a command that reads a dataset of either family (`diagnose`): the platform catalogue
-/// the dataset is read with (with `file`'s effects when they are platform ones), `file`'s
-/// declarations, and the family they belong to (the strapdown's when any states `places`).
-pub fn registry_for_either(
-    file: Option<&Path>,
-) -> Result<(Registry, Vec<EffectDeclaration>, ModelKind), Box<dyn std::error::Error>> {
-    let Some(path) = file else {
-        return Ok((Registry::catalogue(), Vec::new(), ModelKind::Platform));
-    };
-    let declarations = read_declarations(path)?;
-    if declarations.iter().any(|d| !d.places.is_empty()) {
-        strapdown_registry(path, &declarations)?;
-        Ok((Registry::catalogue(), declarations, ModelKind::Strapdown))
-    } else {
-        let registry = platform_registry(path, &declarations)?;
-        Ok((registry, declarations, ModelKind::Platform))
-    }
-}
-
-/// The effects declared in `file` for the strapdown family, checked against its catalogue;
-/// errors name the file and the key.
-pub fn strapdown_declarations(
-    file: &Path,
-) -> Result<Vec<EffectDeclaration>, Box<dyn std::error::Error>> {
-    let declarations = read_declarations(file)?;
-    strapdown_registry(file, &declarations)?;
-    Ok(declarations)
-}
-
-/// The platform catalogue with `declarations` (read from `path`) declared.
-fn platform_registry(
-    path: &Path,
-    declarations: &[EffectDeclaration],
-) -> Result<Registry, Box<dyn std::error::Error>> {
-    let mut registry = Registry::catalogue();
-    registry
-        .declare(declarations)
-        .map_err(|e| located(path, e))?;
-    Ok(registry)
-}
-
-/// The strapdown catalogue with `declarations` (read from `path`) declared.
-fn strapdown_registry(
-    path: &Path,
-    declarations: &[EffectDeclaration],
-) -> Result<StrapdownRegistry, Box<dyn std::error::Error>> {
-    let mut registry = StrapdownRegistry::catalogue();
-    registry
-        .declare(declarations)
-        .map_err(|e| located(path, e))?;
-    Ok(registry)
-}
-
-/// A declaration's error with the file it came from.
-fn located(path: &Path, e: DynamicsError) -> String {
-    match e {
-        DynamicsError::Config { key, message } => {
-            format!("{}: {key}: {message}", path.display())
-        }
-        other => format!("{}: {other}", path.display()),
-    }
+    let file = DeclaredFile::read(path)?;
+    file.expect_family(family, what)?;
+    Ok(Some(file))
 }
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
@@ -131,37 +73,45 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
                 )
                 .into());
             }
-            let (registry, _) = registry_with_file(a.effects_file.as_deref())?;
+            let registry = match effects_file_of(
+                a.effects_file.as_deref(),
+                ModelKind::Platform,
+                "the model listed (--model)",
+            )? {
+                Some(file) => file.platform_registry()?,
+                None => Registry::catalogue(),
+            };
             let mut text = listing(&registry)?;
             if a.check {
                 let (report, failed) = checks(&registry)?;
                 text.push_str(&report);
                 if failed > 0 {
                     say!("{}", text.trim_end());
-                    return Err(format!(
-                        "{failed} effect(s) have partial derivatives that disagree with finite \
-                         differences; the EKF would linearise them wrongly"
-                    )
-                    .into());
+                    return Err(disagree(failed));
                 }
             }
             text
         }
         "strapdown" => {
-            if a.check {
-                return Err(
-                    "--check: the partials check of declared terms is the platform \
-                     family's; a strapdown effect's partials are the model's own chain rule \
-                     through each place (crates/dynamics/tests/strapdown_effects.rs checks it \
-                     on declared effects); expected --model platform"
-                        .into(),
-                );
-            }
-            let registry = match &a.effects_file {
-                Some(file) => strapdown_registry(file, &read_declarations(file)?)?,
+            let registry = match effects_file_of(
+                a.effects_file.as_deref(),
+                ModelKind::Strapdown,
+                "the model listed (--model)",
+            )? {
+                Some(file) => file.strapdown_registry()?,
                 None => StrapdownRegistry::catalogue(),
             };
-            strapdown_listing(a.unit.as_deref().unwrap_or("mems").parse()?, &registry)
+            let class: UnitClass = a.unit.as_deref().unwrap_or("mems").parse()?;
+            let mut text = strapdown_listing(class, &registry);
+            if a.check {
+                let (report, failed) = strapdown_checks(&registry, class)?;
+                text.push_str(&report);
+                if failed > 0 {
+                    say!("{}", text.trim_end());
+                    return Err(disagree(failed));
+                }
+            }
+            text
         }
         other => {
             return Err(format!("--model {other}: expected platform or strapdown").into());
@@ -231,15 +181,42 @@ fn row(out: &mut String, name: &str, unit: &str, sigma: f64, meaning: &str) {
     let _ = writeln!(out, "  {name:<9} {unit:<15} {sigma:<10.3e} {meaning}");
 }
 
+/// The heading of the partials check's lines.
+const CHECK_HEADING: &str =
+    "\n\nPartial derivatives against central finite differences (16 random \
+     states each; an entry passes within its tolerance, 1.000):\n";
+
+/// The refusal when `failed` effects' partials disagree.
+fn disagree(failed: usize) -> Box<dyn std::error::Error> {
+    format!(
+        "{failed} effect(s) have partial derivatives that disagree with finite differences; \
+         the EKF would linearise them wrongly"
+    )
+    .into()
+}
+
 /// The partials check of every effect of `registry`, one line each, and how many failed.
 fn checks(registry: &Registry) -> Result<(String, usize), Box<dyn std::error::Error>> {
-    let mut out = String::from(
-        "\n\nPartial derivatives against central finite differences (16 random states each; \
-         an entry passes within its tolerance, 1.000):\n",
-    );
+    let mut out = String::from(CHECK_HEADING);
     let mut failed = 0;
     for name in registry.names() {
         let report = check_effect(registry.build(&name)?, &NoiseConfig::default(), 16, 1)?;
+        failed += usize::from(!report.passes());
+        let _ = writeln!(out, "  {report}");
+    }
+    Ok((out, failed))
+}
+
+/// The same for the strapdown family: each effect alone in a model of `class`, through the
+/// chain rule of its places ([`navkf_dynamics::strapdown::partials_check`]).
+fn strapdown_checks(
+    registry: &StrapdownRegistry,
+    class: UnitClass,
+) -> Result<(String, usize), Box<dyn std::error::Error>> {
+    let mut out = String::from(CHECK_HEADING);
+    let mut failed = 0;
+    for name in registry.names() {
+        let report = strapdown_check_effect(registry, name, class, 16, 1)?;
         failed += usize::from(!report.passes());
         let _ = writeln!(out, "  {report}");
     }

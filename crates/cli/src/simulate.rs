@@ -66,10 +66,13 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         "strapdown" => ModelKind::Strapdown,
         _ => ModelKind::Platform,
     };
-    let declarations = match (&a.effects_file, model) {
-        (Some(file), ModelKind::Strapdown) => crate::effects::strapdown_declarations(file)?,
-        (file, _) => crate::effects::registry_with_file(file.as_deref())?.1,
-    };
+    let declarations = crate::effects::effects_file_of(
+        a.effects_file.as_deref(),
+        model,
+        "the model simulated (--model)",
+    )?
+    .map(|file| file.declarations().to_vec())
+    .unwrap_or_default();
     let mut trajectory = match &a.trajectory {
         Some(path) => read_trajectory(path)?,
         None => TrajectoryConfig::default(),

@@ -175,6 +175,7 @@ fn strapdown_effects_are_declared_with_places() {
         "strapdown",
         "--effects-file",
         STRAPDOWN_EFFECTS,
+        "--check",
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     let out = text(&o.stdout);
@@ -183,6 +184,20 @@ fn strapdown_effects_are_declared_with_places() {
             .any(|l| l == "  n_axy     rad             2.000e-3"),
         "{out}"
     );
+    // `--check`: every effect, catalogued and declared, through the chain rule of its places.
+    for name in [
+        "gyro-scale",
+        "gps-latency",
+        "mount-yaw",
+        "mast",
+        "accel-xy-skew",
+    ] {
+        let prefix = format!("  {name}: partials agree with finite differences at 16");
+        assert!(
+            out.lines().any(|l| l.starts_with(&prefix)),
+            "{name}:\n{out}"
+        );
+    }
     let dir = scratch("strapdown");
     let drive = dir.join("drive.toml");
     std::fs::write(&drive, SHORT_DRIVE).unwrap();
@@ -266,6 +281,42 @@ fn strapdown_effects_are_declared_with_places() {
         );
         assert!(!dir.join("refused").exists());
     }
+    // A file declaring the dataset's effect otherwise is refused, naming the file and the key.
+    let clashing = dir.join("clashing.toml");
+    let examples = std::fs::read_to_string(STRAPDOWN_EFFECTS).unwrap();
+    std::fs::write(&clashing, examples.replace("sigma = 2e-3", "sigma = 3e-3")).unwrap();
+    let o = navkf([
+        "diagnose".as_ref(),
+        data.as_os_str(),
+        "--out".as_ref(),
+        dir.join("refused").as_os_str(),
+        "--effects-file".as_ref(),
+        clashing.as_os_str(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains(&format!("{}: effect[", clashing.display())) && err.contains("accel-xy-skew"),
+        "{err}"
+    );
+    assert!(!dir.join("refused").exists());
+    // Two effects in one place cannot share a model: refused with the settings, before a fit.
+    let o = navkf([
+        "diagnose".as_ref(),
+        data.as_os_str(),
+        "--out".as_ref(),
+        dir.join("refused").as_os_str(),
+        "--with".as_ref(),
+        "accel-misalignment,accel-xy-skew".as_ref(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("--with: ")
+            && err.contains("E_a[x][y], which `m_axy` of `accel-misalignment`"),
+        "{err}"
+    );
+    assert!(!dir.join("refused").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

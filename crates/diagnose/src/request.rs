@@ -12,7 +12,7 @@ use crate::catalogue::{coefficient_names, with_declared, Catalogue};
 use crate::error::DiagnoseError;
 use crate::options::Options;
 use navkf_dynamics::dataset::{Dataset, CONFIG_FILE};
-use navkf_dynamics::declared::EffectDeclaration;
+use navkf_dynamics::declared::DeclaredFile;
 use navkf_dynamics::{Attitude, PlatformPrior};
 use navkf_filters::{FilterKind, FilterSpec};
 use navkf_report::SettingNames;
@@ -38,8 +38,9 @@ pub struct DiagnoseRequest {
     /// The attitude equations of the fits' model (the platform's choice; small-angle when
     /// `None`).
     pub attitude: Option<Attitude>,
-    /// Effects declared without Rust beside the dataset's own (of the dataset's family).
-    pub declared: Vec<EffectDeclaration>,
+    /// An effects file: effects declared without Rust beside the dataset's own (refused when
+    /// of the other family or clashing with the dataset's, naming the file).
+    pub declared: Option<DeclaredFile>,
     /// Most automatic rounds.
     pub max_rounds: usize,
 }
@@ -56,7 +57,7 @@ impl Default for DiagnoseRequest {
             fit_noise: o.fit_noise,
             filter: o.filter.kind,
             attitude: None,
-            declared: Vec::new(),
+            declared: None,
             max_rounds: o.max_rounds,
         }
     }
@@ -89,7 +90,7 @@ impl DiagnoseRequest {
                 names.of("max_rounds")
             ));
         }
-        let catalogue = with_declared(ds, &self.declared)?;
+        let catalogue = with_declared(ds, self.declared.as_ref())?;
         let effects = catalogue.effect_names();
         for w in &self.with {
             if !effects.contains(w) {
@@ -127,6 +128,13 @@ impl DiagnoseRequest {
                  exact Euler angles, expected no {0}",
                 names.of("attitude")
             ));
+        }
+        // Effects that cannot share one model (two coefficients in one place of the strapdown
+        // sensor model) are refused now, not when the first fit is built.
+        if !self.with.is_empty() {
+            catalogue
+                .model(&self.with, &BTreeMap::new(), &ds.noise, attitude)
+                .map_err(|e| DiagnoseError::Data(format!("{}: {e}", names.of("with"))))?;
         }
         // The tilt priors, the request's first, then the dataset's own where the request
         // does not override them: the platform's within what its attitude equations hold, a

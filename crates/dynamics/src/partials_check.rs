@@ -370,6 +370,47 @@ impl PartialsReport {
     pub fn passes(&self) -> bool {
         self.failures == 0
     }
+
+    /// Counts `c`'s failures and keeps its worst entry that the effect touches, if worse than
+    /// the worst so far: an entry in the effect's own columns (from `base_dim` on), or one
+    /// where the model with it differs from the base model's Jacobian `base_jac` (`rows x
+    /// base_dim`, its rows the first of the model's), by its code or by the finite differences. So the report is about the
+    /// effect, not the base model the test suite checks already.
+    pub(crate) fn record(
+        &mut self,
+        jacobian: Jacobian,
+        c: &Comparison,
+        base_jac: &[f64],
+        base_dim: usize,
+        row_name: impl Fn(usize) -> String,
+        state_names: &[String],
+    ) {
+        self.failures += c.failures.len();
+        // A row the base model lacks (a bias made dynamic by the effect) is the effect's too.
+        let touched = |e: &&Entry| {
+            e.col >= base_dim
+                || base_jac
+                    .get(e.row * base_dim + e.col)
+                    .is_none_or(|&b| e.analytic != b || (e.numeric - b).abs() > e.tolerance)
+        };
+        let Some(w) = c
+            .entries
+            .iter()
+            .filter(touched)
+            .filter(|e| e.tolerance > 0.0)
+            .max_by(|a, b| a.ratio().total_cmp(&b.ratio()))
+            .cloned()
+        else {
+            return;
+        };
+        if self
+            .worst
+            .as_ref()
+            .is_none_or(|(_, _, _, e)| w.ratio() > e.ratio())
+        {
+            self.worst = Some((jacobian, row_name(w.row), state_names[w.col].clone(), w));
+        }
+    }
 }
 
 impl fmt::Display for PartialsReport {
@@ -452,36 +493,11 @@ pub fn check_effect(
                 &base_measurement,
             ),
         ] {
-            report.failures += c.failures.len();
-            // An entry the effect touches: its own columns, or one where the model with it
-            // differs from the base model, by its code or by the finite differences.
-            let touched = |e: &&Entry| {
-                e.col >= nb || {
-                    let b = base_jac[e.row * nb + e.col];
-                    e.analytic != b || (e.numeric - b).abs() > e.tolerance
-                }
+            let row_name = |r: usize| match jacobian {
+                Jacobian::Rates => names[r].clone(),
+                Jacobian::Measurement => MEASUREMENT_NAMES[r].to_string(),
             };
-            let Some(w) = c
-                .entries
-                .iter()
-                .filter(touched)
-                .filter(|e| e.tolerance > 0.0)
-                .max_by(|a, b| a.ratio().total_cmp(&b.ratio()))
-                .cloned()
-            else {
-                continue;
-            };
-            if report
-                .worst
-                .as_ref()
-                .is_none_or(|(_, _, _, e)| w.ratio() > e.ratio())
-            {
-                let row = match jacobian {
-                    Jacobian::Rates => names[w.row].clone(),
-                    Jacobian::Measurement => MEASUREMENT_NAMES[w.row].to_string(),
-                };
-                report.worst = Some((jacobian, row, names[w.col].clone(), w));
-            }
+            report.record(jacobian, &c, base_jac, nb, row_name, &names);
         }
     }
     Ok(report)

@@ -10,16 +10,14 @@ mod common;
 use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
 use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::model::{StrapdownModel, MEAS_DIM};
+use navkf_dynamics::strapdown::partials_check::{random_reading, random_state, steps};
 use navkf_dynamics::strapdown::rates::input_of;
-use navkf_dynamics::strapdown::rates::ImuReading;
 use navkf_dynamics::strapdown::simulate::StrapdownSimulator;
 use navkf_dynamics::strapdown::state::*;
 use navkf_dynamics::strapdown::tangent::rate_jacobian_dual;
 use navkf_dynamics::strapdown::unit_class::UnitClass;
 use navkf_dynamics::system::propagate_generic;
-use navkf_dynamics::{
-    FamilyModel, InputWindow, NoiseConfig, SystemModel, Trajectory, TrajectoryConfig,
-};
+use navkf_dynamics::{InputWindow, NoiseConfig, SystemModel, Trajectory, TrajectoryConfig};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeMap;
@@ -40,33 +38,6 @@ fn model_in(list: &str, noise: &NoiseConfig, registry: &StrapdownRegistry) -> St
     StrapdownModel::base(noise)
         .with_effects(&list, UnitClass::Mems, 1.0)
         .unwrap()
-}
-
-/// A state far from level and at speed, its coefficients drawn at up to four typical sigmas.
-fn random_state(model: &StrapdownModel, rng: &mut ChaCha8Rng) -> Vec<f64> {
-    let mut x = vec![0.0; model.dim()];
-    x[ROLL] = rng.gen_range(-0.5..0.5);
-    x[PITCH] = rng.gen_range(-0.5..0.5);
-    x[HEADING] = rng.gen_range(-3.1..3.1);
-    x[V_E] = rng.gen_range(-40.0..40.0);
-    x[V_N] = rng.gen_range(-40.0..40.0);
-    x[LAT] = rng.gen_range(-1.3..1.3);
-    x[LON] = rng.gen_range(-3.1..3.1);
-    for (i, xi) in x.iter_mut().enumerate().skip(NAV_DIM) {
-        *xi = rng.gen_range(-4.0..4.0) * model.typical_sigma(i);
-    }
-    x
-}
-
-fn random_imu(rng: &mut ChaCha8Rng) -> ImuReading {
-    ImuReading {
-        w: std::array::from_fn(|_| rng.gen_range(-0.5..0.5)),
-        f: [
-            rng.gen_range(-3.0..3.0),
-            rng.gen_range(-3.0..3.0),
-            rng.gen_range(8.0..11.0),
-        ],
-    }
 }
 
 /// Central differences of `f` against its Jacobian `jac` (`rows x n`), each entry within a
@@ -101,21 +72,6 @@ fn check_jacobian(
             );
         }
     }
-}
-
-fn steps_for(model: &StrapdownModel) -> Vec<f64> {
-    let base = [
-        1e-6, 1e-6, 1e-6, 1e-4, 1e-4, 1e-7, 1e-7, 1e-8, 1e-8, 1e-8, 1e-5, 1e-5, 1e-5,
-    ];
-    (0..model.dim())
-        .map(|i| {
-            if i < BASE_DIM {
-                base[i]
-            } else {
-                1e-3 * model.typical_sigma(i)
-            }
-        })
-        .collect()
 }
 
 /// Effects a user declares (docs/declared-effects.md): the whole unit turned on its mount
@@ -204,10 +160,10 @@ fn every_effects_jacobians_match_central_differences() {
         let model = model_in(list, &noise, &registry);
         let names = model.state_names();
         let (n, d) = (model.dim(), model.dynamic_dim());
-        let steps = steps_for(&model);
+        let steps = steps(&model);
         for _ in 0..10 {
             let x = random_state(&model, &mut rng);
-            let imu = random_imu(&mut rng);
+            let imu = random_reading(&mut rng);
             let u = input_of(&imu);
             let mut jac = vec![f64::NAN; d * n];
             model.rate_jacobian(&x, &u, &mut jac);
@@ -287,7 +243,7 @@ fn a_declared_effect_is_the_catalogued_one_it_restates() {
         ] {
             y[index(&catalogued, name)] = v;
         }
-        let u = input_of(&random_imu(&mut rng));
+        let u = input_of(&random_reading(&mut rng));
         let (mut a, mut b) = (vec![0.0; NAV_DIM], vec![0.0; NAV_DIM]);
         declared.rates(&x, &u, &mut a);
         catalogued.rates(&y, &u, &mut b);
@@ -380,7 +336,7 @@ fn zero_coefficients_are_the_base_model() {
         x[NAV_DIM..].iter_mut().for_each(|v| *v *= 0.0);
         x[BG_X] = 1e-4;
         x[BA_X + 2] = 0.03;
-        let u = input_of(&random_imu(&mut rng));
+        let u = input_of(&random_reading(&mut rng));
         let (mut a, mut b) = (vec![0.0; NAV_DIM], vec![0.0; NAV_DIM]);
         full.rates(&x, &u, &mut a);
         base.rates(&x[..BASE_DIM], &u, &mut b);
@@ -604,7 +560,7 @@ fn batched_propagation_with_effects_matches_one_point_at_a_time() {
     let mut rng = ChaCha8Rng::seed_from_u64(65);
     let mut w = InputWindow::with_capacity(11);
     for k in 0..=10 {
-        w.push_linear(0.1 * k as f64, input_of(&random_imu(&mut rng)));
+        w.push_linear(0.1 * k as f64, input_of(&random_reading(&mut rng)));
     }
     let count = 11;
     let nw = model.noise_channels().len();

@@ -9,6 +9,7 @@ use crate::dataset::Dataset;
 use crate::errors::{to_py, OrNavkfError};
 use navkf_diagnose::request::DiagnoseRequest;
 use navkf_diagnose::{diagnose as run, report, Fit};
+use navkf_dynamics::declared::DeclaredFile;
 use navkf_filters::FilterKind;
 use navkf_report::{write_atomic, ResultsDir, SettingNames};
 use numpy::PyArray1;
@@ -20,7 +21,7 @@ use std::path::PathBuf;
 /// See `navkf.diagnose` (python/navkf/__init__.py).
 #[pyfunction]
 #[pyo3(signature = (dataset, *, with_, priors, level_sigma, azimuth_sigma, fit_noise, filter,
-    attitude, window, max_rounds, out, progress))]
+    attitude, window, max_rounds, effects_file, out, progress))]
 #[allow(clippy::too_many_arguments)]
 pub fn diagnose<'py>(
     py: Python<'py>,
@@ -34,6 +35,7 @@ pub fn diagnose<'py>(
     attitude: Option<String>,
     window: f64,
     max_rounds: usize,
+    effects_file: Option<PathBuf>,
     out: Option<PathBuf>,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<(String, Bound<'py, PyDict>)> {
@@ -51,7 +53,11 @@ pub fn diagnose<'py>(
         fit_noise,
         filter,
         attitude,
-        declared: Vec::new(),
+        declared: effects_file
+            .as_deref()
+            .map(DeclaredFile::read)
+            .transpose()
+            .or_py()?,
         max_rounds,
     };
     let ds = &dataset.inner;

@@ -4,6 +4,7 @@
 
 use crate::dataset::Dataset;
 use crate::errors::OrNavkfError;
+use navkf_dynamics::declared::DeclaredFile;
 use navkf_dynamics::model_kind::ModelKind;
 use navkf_dynamics::TrajectoryConfig;
 use navkf_study::simulation::{
@@ -15,7 +16,7 @@ use std::path::PathBuf;
 /// See `navkf.simulate` (python/navkf/__init__.py) for the arguments.
 #[pyfunction]
 #[pyo3(signature = (*, out, seed, run_index, effects, model, trajectory_toml, duration,
-    attitude, azimuth_sigma, truth, unit, imu_rate, nhc_sigma))]
+    attitude, azimuth_sigma, truth, unit, imu_rate, nhc_sigma, effects_file))]
 #[allow(clippy::too_many_arguments)]
 pub fn simulate(
     py: Python<'_>,
@@ -32,6 +33,7 @@ pub fn simulate(
     unit: Option<String>,
     imu_rate: Option<f64>,
     nhc_sigma: Option<f64>,
+    effects_file: Option<PathBuf>,
 ) -> PyResult<Dataset> {
     let model = match model {
         "platform" => ModelKind::Platform,
@@ -41,6 +43,15 @@ pub fn simulate(
                 "model {other:?}: expected \"platform\" or \"strapdown\""
             )))
         }
+    };
+    let declarations = match effects_file {
+        Some(path) => {
+            let file = DeclaredFile::read(&path).or_py()?;
+            file.expect_family(model, "the model simulated (model=)")
+                .or_py()?;
+            file.declarations().to_vec()
+        }
+        None => Vec::new(),
     };
     let mut trajectory = match trajectory_toml {
         Some(text) => trajectory_from_text(std::path::Path::new("trajectory"), &text).or_py()?,
@@ -58,7 +69,7 @@ pub fn simulate(
         seed,
         run: run_index,
         effects,
-        declarations: Vec::new(),
+        declarations,
         trajectory,
         attitude,
         azimuth_sigma,

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import navkf
-from conftest import interrupted_at_start
+from conftest import SHORT, interrupted_at_start
 
 
 def test_diagnose_equals_the_command_line(cli, pair, tmp_path):
@@ -73,3 +73,51 @@ def test_a_unit_mistake_is_warned_before_the_verdict(pair):
     assert ds.warnings()
     with pytest.warns(UserWarning, match="in g"):
         navkf.diagnose(ds, noise="stated", max_rounds=1)
+
+
+def test_effects_declared_in_a_file_reach_simulate_and_diagnose(cli, root, tmp_path):
+    """An effects file (docs/declared-effects.md) is taken as the command line takes it:
+    `simulate` may hide its effects, `diagnose` tries them, and the answer is the command
+    line's, bit for bit."""
+    effects = root / "studies" / "effects" / "examples.toml"
+    ds = navkf.simulate(
+        seed=5,
+        trajectory=SHORT,
+        effects="drag,kd=-2e-4",
+        effects_file=effects,
+        out=tmp_path / "drag",
+    )
+    assert 'name = "drag"' in (tmp_path / "drag" / "dataset.toml").read_text()
+    subprocess.run(
+        [str(cli), "diagnose", str(tmp_path / "drag"), "--effects-file", str(effects),
+         "--out", str(tmp_path / "cli")],
+        check=True,
+        capture_output=True,
+    )
+    expected = json.loads((tmp_path / "cli" / "diagnosis.json").read_text())
+    got = navkf.diagnose(tmp_path / "drag", effects_file=effects)
+    got.pop("series")
+    assert got == expected
+    assert "drag" in got["effects"]
+    # The file's other effects are candidates too: `with_` may name them.
+    d = navkf.diagnose(ds, effects_file=effects, with_="gps-offset", max_rounds=1)
+    assert d["rounds"][0]["kind"] == "manual"
+    with pytest.raises(navkf.NavkfError, match="unknown platform effect `gps-offset`"):
+        navkf.diagnose(ds, with_="gps-offset")
+
+
+def test_an_effects_file_of_the_other_family_is_refused_by_name(pair, root, tmp_path):
+    strapdown = root / "studies" / "effects" / "strapdown-examples.toml"
+    platform = root / "studies" / "effects" / "examples.toml"
+    said = "strapdown-examples.toml: declares strapdown effects"
+    with pytest.raises(navkf.NavkfError, match=said):
+        navkf.diagnose(pair, effects_file=strapdown)
+    with pytest.raises(navkf.NavkfError, match=said):
+        navkf.simulate(effects_file=strapdown, out=tmp_path / "refused")
+    with pytest.raises(navkf.NavkfError, match="examples.toml: declares platform effects"):
+        navkf.simulate(model="strapdown", effects_file=platform, out=tmp_path / "refused")
+    assert not (tmp_path / "refused").exists()
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[[effect]]\nname = "x"\ncoefficients = []\nplaces = [{ coefficient = "c", place = "E_q" }]\n')
+    with pytest.raises(navkf.NavkfError, match=r"bad.toml: effect\[0\]"):
+        navkf.diagnose(pair, effects_file=bad)

@@ -10,7 +10,7 @@ pub mod strapdown;
 
 use crate::error::DiagnoseError;
 use navkf_dynamics::dataset::{Dataset, Measurement};
-use navkf_dynamics::declared::EffectDeclaration;
+use navkf_dynamics::declared::DeclaredFile;
 use navkf_dynamics::sensor_classes::PhysicalBound;
 use navkf_dynamics::trajectory::Phase;
 use navkf_dynamics::{
@@ -203,25 +203,37 @@ pub fn first_full_measurement(
 /// The catalogue of `ds`'s family, with the effects its `dataset.toml` declares
 /// ([`navkf_dynamics::declared`]).
 pub fn of(ds: &Dataset) -> Result<Box<dyn Catalogue>, DiagnoseError> {
-    with_declared(ds, &[])
+    with_declared(ds, None)
 }
 
-/// [`of`], with `more` declared effects beside the dataset's own (`--effects-file`).
+/// [`of`], with the effects of `more` (`--effects-file`) declared beside the dataset's own:
+/// refused when they are of the other family or clash with the dataset's, naming the file.
 pub fn with_declared(
     ds: &Dataset,
-    more: &[EffectDeclaration],
+    more: Option<&DeclaredFile>,
 ) -> Result<Box<dyn Catalogue>, DiagnoseError> {
+    if let Some(file) = more {
+        file.expect_family(ds.model, &format!("dataset `{}`", ds.name))?;
+    }
+    let more_declarations = more.map(DeclaredFile::declarations).unwrap_or_default();
+    let in_file = |e| match more {
+        Some(file) => file.locate(e),
+        None => e,
+    };
     match ds.model {
         ModelKind::Platform => {
             let mut registry = navkf_dynamics::Registry::catalogue();
             registry.declare(&ds.effects)?;
-            registry.declare(more)?;
+            registry.declare(more_declarations).map_err(in_file)?;
             Ok(Box::new(registry))
         }
         ModelKind::Strapdown => {
             let mut catalogue = strapdown::StrapdownCatalogue::for_dataset(ds);
             catalogue.registry.declare(&ds.effects)?;
-            catalogue.registry.declare(more)?;
+            catalogue
+                .registry
+                .declare(more_declarations)
+                .map_err(in_file)?;
             Ok(Box::new(catalogue))
         }
     }

@@ -34,6 +34,7 @@
 
 mod declaration;
 mod effect;
+mod effects_file;
 mod feature;
 pub mod strapdown;
 
@@ -41,6 +42,7 @@ pub use declaration::{
     CoefficientDeclaration, EffectDeclaration, PlaceDeclaration, TermDeclaration,
 };
 pub use effect::DeclaredEffect;
+pub use effects_file::DeclaredFile;
 pub use feature::{TermFeature, TermSide};
 
 use crate::error::DynamicsError;

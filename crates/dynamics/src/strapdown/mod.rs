@@ -13,6 +13,8 @@
 //!   type (corrected readings, the readings of a unit with errors, the measurement);
 //! - [`model`]: the model as a [`crate::SystemModel`]; [`measurement`] its measurement
 //!   without effects, [`effect_rates`] its rates with them;
+//! - [`partials_check`]: an effect's Jacobians against finite differences (`navkf effects
+//!   --check`);
 //! - [`rates`]: the state equations, written once over [`crate::real::Real`], and their
 //!   Jacobian from the same source on dual numbers ([`crate::dual`]);
 //! - [`sensors`]: odometer speed, GPS fix and the non-holonomic constraint as a filter's
@@ -31,6 +33,7 @@ pub mod family;
 pub mod jacobian;
 pub mod measurement;
 pub mod model;
+pub mod partials_check;
 pub mod rates;
 pub mod sensors;
 pub mod simulate;

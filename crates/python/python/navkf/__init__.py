@@ -95,6 +95,7 @@ def simulate(
     unit: Optional[str] = None,
     imu_rate: Optional[float] = None,
     nhc_sigma: Optional[float] = None,
+    effects_file: Optional[PathLike] = None,
 ) -> Dataset:
     """Simulates a vehicle test, as ``navkf simulate`` does, and returns the dataset.
 
@@ -105,6 +106,9 @@ def simulate(
     with a ``[trajectory]`` table; ``duration`` scales the test (s). ``azimuth_sigma`` is
     the initial azimuth (heading) error's one-sigma, rad. When ``out`` is given the dataset
     is also written there (a new folder, or one ``simulate`` wrote before).
+    ``effects_file`` is a TOML file of ``[[effect]]`` tables (docs/declared-effects.md), of
+    ``model``'s family, whose effects ``effects`` may then name; the dataset's
+    ``dataset.toml`` carries the declarations of those it hides.
     """
     def go(folder: str) -> Dataset:
         return _navkf.simulate(
@@ -121,6 +125,7 @@ def simulate(
             unit=unit,
             imu_rate=None if imu_rate is None else float(imu_rate),
             nhc_sigma=None if nhc_sigma is None else float(nhc_sigma),
+            effects_file=None if effects_file is None else os.fspath(effects_file),
         )
 
     for name, value in (("seed", seed), ("run", run)):
@@ -209,6 +214,7 @@ def diagnose(
     attitude: Optional[str] = None,
     window: float = 300.0,
     max_rounds: int = 4,
+    effects_file: Optional[PathLike] = None,
     out: Optional[PathLike] = None,
     progress: Optional[Progress] = None,
 ) -> Dict[str, Any]:
@@ -221,11 +227,14 @@ def diagnose(
     findings, every round with its candidates, the noise check and the fits' innovation
     summaries; and under ``"series"`` the final model's update-by-update series (``"model"``:
     ``t``, ``nis``, ``dims``, per channel the ``innovation`` and its ``innovation_sigma``)
-    and, when effects were added, the base model's (``"before"``). With ``out`` the report
-    and figures are written too.
+    and, when effects were added, the base model's (``"before"``). ``effects_file`` is a TOML
+    file of ``[[effect]]`` tables of the dataset's family (docs/declared-effects.md): its
+    effects are candidates beside the catalogue's and ``with_`` may name them. With ``out``
+    the report and figures are written too.
     """
+    effects_file = None if effects_file is None else os.fspath(effects_file)
     if not isinstance(dataset, Dataset):
-        dataset = Dataset.read(os.fspath(dataset))
+        dataset = Dataset.read(os.fspath(dataset), effects_file)
     # What looks like a unit mistake is said before any verdict, as the command line does.
     for w in dataset.warnings():
         warnings.warn(f"{dataset.name}: {w}", stacklevel=2)
@@ -246,6 +255,7 @@ def diagnose(
         attitude=attitude,
         window=float(window),
         max_rounds=int(max_rounds),
+        effects_file=effects_file,
         out=None if out is None else os.fspath(out),
         progress=progress,
     )

@@ -15,8 +15,12 @@ class Dataset:
     """A dataset: inputs, measurements, the stated noise and priors, and truth when simulated."""
 
     @staticmethod
-    def read(path: Union[str, PathLike[str]]) -> Dataset:
-        """Reads and validates a dataset folder (docs/data-format.md)."""
+    def read(
+        path: Union[str, PathLike[str]],
+        effects_file: Optional[Union[str, PathLike[str]]] = None,
+    ) -> Dataset:
+        """Reads and validates a dataset folder (docs/data-format.md); with ``effects_file``
+        its priors and truth may name the coefficients of the platform effects declared there."""
     @staticmethod
     def from_arrays(
         inputs: Mapping[str, npt.ArrayLike],
@@ -105,6 +109,7 @@ def simulate(
     unit: Optional[str],
     imu_rate: Optional[float],
     nhc_sigma: Optional[float],
+    effects_file: Optional[str],
 ) -> Dataset: ...
 def study(
     *,
@@ -129,6 +134,7 @@ def diagnose(
     attitude: Optional[str],
     window: float,
     max_rounds: int,
+    effects_file: Optional[str],
     out: Optional[str],
     progress: Optional[Callable[[int, int], Any]],
 ) -> Tuple[str, Dict[str, Dict[str, Any]]]: ...

@@ -1,0 +1,190 @@
+//! An effects file as a command or the Python package takes it (`--effects-file`,
+//! `navkf.diagnose(effects_file=...)`): its declarations, the model family they belong to, and
+//! the path that every refusal names.
+//!
+//! Why a type: the same file reaches `effects`, `simulate`, `diagnose` and the Python
+//! package, and each must refuse it the same way: checked against its family's catalogue when
+//! read, refused with both families named when the dataset or the `--model` is of the other,
+//! and any later clash (an effect that `dataset.toml` declares otherwise) reported with this
+//! file's name, not as a bare key.
+
+use super::{read_declarations, EffectDeclaration};
+use crate::error::DynamicsError;
+use crate::model_kind::ModelKind;
+use crate::strapdown::effects::StrapdownRegistry;
+use crate::Registry;
+use std::path::{Path, PathBuf};
+
+/// The declarations of one effects file, checked against their family's catalogue.
+#[derive(Debug, Clone)]
+pub struct DeclaredFile {
+    path: PathBuf,
+    family: ModelKind,
+    declarations: Vec<EffectDeclaration>,
+}
+
+impl DeclaredFile {
+    /// Reads `path` and checks its declarations against the catalogue of their family: the
+    /// strapdown one when any declaration states `places`, the platform one otherwise (a file
+    /// mixing both is refused by the strapdown check, at the key of the first platform term).
+    pub fn read(path: &Path) -> Result<DeclaredFile, DynamicsError> {
+        let declarations = read_declarations(path)?;
+        let family = if declarations.iter().any(|d| !d.places.is_empty()) {
+            ModelKind::Strapdown
+        } else {
+            ModelKind::Platform
+        };
+        let file = DeclaredFile {
+            path: path.to_path_buf(),
+            family,
+            declarations,
+        };
+        match family {
+            ModelKind::Platform => drop(file.platform_registry()?),
+            ModelKind::Strapdown => drop(file.strapdown_registry()?),
+        }
+        Ok(file)
+    }
+
+    /// The file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The family its effects belong to.
+    pub fn family(&self) -> ModelKind {
+        self.family
+    }
+
+    /// Its declarations, in the file's order.
+    pub fn declarations(&self) -> &[EffectDeclaration] {
+        &self.declarations
+    }
+
+    /// The platform catalogue with these effects declared.
+    pub fn platform_registry(&self) -> Result<Registry, DynamicsError> {
+        let mut registry = Registry::catalogue();
+        registry
+            .declare(&self.declarations)
+            .map_err(|e| self.locate(e))?;
+        Ok(registry)
+    }
+
+    /// The strapdown catalogue with these effects declared.
+    pub fn strapdown_registry(&self) -> Result<StrapdownRegistry, DynamicsError> {
+        let mut registry = StrapdownRegistry::catalogue();
+        registry
+            .declare(&self.declarations)
+            .map_err(|e| self.locate(e))?;
+        Ok(registry)
+    }
+
+    /// Refuses the file unless its effects are of `family`, the family of `what` (`dataset
+    /// `drive``, `the model simulated (--model)`), naming the file and both families.
+    pub fn expect_family(&self, family: ModelKind, what: &str) -> Result<(), DynamicsError> {
+        if self.family == family {
+            return Ok(());
+        }
+        Err(DynamicsError::File {
+            path: self.path.clone(),
+            message: format!(
+                "declares {} effects ({}); {what} is a {} one; expected a file of {} effects",
+                self.family.name(),
+                match self.family {
+                    ModelKind::Strapdown => "`places`",
+                    ModelKind::Platform => "`rates` and `measurement` terms",
+                },
+                family.name(),
+                family.name()
+            ),
+        })
+    }
+
+    /// An error of declaring these effects (into a registry that already holds others, such
+    /// as a dataset's), with this file's path: `FILE: effect[1].name: ...`.
+    pub fn locate(&self, e: DynamicsError) -> DynamicsError {
+        let message = match e {
+            DynamicsError::Config { key, message } => format!("{key}: {message}"),
+            DynamicsError::Effect(message) => message,
+            located @ (DynamicsError::Data { .. }
+            | DynamicsError::File { .. }
+            | DynamicsError::Toml { .. }
+            | DynamicsError::Io { .. }) => return located,
+        };
+        DynamicsError::File {
+            path: self.path.clone(),
+            message,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn file(name: &str, text: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("navkf-effects-file-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
+    const DRAG: &str = r#"
+[[effect]]
+name = "drag"
+coefficients = [{ name = "kd", unit = "1/s", sigma = 5e-5 }]
+rates = [{ to = "v_x", coefficient = "kd", feature = "v_x" }]
+"#;
+
+    const SKEW: &str = r#"
+[[effect]]
+name = "skew"
+coefficients = [{ name = "n_axy", unit = "rad", sigma = 2e-3 }]
+places = [{ coefficient = "n_axy", place = "E_a[x][y]" }]
+"#;
+
+    #[test]
+    fn a_file_is_of_the_family_its_declarations_say() {
+        let drag = DeclaredFile::read(&file("drag.toml", DRAG)).unwrap();
+        assert_eq!(drag.family(), ModelKind::Platform);
+        assert!(drag.platform_registry().unwrap().build("drag").is_ok());
+        let skew = DeclaredFile::read(&file("skew.toml", SKEW)).unwrap();
+        assert_eq!(skew.family(), ModelKind::Strapdown);
+        assert!(skew.strapdown_registry().unwrap().get("skew").is_ok());
+        let refused = skew
+            .expect_family(ModelKind::Platform, "dataset `drive`")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            refused.contains("skew.toml")
+                && refused.contains("declares strapdown effects")
+                && refused.contains("dataset `drive` is a platform one"),
+            "{refused}"
+        );
+        assert!(drag.expect_family(ModelKind::Platform, "x").is_ok());
+    }
+
+    #[test]
+    fn refusals_name_the_file_and_the_key() {
+        let mixed = file("mixed.toml", &format!("{SKEW}\n{}", DRAG));
+        let err = DeclaredFile::read(&mixed).unwrap_err().to_string();
+        assert!(err.starts_with(&mixed.display().to_string()), "{err}");
+        assert!(err.contains("effect[1]"), "{err}");
+        // A clash with an effect declared elsewhere under the same name names this file.
+        let skew = DeclaredFile::read(&file("skew2.toml", SKEW)).unwrap();
+        let mut registry = StrapdownRegistry::catalogue();
+        let mut other = skew.declarations().to_vec();
+        other[0].coefficients[0].sigma = 1e-3;
+        registry.declare(&other).unwrap();
+        let clash = registry
+            .declare(skew.declarations())
+            .map_err(|e| skew.locate(e))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            clash.starts_with(&skew.path().display().to_string()) && clash.contains("skew"),
+            "{clash}"
+        );
+    }
+}

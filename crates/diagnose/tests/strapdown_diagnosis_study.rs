@@ -196,3 +196,72 @@ fn its_datasets_carry_what_was_drawn() {
         assert_eq!(off[k], *f != 1.0, "source {k}: factor {f}");
     }
 }
+
+/// A study file's `[[effect]]` joins the family's catalogue: hidden in `single` datasets
+/// (here only it, by the class's `effects`) at drawn sizes, drawn in pairs, stated by every dataset (so a clean one is
+/// diagnosed with it among the candidates), and refused by key when it is not the family's.
+#[test]
+fn a_declared_effect_is_hidden_and_a_candidate_everywhere() {
+    let declared = r#"
+[[effect]]
+name = "accel-xy-skew"
+coefficients = [{ name = "n_axy", unit = "rad", sigma = 2e-3, bound = 0.05 }]
+places = [
+    { coefficient = "n_axy", place = "E_a[x][y]" },
+    { coefficient = "n_axy", place = "E_a[y][x]" },
+]
+"#;
+    let config = parse(&format!(
+        "[sizes]\naccel-xy-skew = [1.0, 10.0]\n\n[[content]]\nkind = \"nothing\"\ncount = 1\n\n\
+         [[content]]\nkind = \"single\"\ncount = 2\neffects = [\"accel-xy-skew\"]\n\n[[content]]\nkind = \"pair\"\ncount = 3\n\
+         effects = [\"odometer-scale\", \"accel-xy-skew\"]\n{declared}"
+    ))
+    .unwrap();
+    let names = config.effect_names();
+    assert_eq!(names.last().map(String::as_str), Some("accel-xy-skew"));
+    let planned = plan(&config).unwrap();
+    assert_eq!(planned.len(), 1 + 2 + 3);
+    let skews: Vec<f64> = planned
+        .iter()
+        .flat_map(|p| &p.hidden)
+        .filter_map(|h| match h {
+            Hidden::Effect { name, values, .. } if name == "accel-xy-skew" => Some(values["n_axy"]),
+            _ => None,
+        })
+        .collect();
+    // Two singles and every pair (the pool holds two effects).
+    assert_eq!(skews.len(), 5, "{skews:?}");
+    assert!(
+        skews.iter().all(|v| (2e-3..=2e-2).contains(&v.abs())),
+        "{skews:?}"
+    );
+    let trajectory = Arc::new(Trajectory::build(&config.trajectory).unwrap());
+    let single = planned
+        .iter()
+        .find(|p| p.class == Class::Single && p.hidden[0].effect() == Some("accel-xy-skew"))
+        .unwrap();
+    let clean = &planned[0];
+    for p in [single, clean] {
+        let ds = simulate(&config, &trajectory, p).unwrap();
+        assert_eq!(ds.effects, config.effect, "dataset {}", p.index);
+        let catalogue = navkf_diagnose::catalogue::of(&ds).unwrap();
+        assert!(catalogue
+            .effect_names()
+            .iter()
+            .any(|n| n == "accel-xy-skew"));
+    }
+    // The effect is in the truth: its coefficient is a truth column at the drawn value.
+    let ds = simulate(&config, &trajectory, single).unwrap();
+    let truth = ds.truth.as_ref().unwrap();
+    let k = truth.names.iter().position(|n| n == "n_axy").unwrap();
+    let Hidden::Effect { values, .. } = &single.hidden[0] else {
+        panic!()
+    };
+    assert_eq!(truth.states[0][k], values["n_axy"]);
+    // A platform declaration in a strapdown study is refused by its key.
+    let platform = "[[content]]\nkind = \"nothing\"\ncount = 1\n\n[[effect]]\nname = \"drag\"\n\
+                    coefficients = [{ name = \"kd\", unit = \"1/s\", sigma = 5e-5 }]\n\
+                    rates = [{ to = \"v_x\", coefficient = \"kd\", feature = \"v_x\" }]\n";
+    let err = parse(platform).unwrap_err();
+    assert!(err.starts_with("effect[0]"), "{err}");
+}

@@ -56,12 +56,17 @@ fn draw_effect<R: Rng>(
 
 /// Every dataset of the study, in index order.
 pub fn plan(config: &DiagnosisStudyConfig) -> Result<Vec<Planned>, DiagnoseError> {
-    let registry = Registry::catalogue();
     let catalogue = config.effect_names();
     let strapdown = config.model.kind == ModelKind::Strapdown;
+    let (registry, strapdown_registry) = if strapdown {
+        (Registry::catalogue(), config.strapdown_registry()?)
+    } else {
+        (config.platform_registry()?, Default::default())
+    };
     let draw = |rng: &mut _, name: &str, range: [f64; 2]| {
         if strapdown {
-            super::strapdown::draw_effect(rng, name, range, config.model.unit_class())
+            let class = config.model.unit_class();
+            super::strapdown::draw_effect(rng, &strapdown_registry, name, range, class)
         } else {
             draw_effect(rng, name, range, &registry)
         }
@@ -79,9 +84,15 @@ pub fn plan(config: &DiagnosisStudyConfig) -> Result<Vec<Planned>, DiagnoseError
             let mut rng = stream(seed, index as u64, CONTENT);
             let (class_label, hidden) = match class {
                 ContentClass::Nothing { .. } => (Class::Nothing, Vec::new()),
-                ContentClass::Single { .. } => {
-                    // Every catalogued effect in turn, `count` datasets each.
-                    let name = &catalogue[k % catalogue.len()];
+                ContentClass::Single { effects, .. } => {
+                    // Every effect in turn (the class's, or the whole catalogue), `count`
+                    // datasets each.
+                    let pool: &[String] = if effects.is_empty() {
+                        &catalogue
+                    } else {
+                        effects
+                    };
+                    let name = &pool[k % pool.len()];
                     let h = draw(&mut rng, name, range(name))?;
                     (Class::Single, vec![h])
                 }
@@ -212,7 +223,7 @@ fn simulate_platform(
     trajectory: &Arc<Trajectory>,
     p: &Planned,
 ) -> Result<Dataset, DiagnoseError> {
-    let catalogue = Registry::catalogue();
+    let catalogue = config.platform_registry()?;
     let noise = config.noise;
     let mut effects: Vec<Box<dyn navkf_dynamics::DynEffect>> = Vec::new();
     let mut coefficients = BTreeMap::new();
@@ -302,5 +313,8 @@ fn simulate_platform(
     if let Some(unit) = wrong_unit {
         unit.apply(&mut ds);
     }
+    // Every dataset states the study's declarations, whatever it hides: they are candidates
+    // of each diagnosis, the clean datasets' included.
+    ds.effects = config.effect.clone();
     Ok(ds)
 }

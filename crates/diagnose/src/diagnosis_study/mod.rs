@@ -22,8 +22,10 @@ pub mod strapdown;
 use crate::error::DiagnoseError;
 use crate::{diagnose, Options, Verdict};
 use content::{Class, Hidden, Planned};
+use navkf_dynamics::declared::EffectDeclaration;
 use navkf_dynamics::input_file::{printable, read_text, toml_error, toml_message, TextFile};
 use navkf_dynamics::simulate::{Alignment, InitialTilt};
+use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::unit_class::UnitClass;
 use navkf_dynamics::{ModelKind, NoiseConfig, Registry, Trajectory, TrajectoryConfig};
 use navkf_report::executor::Executor;
@@ -122,10 +124,13 @@ pub enum ContentClass {
         /// Datasets.
         count: usize,
     },
-    /// One catalogued effect, each in turn.
+    /// One effect, each in turn.
     Single {
-        /// Datasets per catalogued effect.
+        /// Datasets per effect.
         count: usize,
+        /// The effects taken in turn (default: the whole catalogue, declared ones included).
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        effects: Vec<String>,
     },
     /// Two different catalogued effects, drawn at random.
     Pair {
@@ -186,7 +191,8 @@ impl ContentClass {
     /// Number of datasets it makes, in a family of `catalogued` effects.
     pub fn count(&self, catalogued: usize) -> usize {
         match self {
-            ContentClass::Single { count } => count * catalogued,
+            ContentClass::Single { count, effects } if effects.is_empty() => count * catalogued,
+            ContentClass::Single { count, effects } => count * effects.len(),
             ContentClass::Nothing { count }
             | ContentClass::Pair { count, .. }
             | ContentClass::Outside { count, .. }
@@ -252,6 +258,12 @@ pub struct DiagnosisStudyConfig {
     pub sizes: BTreeMap<String, [f64; 2]>,
     /// `[[content]]`.
     pub content: Vec<ContentClass>,
+    /// `[[effect]]`: effects declared without Rust (docs/declared-effects.md), of the study's
+    /// family. They join its catalogue: each is hidden in `single` datasets and may be drawn
+    /// in pairs like a catalogued one, and every dataset is diagnosed with them among the
+    /// candidates (as if its `dataset.toml` declared them), clean ones included.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub effect: Vec<EffectDeclaration>,
 }
 
 impl DiagnosisStudyConfig {
@@ -284,11 +296,43 @@ impl DiagnosisStudyConfig {
         self.sizes.get(name).copied().unwrap_or(DEFAULT_SIZES)
     }
 
-    /// The catalogued effects of the study's family.
+    /// The effects of the study's family: its catalogue's, then those the file declares.
     pub fn effect_names(&self) -> Vec<String> {
         match self.model.kind {
-            ModelKind::Platform => Registry::catalogue().names(),
-            ModelKind::Strapdown => strapdown::effect_names(),
+            ModelKind::Platform => self.platform_registry().map(|r| r.names()),
+            ModelKind::Strapdown => self
+                .strapdown_registry()
+                .map(|r| r.names().into_iter().map(str::to_string).collect()),
+        }
+        .unwrap_or_default()
+    }
+
+    /// The platform catalogue with the file's `[[effect]]` declared.
+    pub fn platform_registry(&self) -> Result<Registry, DiagnoseError> {
+        let mut registry = Registry::catalogue();
+        registry.declare(&self.effect)?;
+        Ok(registry)
+    }
+
+    /// The strapdown catalogue with the file's `[[effect]]` declared.
+    pub fn strapdown_registry(&self) -> Result<StrapdownRegistry, DiagnoseError> {
+        let mut registry = StrapdownRegistry::catalogue();
+        registry.declare(&self.effect)?;
+        Ok(registry)
+    }
+
+    /// Refuses declarations that are not of the study's family or not well formed, by key
+    /// (`effect[0].places[1].place: ...`).
+    fn validate_declarations(&self) -> Result<(), String> {
+        let message = |e: DiagnoseError| match e {
+            DiagnoseError::Dynamics(navkf_dynamics::DynamicsError::Config { key, message }) => {
+                format!("{key}: {message}")
+            }
+            other => other.to_string(),
+        };
+        match self.model.kind {
+            ModelKind::Platform => self.platform_registry().map(drop).map_err(message),
+            ModelKind::Strapdown => self.strapdown_registry().map(drop).map_err(message),
         }
     }
 
@@ -328,6 +372,7 @@ impl DiagnosisStudyConfig {
             return Err("content: no [[content]] table; expected at least one".into());
         }
         self.validate_family()?;
+        self.validate_declarations()?;
         let names = self.effect_names();
         let bounds = |key: String, [lo, hi]: [f64; 2]| {
             if lo.is_finite() && hi.is_finite() && lo > 0.0 && hi >= lo {
@@ -341,7 +386,7 @@ impl DiagnosisStudyConfig {
                 Ok(())
             } else {
                 Err(format!(
-                    "{key}: `{name}` is not a catalogued effect; expected one of {}",
+                    "{key}: `{name}` is not a catalogued or declared effect; expected one of {}",
                     names.join(", ")
                 ))
             }
@@ -386,6 +431,14 @@ impl DiagnosisStudyConfig {
                              most 45",
                             sizes[0], sizes[1]
                         ));
+                    }
+                }
+                ContentClass::Single { effects, .. } => {
+                    for (j, name) in effects.iter().enumerate() {
+                        catalogued(format!("content[{i}].effects"), name)?;
+                        if effects[..j].contains(name) {
+                            return Err(format!("content[{i}].effects: `{name}` listed twice"));
+                        }
                     }
                 }
                 ContentClass::Pair { effects, sizes, .. } => {
@@ -588,23 +641,33 @@ pub fn run(
     Ok(records)
 }
 
-/// The study family's catalogued effects with their typical sizes (the detection curves'
-/// scale).
+/// The study family's effects (catalogued and declared) with their typical sizes (the
+/// detection curves' scale).
 pub fn effect_scales(config: &DiagnosisStudyConfig) -> Vec<rates::EffectScale> {
     match config.model.kind {
-        ModelKind::Platform => rates::platform_scales(),
-        ModelKind::Strapdown => strapdown::effect_names()
-            .into_iter()
-            .map(|name| {
-                let (typical, unit) = strapdown::typical(&name, config.model.unit_class())
-                    .unwrap_or((f64::NAN, String::new()));
-                rates::EffectScale {
-                    name,
-                    typical,
-                    unit,
-                }
-            })
-            .collect(),
+        ModelKind::Platform => config
+            .platform_registry()
+            .map(|r| rates::platform_scales(&r))
+            .unwrap_or_default(),
+        ModelKind::Strapdown => {
+            let Ok(registry) = config.strapdown_registry() else {
+                return Vec::new();
+            };
+            registry
+                .names()
+                .into_iter()
+                .map(|name| {
+                    let (typical, unit) =
+                        strapdown::typical(&registry, name, config.model.unit_class())
+                            .unwrap_or((f64::NAN, String::new()));
+                    rates::EffectScale {
+                        name: name.to_string(),
+                        typical,
+                        unit,
+                    }
+                })
+                .collect()
+        }
     }
 }
 

@@ -24,19 +24,13 @@ use rand::Rng;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-/// The family's catalogued effects.
-pub fn effect_names() -> Vec<String> {
-    StrapdownRegistry::catalogue()
-        .names()
-        .into_iter()
-        .map(str::to_string)
-        .collect()
-}
-
 /// An effect's typical size for `class` and its unit: its first coefficient's sigma, or a
 /// bias instability's steady sigma.
-pub fn typical(name: &str, class: UnitClass) -> Option<(f64, String)> {
-    let registry = StrapdownRegistry::catalogue();
+pub fn typical(
+    registry: &StrapdownRegistry,
+    name: &str,
+    class: UnitClass,
+) -> Option<(f64, String)> {
     let effect = registry.get(name).ok()?;
     if let Some(c) = effect.coefficients.first() {
         return Some((c.sigma_for(class), c.unit.to_string()));
@@ -121,11 +115,11 @@ pub fn start_sigmas(config: &DiagnosisStudyConfig) -> (f64, f64) {
 /// the top of the range held below the smallest bound of its coefficients.
 pub fn draw_effect<R: Rng>(
     rng: &mut R,
+    registry: &StrapdownRegistry,
     name: &str,
     [lo, hi]: [f64; 2],
     class: UnitClass,
 ) -> Result<Hidden, DiagnoseError> {
-    let registry = StrapdownRegistry::catalogue();
     let effect = registry
         .get(name)
         .map_err(|e| DiagnoseError::Content(e.to_string()))?;
@@ -187,7 +181,7 @@ pub fn simulate(
             }
         }
     }
-    let registry = StrapdownRegistry::catalogue();
+    let registry = config.strapdown_registry()?;
     let list = StrapdownEffectList::parse_entries(&entries, &registry)
         .map_err(|(i, e)| DiagnoseError::Content(format!("{}: {e}", entries[i])))?;
     let model = Arc::new(
@@ -218,5 +212,8 @@ pub fn simulate(
         fault.apply(&mut ds).map_err(DiagnoseError::Content)?;
     }
     ds.noise = stated;
+    // Every dataset states the study's declarations, whatever it hides: they are candidates
+    // of each diagnosis, the clean datasets' included.
+    ds.effects = config.effect.clone();
     Ok(ds)
 }

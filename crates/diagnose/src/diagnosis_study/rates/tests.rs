@@ -8,7 +8,7 @@ use crate::diagnosis_study::content::{Class, Hidden};
 
 /// The platform catalogue's scale of `effect`.
 fn scale_of(effect: &str) -> EffectScale {
-    platform_scales()
+    platform_scales(&Registry::catalogue())
         .into_iter()
         .find(|s| s.name == effect)
         .unwrap()
@@ -199,7 +199,7 @@ fn the_detection_limit_is_read_off_the_fitted_curve() {
     assert!(close(m, expected, 1e-4), "limit {m}");
     let above = d.above_limit.expect("a rate above the limit");
     assert_eq!((above.k, above.n), (19, 20));
-    let r = rates(&records, &platform_scales());
+    let r = rates(&records, &platform_scales(&Registry::catalogue()));
     let t = r
         .targets
         .iter()
@@ -220,7 +220,7 @@ fn the_detection_limit_is_read_off_the_fitted_curve() {
         d.no_limit
     );
     // ... and its target is missed, whatever the rate at the top.
-    let t = rates(&records, &platform_scales())
+    let t = rates(&records, &platform_scales(&Registry::catalogue()))
         .targets
         .into_iter()
         .find(|t| t.what.contains("`gps-latency`"))
@@ -250,7 +250,7 @@ fn the_false_attribution_flags_turn_at_their_thresholds() {
                 )
             })
             .collect();
-        let r = rates(&records, &platform_scales());
+        let r = rates(&records, &platform_scales(&Registry::catalogue()));
         assert_eq!((r.clean_named.k, r.clean_named.n), (named, 50));
         let t = &r.targets[0];
         assert!(t.what.starts_with("clean data"), "{t:?}");
@@ -283,7 +283,7 @@ fn an_effect_named_at_nearly_every_size_has_the_smallest_size_as_its_limit() {
     let refs: Vec<&Record> = records.iter().collect();
     let d = detection(&scale_of("gps-latency"), &refs);
     assert_eq!(d.limit_multiple, Some(0.1), "{:?}", d.no_limit);
-    let t = rates(&records, &platform_scales())
+    let t = rates(&records, &platform_scales(&Registry::catalogue()))
         .targets
         .into_iter()
         .find(|t| t.what.contains("`gps-latency`"))

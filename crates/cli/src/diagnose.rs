@@ -10,9 +10,7 @@
 
 use navkf_diagnose::request::DiagnoseRequest;
 use navkf_diagnose::{diagnose, report, Options, RoundKind};
-use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::declared::DeclaredFile;
-use navkf_dynamics::Registry;
 use navkf_report::{write_atomic, SettingNames};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -110,11 +108,6 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         .as_deref()
         .map(DeclaredFile::read)
         .transpose()?;
-    // A platform dataset's `[prior.coefficients]` and truth may name the file's coefficients.
-    let registry = match &declared {
-        Some(file) if file.family().is_platform() => file.platform_registry()?,
-        _ => Registry::catalogue(),
-    };
     let request = DiagnoseRequest {
         with,
         window_s: a.window,
@@ -128,7 +121,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         declared,
         max_rounds: a.max_rounds,
     };
-    let ds = Dataset::read_with(&a.dataset, &registry)?;
+    let ds = DeclaredFile::read_dataset(request.declared.as_ref(), &a.dataset)?;
     // The settings that depend on the dataset's family, checked before anything is fitted.
     let (catalogue, opts) = request.check(&ds, SettingNames::CommandLine)?;
     let out = match a.out {

@@ -116,6 +116,28 @@ fn a_dataset_simulated_with_a_declared_effect_is_diagnosed_with_it() {
         // The file's second effect is a candidate only when the file is given.
         assert_eq!(report.contains("gps-offset"), with_file, "{report}");
     }
+    // A file declaring the dataset's `drag` otherwise is refused, naming the file.
+    let clashing = dir.join("clashing.toml");
+    let examples = std::fs::read_to_string(EFFECTS).unwrap();
+    std::fs::write(&clashing, examples.replace("sigma = 5e-5", "sigma = 6e-5")).unwrap();
+    let o = navkf([
+        "diagnose".as_ref(),
+        data.as_os_str(),
+        "--out".as_ref(),
+        dir.join("refused").as_os_str(),
+        "--effects-file".as_ref(),
+        clashing.as_os_str(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains(&format!(
+            "{}: its effects clash with the dataset's",
+            clashing.display()
+        )) && err.contains("`drag` is an effect already"),
+        "{err}"
+    );
+    assert!(!dir.join("refused").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -296,7 +318,10 @@ fn strapdown_effects_are_declared_with_places() {
     assert_eq!(o.status.code(), Some(1));
     let err = text(&o.stderr);
     assert!(
-        err.contains(&format!("{}: effect[", clashing.display())) && err.contains("accel-xy-skew"),
+        err.contains(&format!(
+            "{}: effect[2].name: `accel-xy-skew`",
+            clashing.display()
+        )),
         "{err}"
     );
     assert!(!dir.join("refused").exists());

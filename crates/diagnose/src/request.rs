@@ -5,8 +5,10 @@
 //! Refused, naming the setting as the caller spells it ([`SettingNames`]): an effect given
 //! twice or unknown to the dataset's family, a window that is not a duration, no automatic
 //! round, a prior for a coefficient the family lacks or not a one-sigma, a tilt sigma beyond
-//! what the attitude equations hold (the dataset's own `[prior]` included), and the
-//! platform's attitude choice on a strapdown dataset.
+//! what the attitude equations hold (the dataset's own `[prior]` included), the
+//! platform's attitude choice on a strapdown dataset, an effects file of the other family or
+//! declaring a dataset's effect otherwise (naming the file), and `with` effects that no model
+//! can hold together (two in one strapdown place).
 
 use crate::catalogue::{coefficient_names, with_declared, Catalogue};
 use crate::error::DiagnoseError;

@@ -234,3 +234,25 @@ fn classes_of_the_platform_are_refused_in_a_strapdown_study() {
         .unwrap_err();
     assert!(e.contains("content[0].sizes") && e.contains("45"), "{e}");
 }
+
+/// A declared `drag` (or `kd`) beside an outside drag would make the outside content a
+/// candidate: refused by key.
+#[test]
+fn a_declared_drag_beside_an_outside_drag_is_refused() {
+    let declared = "[[effect]]\nname = \"drag\"\n\
+                    coefficients = [{ name = \"kd\", unit = \"1/s\", sigma = 5e-5 }]\n\
+                    rates = [{ to = \"v_x\", coefficient = \"kd\", feature = \"v_x\" }]\n";
+    let outside =
+        "[[content]]\nkind = \"outside\"\neffect = \"drag\"\ncount = 2\nsizes = [0.1, 1.0]\n";
+    let e = parse(&format!("{outside}{declared}")).unwrap_err();
+    assert!(e.starts_with("effect[0]: declares `drag` or `kd`"), "{e}");
+    // Without the outside drag the declaration is a candidate like any other.
+    let config = parse(&format!(
+        "[[content]]\nkind = \"nothing\"\ncount = 1\n{declared}"
+    ))
+    .unwrap();
+    assert_eq!(
+        config.effect_names().last().map(String::as_str),
+        Some("drag")
+    );
+}

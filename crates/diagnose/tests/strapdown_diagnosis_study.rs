@@ -264,4 +264,15 @@ places = [
                     rates = [{ to = \"v_x\", coefficient = \"kd\", feature = \"v_x\" }]\n";
     let err = parse(platform).unwrap_err();
     assert!(err.starts_with("effect[0]"), "{err}");
+    // A pair that no model holds (both in E_a[x][y]) is refused before any draw, by key.
+    let clash = format!(
+        "[[content]]\nkind = \"pair\"\ncount = 2\n\
+         effects = [\"odometer-scale\", \"accel-misalignment\", \"accel-xy-skew\"]\n{declared}"
+    );
+    let err = parse(&clash).unwrap_err();
+    assert!(
+        err.starts_with("content[0].effects: `accel-misalignment` and `accel-xy-skew` cannot be")
+            && err.contains("E_a[x][y]"),
+        "{err}"
+    );
 }

@@ -7,6 +7,7 @@ mod common;
 
 use navkf_dynamics::earth::{meridian_radius, normal_gravity, prime_vertical_radius, WIE};
 use navkf_dynamics::strapdown::attitude::{body_to_nav, euler_of, rotate_back};
+use navkf_dynamics::strapdown::partials_check::random_reading;
 use navkf_dynamics::strapdown::rates::{nav_rate_jacobian, nav_rates, ImuReading};
 use navkf_dynamics::strapdown::state::*;
 use rand::{Rng, SeedableRng};
@@ -89,17 +90,6 @@ fn random_state(rng: &mut ChaCha8Rng) -> [f64; BASE_DIM] {
     x
 }
 
-fn random_imu(rng: &mut ChaCha8Rng) -> ImuReading {
-    ImuReading {
-        w: std::array::from_fn(|_| rng.gen_range(-0.5..0.5)),
-        f: [
-            rng.gen_range(-3.0..3.0),
-            rng.gen_range(-3.0..3.0),
-            rng.gen_range(8.0..11.0),
-        ],
-    }
-}
-
 fn rates(x: &[f64], imu: &ImuReading) -> [f64; NAV_DIM] {
     let mut dx = [0.0; NAV_DIM];
     nav_rates(x, imu, &mut dx);
@@ -117,7 +107,7 @@ fn the_jacobian_from_dual_numbers_matches_central_differences() {
     ];
     for _ in 0..50 {
         let x = random_state(&mut rng);
-        let imu = random_imu(&mut rng);
+        let imu = random_reading(&mut rng);
         let mut jac = [f64::NAN; NAV_DIM * BASE_DIM];
         nav_rate_jacobian(&x, &imu, &mut jac);
         let scale: Vec<f64> = (0..NAV_DIM)
@@ -300,7 +290,7 @@ fn dual_values_and_batches_are_the_scalar_rates_bit_for_bit() {
     use navkf_dynamics::dual::Dual;
     use navkf_dynamics::real::{Lanes, LANES};
     let mut rng = ChaCha8Rng::seed_from_u64(4);
-    let imu = random_imu(&mut rng);
+    let imu = random_reading(&mut rng);
     let states: Vec<[f64; BASE_DIM]> = (0..LANES).map(|_| random_state(&mut rng)).collect();
     let batch: Vec<Lanes> = (0..BASE_DIM)
         .map(|i| Lanes::from_fn(|l| states[l][i]))
@@ -339,7 +329,7 @@ fn batched_propagation_matches_one_point_at_a_time() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let mut w = InputWindow::with_capacity(11);
     for k in 0..=10 {
-        w.push_linear(0.1 * k as f64, input_of(&random_imu(&mut rng)));
+        w.push_linear(0.1 * k as f64, input_of(&random_reading(&mut rng)));
     }
     let count = 11;
     let nw = model.noise_channels().len();
@@ -371,7 +361,7 @@ fn the_written_out_jacobian_is_the_dual_numbers_one() {
     let mut rng = ChaCha8Rng::seed_from_u64(6);
     for _ in 0..200 {
         let x = random_state(&mut rng);
-        let imu = random_imu(&mut rng);
+        let imu = random_reading(&mut rng);
         let mut dual = [f64::NAN; NAV_DIM * BASE_DIM];
         let mut written = [f64::NAN; NAV_DIM * BASE_DIM];
         nav_rate_jacobian(&x, &imu, &mut dual);
@@ -404,7 +394,7 @@ fn rates_and_jacobian_together_are_the_two_apart() {
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     for _ in 0..20 {
         let x = random_state(&mut rng);
-        let u = input_of(&random_imu(&mut rng));
+        let u = input_of(&random_reading(&mut rng));
         let mut dx = [0.0; NAV_DIM];
         let mut jac = [0.0; NAV_DIM * BASE_DIM];
         model.rates(&x, &u, &mut dx);

@@ -5,7 +5,6 @@ use crate::columns;
 use crate::errors::OrNavkfError;
 use navkf_dynamics::dataset::Dataset as Inner;
 use navkf_dynamics::declared::DeclaredFile;
-use navkf_dynamics::Registry;
 use navkf_study::simulation::write_checked;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -20,21 +19,18 @@ pub struct Dataset {
 #[pymethods]
 impl Dataset {
     /// Reads and validates the dataset folder `path`; errors name the file, line and column.
-    /// With `effects_file` (platform effects declared in TOML), `[prior.coefficients]` and
-    /// `truth.csv` may name its coefficients.
+    /// With `effects_file` (effects declared in TOML, of the dataset's family),
+    /// `[prior.coefficients]` and `truth.csv` may name its coefficients.
     #[staticmethod]
     #[pyo3(signature = (path, effects_file=None))]
     fn read(py: Python<'_>, path: PathBuf, effects_file: Option<PathBuf>) -> PyResult<Self> {
         let inner = py
             .detach(|| -> Result<Inner, navkf_dynamics::DynamicsError> {
-                let registry = match effects_file {
-                    Some(file) => match DeclaredFile::read(&file)? {
-                        f if f.family().is_platform() => f.platform_registry()?,
-                        _ => Registry::catalogue(),
-                    },
-                    None => Registry::catalogue(),
-                };
-                Inner::read_with(&path, &registry)
+                let file = effects_file
+                    .as_deref()
+                    .map(DeclaredFile::read)
+                    .transpose()?;
+                DeclaredFile::read_dataset(file.as_ref(), &path)
             })
             .or_py()?;
         Ok(Dataset { inner })

@@ -25,6 +25,7 @@ use content::{Class, Hidden, Planned};
 use navkf_dynamics::declared::EffectDeclaration;
 use navkf_dynamics::input_file::{printable, read_text, toml_error, toml_message, TextFile};
 use navkf_dynamics::simulate::{Alignment, InitialTilt};
+use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
 use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::unit_class::UnitClass;
 use navkf_dynamics::{ModelKind, NoiseConfig, Registry, Trajectory, TrajectoryConfig};
@@ -399,6 +400,24 @@ impl DiagnosisStudyConfig {
             if c.count(names.len()) == 0 {
                 return Err(format!("content[{i}].count = 0: expected at least one"));
             }
+            // The outside drag is the `drag` effect of navkf_dynamics::outside: a declaration
+            // of it would make it catalogued, not outside.
+            if let ContentClass::Outside {
+                effect: OutsideEffect::Drag,
+                ..
+            } = c
+            {
+                if let Some(k) = self
+                    .effect
+                    .iter()
+                    .position(|d| d.name == "drag" || d.coefficients.iter().any(|c| c.name == "kd"))
+                {
+                    return Err(format!(
+                        "effect[{k}]: declares `drag` or `kd`, which content[{i}] hides as \
+                         outside the catalogue; expected another name, or no outside drag"
+                    ));
+                }
+            }
             match c {
                 ContentClass::Outside { sizes, .. }
                 | ContentClass::MisstatedNoise { sizes, .. } => {
@@ -460,11 +479,51 @@ impl DiagnosisStudyConfig {
                         catalogued(format!("content[{i}].sizes.{name}"), name)?;
                         bounds(format!("content[{i}].sizes.{name}"), *r)?;
                     }
+                    let pool = if effects.is_empty() { &names } else { effects };
+                    self.pairs_fit_one_model(pool)
+                        .map_err(|m| format!("content[{i}].effects: {m}"))?;
                 }
                 _ => {}
             }
         }
         self.noise.validate()
+    }
+
+    /// Refuses a pair of `pool` that no model can hold together (two coefficients in one
+    /// place of the strapdown sensor model), naming both; only pairs with a declared effect
+    /// are tried, the catalogue's fitting together by construction.
+    fn pairs_fit_one_model(&self, pool: &[String]) -> Result<(), String> {
+        let declared = |n: &String| self.effect.iter().any(|d| &d.name == n);
+        let noise = NoiseConfig::default();
+        for (j, a) in pool.iter().enumerate() {
+            for b in pool[j + 1..].iter().filter(|b| declared(a) || declared(b)) {
+                let pair = [a.as_str(), b.as_str()];
+                let built = match self.model.kind {
+                    ModelKind::Platform => self.platform_registry().and_then(|r| {
+                        Ok(
+                            navkf_dynamics::PlatformModel::new(r.build_all(&pair)?, &noise)
+                                .map(drop)?,
+                        )
+                    }),
+                    ModelKind::Strapdown => self.strapdown_registry().and_then(|r| {
+                        let list =
+                            StrapdownEffectList::parse_entries(&pair, &r).map_err(|(_, e)| e)?;
+                        Ok(
+                            navkf_dynamics::strapdown::model::StrapdownModel::base(&noise)
+                                .with_effects(&list, self.model.unit_class(), 1.0)
+                                .map(drop)?,
+                        )
+                    }),
+                };
+                built.map_err(|e| {
+                    format!(
+                        "`{a}` and `{b}` cannot be hidden together ({e}); expected a pool of \
+                         effects that fit one model"
+                    )
+                })?;
+            }
+        }
+        Ok(())
     }
 
     /// The diagnosis options every dataset gets.

@@ -9,6 +9,7 @@
 //! file's name, not as a bare key.
 
 use super::{read_declarations, EffectDeclaration};
+use crate::dataset::Dataset;
 use crate::error::DynamicsError;
 use crate::model_kind::ModelKind;
 use crate::strapdown::effects::StrapdownRegistry;
@@ -98,6 +99,32 @@ impl DeclaredFile {
                 family.name()
             ),
         })
+    }
+
+    /// Reads the dataset folder `dir` with `file`'s effects known, so that a platform
+    /// dataset's `[prior.coefficients]` and truth may name their coefficients, and refuses a
+    /// file of the other family than the dataset's. When the dataset reads without the file
+    /// but not with it, the two declare an effect differently: the refusal names the file too.
+    pub fn read_dataset(file: Option<&DeclaredFile>, dir: &Path) -> Result<Dataset, DynamicsError> {
+        let Some(file) = file else {
+            return Dataset::read(dir);
+        };
+        let ds = if file.family.is_platform() {
+            Dataset::read_with(dir, &file.platform_registry()?).map_err(|e| {
+                if Dataset::read(dir).is_ok() {
+                    DynamicsError::File {
+                        path: file.path.clone(),
+                        message: format!("its effects clash with the dataset's: {e}"),
+                    }
+                } else {
+                    e
+                }
+            })?
+        } else {
+            Dataset::read(dir)?
+        };
+        file.expect_family(ds.model, &format!("dataset `{}`", ds.name))?;
+        Ok(ds)
     }
 
     /// An error of declaring these effects (into a registry that already holds others, such

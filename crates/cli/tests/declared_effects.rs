@@ -6,7 +6,8 @@
 mod common;
 
 use common::{navkf, text};
-use std::path::PathBuf;
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
 
 const EFFECTS: &str = "../../studies/effects/examples.toml";
 
@@ -15,6 +16,29 @@ fn scratch(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
+}
+
+/// Runs `navkf diagnose DATA --out DIR/refused ARGS...`, which must be refused (exit 1, no
+/// results folder), and returns what it said.
+fn diagnose_refused(data: &Path, dir: &Path, args: &[&OsStr]) -> String {
+    let out = dir.join("refused");
+    let mut all: Vec<&OsStr> = vec!["diagnose".as_ref(), data.as_os_str(), "--out".as_ref()];
+    all.push(out.as_os_str());
+    all.extend_from_slice(args);
+    let o = navkf(&all);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stdout));
+    assert!(!out.exists());
+    text(&o.stderr)
+}
+
+/// A copy of effects file `from` in `dir` with `old` replaced by `new`: the same effects
+/// declared otherwise.
+fn declared_otherwise(dir: &Path, from: &str, old: &str, new: &str) -> PathBuf {
+    let path = dir.join("clashing.toml");
+    let text = std::fs::read_to_string(from).unwrap();
+    assert!(text.contains(old), "{from}: no `{old}`");
+    std::fs::write(&path, text.replace(old, new)).unwrap();
+    path
 }
 
 #[test]
@@ -117,19 +141,12 @@ fn a_dataset_simulated_with_a_declared_effect_is_diagnosed_with_it() {
         assert_eq!(report.contains("gps-offset"), with_file, "{report}");
     }
     // A file declaring the dataset's `drag` otherwise is refused, naming the file.
-    let clashing = dir.join("clashing.toml");
-    let examples = std::fs::read_to_string(EFFECTS).unwrap();
-    std::fs::write(&clashing, examples.replace("sigma = 5e-5", "sigma = 6e-5")).unwrap();
-    let o = navkf([
-        "diagnose".as_ref(),
-        data.as_os_str(),
-        "--out".as_ref(),
-        dir.join("refused").as_os_str(),
-        "--effects-file".as_ref(),
-        clashing.as_os_str(),
-    ]);
-    assert_eq!(o.status.code(), Some(1));
-    let err = text(&o.stderr);
+    let clashing = declared_otherwise(&dir, EFFECTS, "sigma = 5e-5", "sigma = 6e-5");
+    let err = diagnose_refused(
+        &data,
+        &dir,
+        &["--effects-file".as_ref(), clashing.as_os_str()],
+    );
     assert!(
         err.contains(&format!(
             "{}: its effects clash with the dataset's",
@@ -137,7 +154,6 @@ fn a_dataset_simulated_with_a_declared_effect_is_diagnosed_with_it() {
         )) && err.contains("`drag` is an effect already"),
         "{err}"
     );
-    assert!(!dir.join("refused").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -287,36 +303,19 @@ fn strapdown_effects_are_declared_with_places() {
         } else {
             data.clone()
         };
-        let o = navkf([
-            "diagnose".as_ref(),
-            target.as_os_str(),
-            "--out".as_ref(),
-            dir.join("refused").as_os_str(),
-            "--effects-file".as_ref(),
-            file.as_ref(),
-        ]);
-        assert_eq!(o.status.code(), Some(1));
-        let err = text(&o.stderr);
+        let err = diagnose_refused(&target, &dir, &["--effects-file".as_ref(), file.as_ref()]);
         assert!(
             err.contains(says) && err.contains("expected a file of"),
             "{err}"
         );
-        assert!(!dir.join("refused").exists());
     }
     // A file declaring the dataset's effect otherwise is refused, naming the file and the key.
-    let clashing = dir.join("clashing.toml");
-    let examples = std::fs::read_to_string(STRAPDOWN_EFFECTS).unwrap();
-    std::fs::write(&clashing, examples.replace("sigma = 2e-3", "sigma = 3e-3")).unwrap();
-    let o = navkf([
-        "diagnose".as_ref(),
-        data.as_os_str(),
-        "--out".as_ref(),
-        dir.join("refused").as_os_str(),
-        "--effects-file".as_ref(),
-        clashing.as_os_str(),
-    ]);
-    assert_eq!(o.status.code(), Some(1));
-    let err = text(&o.stderr);
+    let clashing = declared_otherwise(&dir, STRAPDOWN_EFFECTS, "sigma = 2e-3", "sigma = 3e-3");
+    let err = diagnose_refused(
+        &data,
+        &dir,
+        &["--effects-file".as_ref(), clashing.as_os_str()],
+    );
     assert!(
         err.contains(&format!(
             "{}: effect[2].name: `accel-xy-skew`",
@@ -324,24 +323,20 @@ fn strapdown_effects_are_declared_with_places() {
         )),
         "{err}"
     );
-    assert!(!dir.join("refused").exists());
     // Two effects in one place cannot share a model: refused with the settings, before a fit.
-    let o = navkf([
-        "diagnose".as_ref(),
-        data.as_os_str(),
-        "--out".as_ref(),
-        dir.join("refused").as_os_str(),
-        "--with".as_ref(),
-        "accel-misalignment,accel-xy-skew".as_ref(),
-    ]);
-    assert_eq!(o.status.code(), Some(1));
-    let err = text(&o.stderr);
+    let err = diagnose_refused(
+        &data,
+        &dir,
+        &[
+            "--with".as_ref(),
+            "accel-misalignment,accel-xy-skew".as_ref(),
+        ],
+    );
     assert!(
         err.contains("--with: ")
             && err.contains("E_a[x][y], which `m_axy` of `accel-misalignment`"),
         "{err}"
     );
-    assert!(!dir.join("refused").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

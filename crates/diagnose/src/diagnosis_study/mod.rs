@@ -232,6 +232,9 @@ impl StudyModel {
     }
 }
 
+/// Whether one model holds both effects of a pair (the study's family, registry built once).
+type PairFits = Box<dyn Fn([&str; 2]) -> Result<(), DiagnoseError>>;
+
 /// A whole diagnosis study file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -493,29 +496,32 @@ impl DiagnosisStudyConfig {
     /// place of the strapdown sensor model), naming both; only pairs with a declared effect
     /// are tried, the catalogue's fitting together by construction.
     fn pairs_fit_one_model(&self, pool: &[String]) -> Result<(), String> {
-        let declared = |n: &String| self.effect.iter().any(|d| &d.name == n);
         let noise = NoiseConfig::default();
+        // The family's registry, built once; a pair fits if a model holds both.
+        let fits: PairFits = match self.model.kind {
+            ModelKind::Platform => {
+                let registry = self.platform_registry().map_err(|e| e.to_string())?;
+                Box::new(move |pair| {
+                    navkf_dynamics::PlatformModel::new(registry.build_all(&pair)?, &noise)?;
+                    Ok(())
+                })
+            }
+            ModelKind::Strapdown => {
+                let registry = self.strapdown_registry().map_err(|e| e.to_string())?;
+                let class = self.model.unit_class();
+                Box::new(move |pair| {
+                    let list =
+                        StrapdownEffectList::parse_entries(&pair, &registry).map_err(|(_, e)| e)?;
+                    navkf_dynamics::strapdown::model::StrapdownModel::base(&noise)
+                        .with_effects(&list, class, 1.0)?;
+                    Ok(())
+                })
+            }
+        };
+        let declared = |n: &String| self.effect.iter().any(|d| &d.name == n);
         for (j, a) in pool.iter().enumerate() {
             for b in pool[j + 1..].iter().filter(|b| declared(a) || declared(b)) {
-                let pair = [a.as_str(), b.as_str()];
-                let built = match self.model.kind {
-                    ModelKind::Platform => self.platform_registry().and_then(|r| {
-                        Ok(
-                            navkf_dynamics::PlatformModel::new(r.build_all(&pair)?, &noise)
-                                .map(drop)?,
-                        )
-                    }),
-                    ModelKind::Strapdown => self.strapdown_registry().and_then(|r| {
-                        let list =
-                            StrapdownEffectList::parse_entries(&pair, &r).map_err(|(_, e)| e)?;
-                        Ok(
-                            navkf_dynamics::strapdown::model::StrapdownModel::base(&noise)
-                                .with_effects(&list, self.model.unit_class(), 1.0)
-                                .map(drop)?,
-                        )
-                    }),
-                };
-                built.map_err(|e| {
+                fits([a, b]).map_err(|e| {
                     format!(
                         "`{a}` and `{b}` cannot be hidden together ({e}); expected a pool of \
                          effects that fit one model"

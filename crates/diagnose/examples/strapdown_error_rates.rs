@@ -6,8 +6,8 @@
 //! `cargo run --release -p navkf-diagnose --example strapdown_error_rates [-- PER_CLASS]`
 //! (default 30 datasets per class; each draws its run, its biases and its sizes), or
 //! `-- clean SEED` for one clean dataset's findings, or `-- study FILE INDEX` for the
-//! findings and first round of dataset INDEX of a diagnosis study file (what it hid, each
-//! candidate's evidence).
+//! findings and rounds of dataset INDEX of a diagnosis study file (what it hid, each
+//! candidate's evidence, each named effect's stand-in test).
 
 use navkf_diagnose::catalogue::strapdown::StrapdownCatalogue;
 use navkf_diagnose::{diagnose, Options};
@@ -205,6 +205,9 @@ fn main() {
                     coefficients.join(", ")
                 );
             }
+        }
+        for (effect, c) in &d.constancy {
+            println!("constancy of {effect}: {c:?}");
         }
         for f in &d.findings {
             println!("- {f}");

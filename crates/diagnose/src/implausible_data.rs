@@ -46,6 +46,7 @@ pub fn implausible_diagnosis(
         parameters: BTreeMap::new(),
         noise: ds.noise,
         priors: start_priors,
+        restart_coefficients_after: None,
     };
     let model = fit(ds, &setup, catalogue, &opts.filter)?;
     let mut d = Diagnosis {

@@ -52,6 +52,7 @@ pub fn fit_under_test(
         parameters: BTreeMap::new(),
         noise: ds.noise,
         priors: start.clone(),
+        restart_coefficients_after: None,
     };
     let mut under_test = FitSetup {
         effects: opts.with.clone(),

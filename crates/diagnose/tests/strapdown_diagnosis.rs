@@ -92,7 +92,8 @@ fn a_clean_mems_drive_names_nothing() {
 /// odometer's yaw; the others of its coefficients at zero), is named with its value within four of its sigmas; a bias
 /// instability is named as one; the held coefficients are said to be held. (The x
 /// accelerometer's scale was withdrawn as a stand-in until the record's second half started
-/// with a heading sigma grown by the gyro bias over its first.)
+/// with a heading sigma grown by the gyro bias over its first; the stand-in test now carries
+/// the navigation across the middle and restarts only the coefficients.)
 #[test]
 fn a_hidden_effect_is_named_with_its_value() {
     let catalogue = StrapdownCatalogue::default();
@@ -159,4 +160,55 @@ fn exact_zero_constraint_readings_are_fitted_as_a_tolerance_not_an_effect() {
         );
         assert!(constraint.sigma_ratio < 1e-2, "{constraint:?}");
     }
+}
+
+/// The stand-in test ([`navkf_diagnose::stand_ins::constancy`]) keeps a true constant beside
+/// another effect: a MEMS drive hiding a z gyro scale of 9.3e-3 and an odometer scale of -1e-2
+/// (dataset 461 of `studies/strapdown-diagnosis.toml`). Refitted on its second half alone,
+/// that drive put s_gz at -1.8e-2 +- 7e-4 and withdrew it (p = 3e-128): the second half
+/// started with a heading 17 deg unsure. The second half's fit now restarts the coefficients
+/// at the middle of a pass over the whole record, and the restart forgets them, nothing else.
+#[test]
+fn the_stand_in_test_keeps_a_true_constant_beside_another_effect() {
+    use navkf_diagnose::fit::fit;
+    use navkf_diagnose::stand_ins::constancy;
+    let catalogue = StrapdownCatalogue::default();
+    let ds = drive("s_gz=9.3e-3, s_gx=0, s_gy=0, kod=-1e-2", 20261125, 461);
+    let opts = Options {
+        with: vec!["gyro-scale".into(), "odometer-scale".into()],
+        max_rounds: 1,
+        fit_noise: false,
+        ..Options::default()
+    };
+    let (_, fits) = diagnose(&ds, &catalogue, &opts).unwrap();
+    let setup = &fits.model.setup;
+    let names = ["s_gz".to_string(), "kod".to_string()];
+    let c = constancy(&ds, setup, &names, &catalogue, &opts.filter)
+        .unwrap()
+        .unwrap();
+    assert!(c.constant, "{c:?}");
+
+    // The restart: after the last measurement it changes nothing; at the middle it leaves
+    // s_gz known from the second half alone (a wider posterior than the whole record's) and
+    // keeps the navigation states (the final position no less well known).
+    let plain = fit(&ds, setup, &catalogue, &opts.filter).unwrap();
+    let at = |t: f64| {
+        let mut s = setup.clone();
+        s.restart_coefficients_after = Some(t);
+        fit(&ds, &s, &catalogue, &opts.filter).unwrap()
+    };
+    let after_end = at(f64::INFINITY);
+    assert_eq!(after_end.x, plain.x);
+    assert_eq!(after_end.loglik, plain.loglik);
+    let middle = at(ds.measurements[ds.measurements.len() / 2].t);
+    assert!(middle.failure.is_none());
+    let i = plain.names.iter().position(|n| n == "s_gz").unwrap();
+    assert!(
+        middle.sigma(i) > 1.2 * plain.sigma(i),
+        "{} against {}",
+        middle.sigma(i),
+        plain.sigma(i)
+    );
+    let lat = plain.names.iter().position(|n| n == "L").unwrap();
+    assert!(middle.sigma(lat) < 2.0 * plain.sigma(lat));
 }

@@ -79,6 +79,7 @@ impl Filter {
             parameters: BTreeMap::new(),
             noise: ds.noise,
             priors,
+            restart_coefficients_after: None,
         };
         let model = catalogue
             .model(&setup.effects, &setup.parameters, &setup.noise, attitude)

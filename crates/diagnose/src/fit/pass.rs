@@ -26,7 +26,7 @@ use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::trajectory::Phase;
 use navkf_dynamics::FamilyModel;
 use navkf_filters::FilterSpec;
-use navkf_filters::{Filter, RunFailure, Runner};
+use navkf_filters::{Filter, RunError, RunFailure, Runner, StepView};
 
 /// Estimates and variances of the coefficients after every update, for the constancy test.
 #[derive(Debug, Clone, Default)]
@@ -287,52 +287,105 @@ pub fn fit(
     let mut read = [0.0; MAX_CHANNELS];
     let mut read_sigma = [0.0; MAX_CHANNELS];
     let mut read_present = [false; MAX_CHANNELS];
-    let result = Runner::new(64).run(
-        &mut *filt,
-        start_t,
-        inputs,
-        &ds.measurements,
-        &*sensors,
-        |v| {
-            let r = v.report;
-            let m = &ds.measurements[v.index];
-            let (x, p) = (v.filter.state(), v.filter.covariance());
-            sensors.observe(
-                m,
-                x,
-                &mut read[..nz],
-                &mut read_sigma[..nz],
-                &mut read_present[..nz],
-            );
-            let mut z = [f64::NAN; MAX_CHANNELS];
-            let mut zh = [f64::NAN; MAX_CHANNELS];
-            let mut ss = [f64::NAN; MAX_CHANNELS];
-            let k = r.dim();
-            for (a, &c) in r.channels.iter().enumerate() {
-                z[c] = read[c];
-                zh[c] = read[c] - r.innovation[a];
-                ss[c] = r.innovation_cov[a + a * k].sqrt();
-            }
-            fit.t.push(v.t);
-            fit.z.push(z);
-            fit.z_hat.push(zh);
-            fit.s_sigma.push(ss);
-            fit.nis.push(r.nis);
-            fit.dims.push(k);
-            fit.phases.push(catalogue.phase(v.window, m));
-            fit.loglik += r.log_likelihood;
-            for i in nav..n {
-                fit.track.estimate.push(x[i]);
-                fit.track.variance.push(p[i + i * n]);
-            }
-        },
-    );
+    let mut record = |fit: &mut Fit, v: StepView<'_, dyn Filter>, index: usize| {
+        let r = v.report;
+        let m = &ds.measurements[index];
+        let (x, p) = (v.filter.state(), v.filter.covariance());
+        sensors.observe(
+            m,
+            x,
+            &mut read[..nz],
+            &mut read_sigma[..nz],
+            &mut read_present[..nz],
+        );
+        let mut z = [f64::NAN; MAX_CHANNELS];
+        let mut zh = [f64::NAN; MAX_CHANNELS];
+        let mut ss = [f64::NAN; MAX_CHANNELS];
+        let k = r.dim();
+        for (a, &c) in r.channels.iter().enumerate() {
+            z[c] = read[c];
+            zh[c] = read[c] - r.innovation[a];
+            ss[c] = r.innovation_cov[a + a * k].sqrt();
+        }
+        fit.t.push(v.t);
+        fit.z.push(z);
+        fit.z_hat.push(zh);
+        fit.s_sigma.push(ss);
+        fit.nis.push(r.nis);
+        fit.dims.push(k);
+        fit.phases.push(catalogue.phase(v.window, m));
+        fit.loglik += r.log_likelihood;
+        for i in nav..n {
+            fit.track.estimate.push(x[i]);
+            fit.track.variance.push(p[i + i * n]);
+        }
+    };
+    // The measurements before the restart and after it (all of them before it when there is
+    // none).
+    let split = setup
+        .restart_coefficients_after
+        .map_or(ds.measurements.len(), |t| {
+            ds.measurements.partition_point(|m| sensors.time(m) <= t)
+        });
+    let (before, after) = ds.measurements.split_at(split);
+    let mut runner = Runner::new(64);
+    let mut result = runner.run(&mut *filt, start_t, inputs, before, &*sensors, |v| {
+        let index = v.index;
+        record(&mut fit, v, index)
+    });
+    // A restart with nothing after it would only forget: there is none.
+    if result.is_ok() && !after.is_empty() {
+        let resumed_t = fit.t.last().copied().unwrap_or(start_t);
+        let (x, p) = restarted(&*filt, &fit.noisy, nav, &fit.prior_sigma);
+        result = filt
+            .reset(&x, &p)
+            .map_err(|error| RunError {
+                index: split,
+                t: resumed_t,
+                error,
+            })
+            .and_then(|()| {
+                runner
+                    .run(&mut *filt, resumed_t, inputs, after, &*sensors, |v| {
+                        let index = split + v.index;
+                        record(&mut fit, v, index)
+                    })
+                    .map_err(|e| RunError {
+                        index: split + e.index,
+                        ..e
+                    })
+            });
+    }
     if let Err(e) = result {
         fit.failure = Some(RunFailure::of_filter(&e.error, e.to_string()));
     }
     fit.x = filt.state().to_vec();
     fit.p = filt.covariance().to_vec();
     Ok(fit)
+}
+
+/// The state and covariance of `filter` with every constant coefficient (the states after
+/// the first `nav`, save the `noisy` ones) back at its prior: estimate zero, variance
+/// `prior_sigma^2`, no covariance with any other state. The navigation states and the
+/// process-driven ones keep what the filter knows of them.
+fn restarted(
+    filter: &dyn Filter,
+    noisy: &[bool],
+    nav: usize,
+    prior_sigma: &[f64],
+) -> (Vec<f64>, Vec<f64>) {
+    let mut x = filter.state().to_vec();
+    let mut p = filter.covariance().to_vec();
+    let n = x.len();
+    for i in (nav..n).filter(|&i| !noisy[i]) {
+        x[i] = 0.0;
+        for j in 0..n {
+            p[i + j * n] = 0.0;
+            p[j + i * n] = 0.0;
+        }
+        p[i + i * n] = prior_sigma[i] * prior_sigma[i];
+    }
+    (x, p)
 }
 
 /// States driven by process noise in either fit: they stay marginalised in both likelihoods

@@ -20,6 +20,12 @@ pub struct FitSetup {
     pub noise: NoiseConfig,
     /// Prior sigmas of the tilt and the coefficients.
     pub priors: Priors,
+    /// When set, the constant coefficients start again from their priors after the last
+    /// update at or before this time (s), forgetting what the updates before it said of
+    /// them while the navigation states go on: the second half of the constancy test
+    /// ([`crate::stand_ins::constancy`]). No restart when no update comes after it. `None`
+    /// in every other pass.
+    pub restart_coefficients_after: Option<f64>,
 }
 
 impl FitSetup {

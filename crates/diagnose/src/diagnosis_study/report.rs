@@ -38,6 +38,12 @@ pub fn markdown(
     figure: &FigureOutcome,
 ) -> String {
     let r = &s.rates;
+    // A study's declared effects join its catalogue; its report says so where it counts them.
+    let effects = if s.config.effect.is_empty() {
+        "catalogued"
+    } else {
+        "catalogued or declared"
+    };
     let mut out = String::new();
     let _ = writeln!(out, "# Diagnosis study `{}`\n", s.config.study.name);
     let _ = writeln!(out, "Command: `{command}`\n");
@@ -90,18 +96,23 @@ pub fn markdown(
             r.clean_not_consistent, r.clean_noise_refitted
         ),
     ]);
-    attribution.row([
-        "outside the catalogue, pooled".to_string(),
-        r.outside_named.to_string(),
-    ]);
+    // Kinds of data the study holds none of are left out, not shown as "-".
+    if r.outside_named.n > 0 {
+        attribution.row([
+            "outside the catalogue, pooled".to_string(),
+            r.outside_named.to_string(),
+        ]);
+    }
     for (e, rate) in &r.outside_by_effect {
         attribution.row([e.to_string(), rate.to_string()]);
     }
-    attribution.row([
-        "mis-stated noise, nothing hidden".to_string(),
-        r.noise_named.to_string(),
-        format!("noise refitted: {}", r.noise_found),
-    ]);
+    if r.noise_named.n > 0 {
+        attribution.row([
+            "mis-stated noise, nothing hidden".to_string(),
+            r.noise_named.to_string(),
+            format!("noise refitted: {}", r.noise_found),
+        ]);
+    }
     for (label, rate) in &r.other_kind_named {
         let other = match r.wrong_units_warned.get(label) {
             Some(w) => format!("its warning given: {w}"),
@@ -136,7 +147,7 @@ pub fn markdown(
     out.push_str(&attribution.render());
     let _ = writeln!(
         out,
-        "\nSingle catalogued effects, all sizes: the hidden effect named {}; something else named too or instead {}.\n",
+        "\nSingle {effects} effects, all sizes: the hidden effect named {}; something else named too or instead {}.\n",
         r.single_found, r.single_extra
     );
     let _ = writeln!(
@@ -146,7 +157,7 @@ pub fn markdown(
     );
     let _ = writeln!(
         out,
-        "## Detection\n\nPer catalogued effect, over the datasets that hid it alone (sizes log-uniform, as multiples of its typical size): the size named 90 % of the time on a logistic fit, and the share named above it.\n"
+        "## Detection\n\nPer {effects} effect, over the datasets that hid it alone (sizes log-uniform, as multiples of its typical size): the size named 90 % of the time on a logistic fit, and the share named above it.\n"
     );
     let mut detection = Table::new([
         "effect",
@@ -191,11 +202,13 @@ pub fn markdown(
     }
     out.push_str(&detection.render());
     let _ = writeln!(out, "\n{}", figure.embed());
-    let _ = writeln!(
-        out,
-        "## Pairs\n\nPairs of catalogued effects: both named in one command {} over all sizes, {} when both sizes are above their limits.\n",
-        r.pairs_both, r.pairs_both_above
-    );
+    if r.pairs_both.n > 0 {
+        let _ = writeln!(
+            out,
+            "## Pairs\n\nPairs of {effects} effects: both named in one command {} over all sizes, {} when both sizes are above their limits.\n",
+            r.pairs_both, r.pairs_both_above
+        );
+    }
     let _ = writeln!(out, "## Confusion matrix\n");
     let mut match_cols: Vec<String> = r
         .confusion
@@ -239,7 +252,7 @@ pub fn markdown(
     out.push_str(&confusion.render());
     let _ = writeln!(
         out,
-        "\nColumns: `exact` names exactly the hidden catalogued effects, `hidden-and-more` them and others, `part-of-hidden` some of them, `only-others` none of them but others, `nothing-named` nothing.\n\nSingle effects, hidden (rows) against named (columns):\n"
+        "\nColumns: `exact` names exactly the hidden {effects} effects, `hidden-and-more` them and others, `part-of-hidden` some of them, `only-others` none of them but others, `nothing-named` nothing.\n\nSingle effects, hidden (rows) against named (columns):\n"
     );
     let mut cols: Vec<String> = r
         .effect_matrix
@@ -253,12 +266,19 @@ pub fn markdown(
         matrix.row(std::iter::once(e.to_string()).chain(counts(m, &cols)));
     }
     out.push_str(&matrix.render());
-    let _ = writeln!(
+    let _ = write!(
         out,
-        "\nRates as fractions: clean {} named, outside {} named.",
-        number(r.clean_named.rate, Number::Percent(1)),
-        number(r.outside_named.rate, Number::Percent(1))
+        "\nRates as fractions: clean {} named",
+        number(r.clean_named.rate, Number::Percent(1))
     );
+    if r.outside_named.n > 0 {
+        let _ = write!(
+            out,
+            ", outside {} named",
+            number(r.outside_named.rate, Number::Percent(1))
+        );
+    }
+    out.push_str(".\n");
     out
 }
 
@@ -287,4 +307,67 @@ pub fn write(
     let md = markdown(&summary, command, timing, &figure);
     write_atomic(&dir.join("report.md"), md.as_bytes())?;
     Ok(summary)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The report of a committed study's `summary.json`, rendered without timing.
+    fn rendered(study: &str) -> String {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../results")
+            .join(study)
+            .join("summary.json");
+        // The rates are computed again from the records: a rate of no datasets is NaN, which
+        // `summary.json` writes as null.
+        #[derive(Deserialize)]
+        struct Committed {
+            config: DiagnosisStudyConfig,
+            records: Vec<Record>,
+        }
+        let text = std::fs::read_to_string(&path).unwrap();
+        let Committed { config, records } = serde_json::from_str(&text).unwrap();
+        let summary = Summary {
+            rates: rates(&records, &super::super::effect_scales(&config)),
+            config,
+            records,
+        };
+        let figure = FigureOutcome {
+            name: "detection".into(),
+            caption: "detection".into(),
+            question: "From what size?".into(),
+            result: Ok(()),
+        };
+        markdown(&summary, "navkf study", None, &figure)
+    }
+
+    /// A study of declared effects holding no outside content, no mis-stated noise and no
+    /// pairs shows none of their rows or sections (it showed "-" in each), and counts its
+    /// effects as catalogued or declared; a study of catalogued effects keeps every section
+    /// and its words.
+    #[test]
+    fn kinds_of_data_a_study_lacks_are_left_out() {
+        let declared = rendered("strapdown-declared-diagnosis");
+        for absent in [
+            "outside the catalogue, pooled",
+            "mis-stated noise",
+            "## Pairs",
+            "outside - named",
+        ] {
+            assert!(!declared.contains(absent), "{absent}:\n{declared}");
+        }
+        assert!(declared.contains("Single catalogued or declared effects, all sizes"));
+        assert!(declared.contains("Rates as fractions: clean 0.0 % named.\n"));
+        let catalogued = rendered("strapdown-diagnosis");
+        for present in [
+            "outside the catalogue, pooled",
+            "mis-stated noise, nothing hidden",
+            "## Pairs\n\nPairs of catalogued effects",
+            "Single catalogued effects, all sizes",
+            ", outside ",
+        ] {
+            assert!(catalogued.contains(present), "{present}:\n{catalogued}");
+        }
+    }
 }

@@ -333,7 +333,7 @@ pub fn fit(
         let index = v.index;
         record(&mut fit, v, index)
     });
-    // A restart with nothing after it would only forget: there is none.
+    // A restart with no measurement after it would only forget: there is none.
     if result.is_ok() && !after.is_empty() {
         let resumed_t = fit.t.last().copied().unwrap_or(start_t);
         let (x, p) = restarted(&*filt, &fit.noisy, nav, &fit.prior_sigma);
@@ -341,7 +341,7 @@ pub fn fit(
             .reset(&x, &p)
             .map_err(|error| RunError {
                 index: split,
-                t: resumed_t,
+                t: ds.measurements[split].t,
                 error,
             })
             .and_then(|()| {

@@ -23,8 +23,8 @@ pub struct FitSetup {
     /// When set, the constant coefficients start again from their priors after the last
     /// update at or before this time (s), forgetting what the updates before it said of
     /// them while the navigation states go on: the second half of the constancy test
-    /// ([`crate::stand_ins::constancy`]). No restart when no update comes after it. `None`
-    /// in every other pass.
+    /// ([`crate::stand_ins::constancy`]). No restart when no measurement comes after it.
+    /// `None` in every other pass.
     pub restart_coefficients_after: Option<f64>,
 }
 

@@ -2,7 +2,9 @@
 //!
 //! The pass keeps every innovation, its predicted sigma and the NIS (for the consistency
 //! tests and the figures), the path of every coefficient's estimate and variance, and the
-//! total innovation log-likelihood: the sum over updates of docs/model.md eq. (18).
+//! total innovation log-likelihood: the sum over updates of docs/model.md eq. (18). For the
+//! stand-in test, a pass may start its constant coefficients again from their priors partway
+//! through ([`FitSetup::restart_coefficients_after`]); every other pass is one run.
 //!
 //! That log-likelihood is the *marginal* likelihood of the data: the coefficients are
 //! integrated over their prior. It therefore carries the prior's Occam factor, which punishes

@@ -185,7 +185,8 @@ mod tests {
     }
 
     /// The check can fail: a model whose measurement Jacobian is perturbed in one entry of
-    /// the effect's column is caught, with that entry named.
+    /// the effect's column is caught, and the report `navkf effects --check` prints fails
+    /// and names that entry.
     #[test]
     fn a_wrong_entry_is_caught_and_named() {
         let registry = StrapdownRegistry::catalogue();
@@ -210,6 +211,31 @@ mod tests {
         let c = compare(&hm, &fd, &m, RTOL);
         assert_eq!(c.failures.len(), 1);
         assert_eq!((c.failures[0].row, c.failures[0].col), (0, n - 1));
+        let base = StrapdownModel::base(&NoiseConfig::default());
+        let nb = base.dim();
+        let mut base_h = vec![0.0; MEAS_DIM * nb];
+        base.measurement_jacobian(&x[..nb], &mut base_h);
+        let mut report = PartialsReport {
+            effect: "odometer-scale".into(),
+            states: 1,
+            failures: 0,
+            worst: None,
+        };
+        let names = model.state_names();
+        report.record(
+            Jacobian::Measurement,
+            &c,
+            &base_h,
+            nb,
+            |r| MEASUREMENT_NAMES[r].to_string(),
+            &names,
+        );
+        let text = report.to_string();
+        assert!(!report.passes(), "{text}");
+        assert!(
+            text.contains("1 entries DISAGREE") && text.contains("d(z_speed)/d(kod)"),
+            "{text}"
+        );
     }
 
     #[test]

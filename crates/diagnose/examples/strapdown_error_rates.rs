@@ -7,7 +7,10 @@
 //! (default 30 datasets per class; each draws its run, its biases and its sizes), or
 //! `-- clean SEED` for one clean dataset's findings, or `-- study FILE INDEX` for the
 //! findings and rounds of dataset INDEX of a diagnosis study file (what it hid, each
-//! candidate's evidence, each named effect's stand-in test).
+//! candidate's evidence, each named effect's stand-in test), or `-- records FILE INDEX...`
+//! for the study's record of each dataset listed, one JSON line each, as `navkf study`
+//! writes them into `summary.json`: a change to the diagnosis can then be measured on just
+//! the datasets it can act on, against the committed records.
 
 use navkf_diagnose::catalogue::strapdown::StrapdownCatalogue;
 use navkf_diagnose::{diagnose, Options};
@@ -168,6 +171,19 @@ fn main() {
         }
         return;
     }
+    // `-- records FILE INDEX...`: the study's records of the datasets listed.
+    if std::env::args().nth(1).as_deref() == Some("records") {
+        use navkf_diagnose::diagnosis_study::{run, DiagnosisStudyConfig};
+        let path = std::env::args().nth(2).expect("records FILE INDEX...");
+        let config = DiagnosisStudyConfig::load(std::path::Path::new(&path)).unwrap();
+        for index in std::env::args().skip(3) {
+            let i: usize = index.parse().expect("INDEX");
+            for record in run(&config, Some(i..i + 1), &|_| {}).unwrap() {
+                println!("{}", serde_json::to_string(&record).unwrap());
+            }
+        }
+        return;
+    }
     // `-- study FILE INDEX`: one dataset of a diagnosis study, as the study diagnosed it.
     if std::env::args().nth(1).as_deref() == Some("study") {
         use navkf_diagnose::diagnosis_study::{content, DiagnosisStudyConfig};
@@ -183,7 +199,11 @@ fn main() {
         println!("hidden: {:?}", p.hidden);
         let ds = content::simulate(&config, &trajectory, p).unwrap();
         let catalogue = navkf_diagnose::catalogue::of(&ds).unwrap();
-        let (d, _) = diagnose(&ds, &*catalogue, &config.options()).unwrap();
+        let mut o = config.options();
+        if let Ok(w) = std::env::var("WITH") {
+            o.with = w.split(',').map(String::from).collect();
+        }
+        let (d, _) = diagnose(&ds, &*catalogue, &o).unwrap();
         for r in &d.rounds {
             println!(
                 "round: model {:?}, NIS {:.3}, named {:?}",

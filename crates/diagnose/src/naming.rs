@@ -11,7 +11,11 @@
 //! noise-only term (`gyro-bias-walk`, docs/model.md eq. (44)) or the refitted noise levels can
 //! soak up any slow misfit, so a noise explanation is named only when it beats the best
 //! structured one by [`DECISIVE_BIC`], and a noise-only term only when it also makes the model
-//! consistent; when the two compete the round says so. A noise-only term must also beat a
+//! consistent; when the two compete the round says so. Before the refitted noise levels are
+//! named, the best structured candidate that could be is weighed against them with the noise
+//! refitted beside it ([`crate::candidates::beside_noise`]): if it still adds decisively, it
+//! goes first ([`Outcome::NoiseAfterStructure`]), because levels fitted without it soak up a
+//! share of its signature and, once in, bury it. A noise-only term must also beat a
 //! walk of the other sensor, outside the catalogue ([`crate::rivals`]): if that fits as well,
 //! the data cannot say which sensor carries the drift.
 //!
@@ -27,6 +31,7 @@
 //! `odometer-misalignment` in 13 of 25 (every one above 1.2 times its typical size), its own
 //! fit within 20 of the BIC with four uninformed coefficients charged.
 
+use crate::candidates::beside_noise::gain_beside_refitted_noise;
 use crate::candidates::evidence::{
     Candidate, CandidateKind, Evaluated, Model, Named, Outcome, DECISIVE_BIC,
 };
@@ -34,6 +39,7 @@ use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use crate::fit::density::{fit_density, DensityFit};
 use crate::fit::pass::Fit;
+use crate::noise::Theta;
 use crate::options::Options;
 use navkf_dynamics::dataset::Dataset;
 use navkf_filters::FilterSpec;
@@ -64,12 +70,22 @@ pub fn name(
     ds: &Dataset,
     model: &Model<'_>,
     mut ranked: Vec<Evaluated>,
+    noise_theta: Theta,
     catalogue: &dyn Catalogue,
     opts: &Options,
     beyond_small_angle: bool,
 ) -> Result<Naming, DiagnoseError> {
     let filter = &opts.filter;
     let mut candidates: Vec<Candidate> = ranked.iter().map(|e| e.candidate.clone()).collect();
+    weigh_beside_refitted_noise(
+        ds,
+        model,
+        &ranked,
+        &mut candidates,
+        noise_theta,
+        catalogue,
+        opts,
+    )?;
     let mut not_specific = Vec::new();
     let mut rival_notes = Vec::new();
     let (mut choice, mut notes) = loop {
@@ -113,6 +129,50 @@ pub fn name(
         named,
         notes,
     })
+}
+
+/// When the refitted noise levels would be named over the best structured candidate that
+/// could be: that candidate's gain over them with the noise refitted beside it
+/// ([`crate::candidates::beside_noise`]), into its [`Candidate::beside_refitted_noise`], which
+/// [`select`] reads.
+fn weigh_beside_refitted_noise(
+    ds: &Dataset,
+    model: &Model<'_>,
+    ranked: &[Evaluated],
+    candidates: &mut [Candidate],
+    noise_theta: Theta,
+    catalogue: &dyn Catalogue,
+    opts: &Options,
+) -> Result<(), DiagnoseError> {
+    let mut trial = candidates.to_vec();
+    let (choice, _) = select(&mut trial, &[]);
+    let Some(n) = choice.filter(|&n| trial[n].kind == CandidateKind::NoiseLevels) else {
+        return Ok(());
+    };
+    let Some(s) = best_nameable_structured(&trial) else {
+        return Ok(());
+    };
+    candidates[s].beside_refitted_noise = Some(gain_beside_refitted_noise(
+        ds,
+        model.fit,
+        &ranked[s],
+        &ranked[n],
+        noise_theta,
+        catalogue,
+        opts,
+    )?);
+    Ok(())
+}
+
+/// The structured candidate with the largest gain among those the rules would name but for
+/// another's larger one ([`Outcome::Outranked`]).
+fn best_nameable_structured(cands: &[Candidate]) -> Option<usize> {
+    cands
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.outcome == Outcome::Outranked && c.kind == CandidateKind::Structured)
+        .max_by(|a, b| a.1.bic_gain.total_cmp(&b.1.bic_gain))
+        .map(|(i, _)| i)
 }
 
 /// Whether a random walk of the accelerometer biases ([`AccelBiasWalk`], outside the
@@ -272,10 +332,22 @@ pub fn select(cands: &mut [Candidate], not_specific: &[usize]) -> (Option<usize>
             return (None, notes);
         }
     }
+    // An effect that adds decisively to the noise levels refitted beside it goes first
+    // (crate::candidates::beside_noise).
+    let goes_first = |cands: &[Candidate], n: usize, s: Option<(usize, f64)>| {
+        cands[n].kind == CandidateKind::NoiseLevels
+            && s.is_some_and(|(s, _)| {
+                cands[s]
+                    .beside_refitted_noise
+                    .is_some_and(|b| b > DECISIVE_BIC)
+            })
+    };
     let named = loop {
         let noise = best(cands, true);
         match (structured, noise) {
-            (s, Some((n, bn))) if s.is_none_or(|(_, bs)| bn - bs >= DECISIVE_BIC) => {
+            (s, Some((n, bn)))
+                if s.is_none_or(|(_, bs)| bn - bs >= DECISIVE_BIC) && !goes_first(cands, n, s) =>
+            {
                 if cands[n].kind == CandidateKind::NoiseOnly && !cands[n].consistent {
                     cands[n].outcome = Outcome::NoiseLeavesMisfit;
                     continue;
@@ -284,9 +356,14 @@ pub fn select(cands: &mut [Candidate], not_specific: &[usize]) -> (Option<usize>
             }
             (Some((s, bs)), noise) => {
                 if let Some((n, bn)) = noise {
-                    cands[n].outcome = Outcome::NoiseAsGoodAsStructure;
-                    if bn > bs - DECISIVE_BIC {
-                        notes.push(competition(&cands[n], bn, &cands[s], bs));
+                    if bn - bs >= DECISIVE_BIC {
+                        cands[n].outcome = Outcome::NoiseAfterStructure;
+                        notes.push(after_structure(bn, &cands[s], bs));
+                    } else {
+                        cands[n].outcome = Outcome::NoiseAsGoodAsStructure;
+                        if bn > bs - DECISIVE_BIC {
+                            notes.push(competition(&cands[n], bn, &cands[s], bs));
+                        }
                     }
                 }
                 break Some(s);
@@ -383,6 +460,20 @@ fn competition(n: &Candidate, bn: f64, s: &Candidate, bs: f64) -> String {
     )
 }
 
+/// The note when the noise levels (gain `bn`) explain more than the structured effect `s` alone, but
+/// `s` adds to them decisively with the noise refitted beside it, and goes first.
+fn after_structure(bn: f64, s: &Candidate, bs: f64) -> String {
+    format!(
+        "Refitted noise levels explain more than `{}` alone (BIC gains {bn:.0} and {bs:.0}), \
+         but with the noise refitted beside it `{}` still adds decisively to them (BIC gain \
+         {:.0}): a missing effect inflates the fitted noise, so the effect is named first and \
+         the noise is checked again with it in the model.",
+        s.effect,
+        s.effect,
+        s.beside_refitted_noise.unwrap_or(f64::NAN),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -419,6 +510,7 @@ mod tests {
             widened: Vec::new(),
             confused_with: Vec::new(),
             separable_bic: None,
+            beside_refitted_noise: None,
             beyond_bounds: Vec::new(),
             outcome: Outcome::Outranked,
             failure: None,
@@ -474,5 +566,44 @@ mod tests {
         assert_eq!(cands[0].outcome, Outcome::Named);
         assert_eq!(cands[1].outcome, Outcome::Outranked);
         assert_eq!(cands[2].outcome, Outcome::NotDecisive);
+    }
+
+    /// The refitted noise levels as a candidate, with log-likelihood gain `dll`, changing
+    /// two sources.
+    fn noise_levels(dll: f64) -> Candidate {
+        let mut c = structured(crate::candidates::NOISE_LEVELS, dll, &[1.0, 1.0]);
+        c.kind = CandidateKind::NoiseLevels;
+        c.coefficients.clear();
+        c
+    }
+
+    #[test]
+    fn an_effect_that_adds_to_the_noise_refitted_beside_it_goes_first() {
+        // The measured case (strapdown pair 426): the noise levels lead the odometer's
+        // misalignment alone by a BIC of about 1200.
+        let cands = || {
+            vec![
+                noise_levels(19368.0),
+                structured("odometer-misalignment", 18775.0, &[0.02, 0.002]),
+                structured("odometer-scale", 3150.0, &[0.02]),
+            ]
+        };
+        // Beside refitted noise it still adds decisively: it is named, the noise waits.
+        let mut first = cands();
+        first[1].beside_refitted_noise = Some(2228.0);
+        let (named, notes) = select(&mut first, &[]);
+        assert_eq!(named, Some(1));
+        assert_eq!(first[0].outcome, Outcome::NoiseAfterStructure);
+        assert!(notes[0].contains("BIC gain 2228"), "{notes:?}");
+        // Beside refitted noise it adds nothing decisive: the noise levels go first.
+        let mut after = cands();
+        after[1].beside_refitted_noise = Some(4.0);
+        let (named, notes) = select(&mut after, &[]);
+        assert_eq!(named, Some(0));
+        assert!(notes.is_empty(), "{notes:?}");
+        assert_eq!(after[1].outcome, Outcome::Outranked);
+        // Not weighed (no noise check in the round): as before.
+        let mut plain = cands();
+        assert_eq!(select(&mut plain, &[]).0, Some(0));
     }
 }

@@ -26,7 +26,9 @@
 //!       ([`crate::physical`]). Noise competes with structure rather than going first,
 //!       because a missing effect inflates the fitted noise: the right structural model has
 //!       the larger likelihood, and a noise explanation must beat the best structured one
-//!       decisively to be named. [`crate::rivals`] adds explanations outside the catalogue
+//!       decisively to be named, and the best effect that could be named goes first if it
+//!       still adds decisively to the noise refitted beside it
+//!       ([`crate::candidates::beside_noise`]). [`crate::rivals`] adds explanations outside the catalogue
 //!       that a choice must beat: a walk of the other sensor for noise terms, a GPS antenna
 //!       away from the platform for `gps-latency`.
 //!
@@ -137,6 +139,7 @@ pub fn diagnose(
             ds,
             &as_it_stands,
             ranked,
+            noise_theta,
             catalogue,
             opts,
             beyond_small_angle,

@@ -133,6 +133,7 @@ fn manual_round(ds: &Dataset, before: &Fit, after: &Fit, opts: &Options) -> Roun
             widened: Vec::new(),
             confused_with: Vec::new(),
             separable_bic: None,
+            beside_refitted_noise: None,
             beyond_bounds: Vec::new(),
             outcome: Outcome::Manual,
             failure: after.failure.clone(),

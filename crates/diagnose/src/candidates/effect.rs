@@ -77,6 +77,7 @@ pub fn evaluate(
         widened,
         separable_bic: separable_evidence(&fit, model.fit.names.len(), &confused, ln_n),
         confused_with: confused,
+        beside_refitted_noise: None,
         beyond_bounds: beyond,
         outcome: Outcome::NotDecisive,
         failure: fit.failure.clone(),

@@ -73,6 +73,10 @@ pub enum Outcome {
     NoiseLeavesMisfit,
     /// A noise-only term that a structured candidate explains as well.
     NoiseAsGoodAsStructure,
+    /// The refitted noise levels, which explain more than any effect alone, but an effect
+    /// adds to them decisively when they are refitted beside it: the effect goes first
+    /// ([`crate::naming`]).
+    NoiseAfterStructure,
     /// A noise-only term that a walk of another sensor, outside the catalogue, explains as
     /// well ([`crate::rivals`]).
     NoiseNotSpecific,
@@ -103,6 +107,7 @@ impl std::fmt::Display for Outcome {
             Outcome::Confounded => "cannot be told apart",
             Outcome::NoiseLeavesMisfit => "noise term, leaves misfit",
             Outcome::NoiseAsGoodAsStructure => "noise term, no better than structure",
+            Outcome::NoiseAfterStructure => "noise levels, after the effect that adds to them",
             Outcome::NoiseNotSpecific => "noise term, no better than another sensor's walk",
             Outcome::Failed => "filter failed",
             Outcome::Unphysical => "decisive, but no real sensor's: not named",
@@ -161,6 +166,11 @@ pub struct Candidate {
     /// on their own, as a BIC gain (Wald statistic `c^T P^-1 c` of those coefficients, less
     /// their `k ln N`). The candidate can be named only if this is decisive too.
     pub separable_bic: Option<f64>,
+    /// For the structured candidate the refitted noise levels lead: its BIC gain over them
+    /// when the noise is refitted beside it ([`super::beside_noise`]). Decisive, it is named
+    /// before the noise levels.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beside_refitted_noise: Option<f64>,
     /// Its fitted values that no real sensor has ([`crate::physical`]): a decisive candidate
     /// with any is not named.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]

@@ -3,13 +3,15 @@
 //! ([`crate::noise`]) fits the levels, and here they compete with the effects in the same
 //! currency: the model refitted at them, weighed like an effect with one parameter per noise
 //! source it changed. Noise does not go first because a missing effect inflates the fitted
-//! noise: the right structural model has the larger likelihood.
+//! noise: the right structural model has the larger likelihood. With two effects missing,
+//! neither alone may beat the levels, which soak up a share of both; the best effect is then
+//! weighed again with the noise refitted beside it ([`super::beside_noise`]).
 
 use super::evidence::{Candidate, CandidateKind, Evaluated, Model, Named, Outcome, NOISE_LEVELS};
 use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use crate::fit::widening::fit_adaptive;
-use crate::noise::levels::{NoiseFit, SOURCES};
+use crate::noise::levels::NoiseFit;
 use crate::options::Options;
 use crate::summary::summarize_fit;
 use navkf_dynamics::dataset::Dataset;
@@ -36,11 +38,7 @@ pub fn noise_levels(
         .map(|(_, n)| n.clone())
         .collect();
     let dll = fit.profile_loglik(&keep) - model.fit.profile_loglik(&keep);
-    let changed = SOURCES[..check.sources.len()]
-        .iter()
-        .filter(|src| src.values(&check.used) != src.values(&model.fit.setup.noise))
-        .count()
-        .max(1);
+    let changed = check.changed_sources(&model.fit.setup.noise);
     let ln_n = (model.fit.measurement_count().max(1) as f64).ln();
     let excess = model.summary.excess_nis;
     let candidate = Candidate {
@@ -62,6 +60,7 @@ pub fn noise_levels(
         widened,
         confused_with: Vec::new(),
         separable_bic: None,
+        beside_refitted_noise: None,
         beyond_bounds: crate::physical::noise_beyond(&check.used),
         outcome: Outcome::NotDecisive,
         failure: fit.failure.clone(),

@@ -218,6 +218,16 @@ impl NoiseFit {
         std::array::from_fn(|j| self.used_theta.get(j).copied().unwrap_or(0.0))
     }
 
+    /// How many of the check's sources take levels other than `from`'s: the parameters the
+    /// refitted levels cost when they are weighed like an effect (at least one).
+    pub fn changed_sources(&self, from: &NoiseConfig) -> usize {
+        SOURCES[..self.sources.len()]
+            .iter()
+            .filter(|src| src.values(&self.used) != src.values(from))
+            .count()
+            .max(1)
+    }
+
     /// Whether any source is mis-stated.
     pub fn mis_stated(&self) -> bool {
         self.sources.iter().any(|s| {

@@ -1,0 +1,60 @@
+//! Which goes first, the refitted noise levels or an effect? The noise levels compete with
+//! each effect alone ([`super::noise_levels`]), at levels the noise check fitted without that
+//! effect. When two effects are missing, neither alone may beat the noise levels, which soak
+//! up a share of both; once the inflated levels are in, the effects' signatures are buried
+//! under them, and coefficients they would have fixed drift into the model's own (an odometer
+//! pitched by 47 mrad was taken up by an x accelerometer bias widened 30 times, beside a gyro
+//! noise put at 11 times its true level; docs/strapdown.md, "Pairs").
+//!
+//! So before the noise levels are named, the best effect that could be named is weighed
+//! against them on equal terms: the noise check is run again with the effect in the model,
+//! the model is refitted with the effect at the levels that check finds, and the gain of that
+//! fit over the noise levels' is the effect's evidence beside refitted noise. If it is
+//! decisive, the effect adds to any noise explanation and is named first; the next round's
+//! noise check sees the model with it. If not, the noise levels explain what the effect
+//! would, and they go first as before.
+
+use super::evidence::Evaluated;
+use crate::catalogue::Catalogue;
+use crate::error::DiagnoseError;
+use crate::fit::pass::{marginal_states, Fit};
+use crate::fit::widening::fit_adaptive;
+use crate::noise::{self, Theta};
+use crate::options::Options;
+use navkf_dynamics::dataset::Dataset;
+
+/// The BIC gain of the structured candidate `effect` over the noise-levels candidate
+/// `noise_levels`, with the noise refitted beside the effect: the noise check run on the
+/// effect's fit from the model's levels `theta`, and the effect refitted at the levels it
+/// finds. Charged for the effect's coefficients and for any noise source the joint fit
+/// changes beyond those the noise levels changed. `-inf` when the joint fit fails.
+pub fn gain_beside_refitted_noise(
+    ds: &Dataset,
+    model: &Fit,
+    effect: &Evaluated,
+    noise_levels: &Evaluated,
+    theta: Theta,
+    catalogue: &dyn Catalogue,
+    opts: &Options,
+) -> Result<f64, DiagnoseError> {
+    let check = noise::check(ds, &effect.fit, theta, catalogue, &opts.filter)?;
+    let refitted;
+    let (joint, noise_changed) = if check.refitted && check.used != effect.fit.setup.noise {
+        let mut setup = effect.fit.setup.clone();
+        setup.noise = check.used;
+        setup.priors = setup.priors.restarted();
+        refitted = fit_adaptive(ds, &setup, catalogue, &opts.filter)?.0;
+        (&refitted, check.changed_sources(&model.setup.noise))
+    } else {
+        (&effect.fit, 0)
+    };
+    if joint.failure.is_some() {
+        return Ok(f64::NEG_INFINITY);
+    }
+    let keep = marginal_states(&noise_levels.fit, joint);
+    let dll = joint.profile_loglik(&keep) - noise_levels.fit.profile_loglik(&keep);
+    let extra = noise_changed.saturating_sub(noise_levels.candidate.parameters);
+    let k = effect.candidate.parameters + extra;
+    let ln_n = (model.measurement_count().max(1) as f64).ln();
+    Ok(2.0 * dll - k as f64 * ln_n)
+}

@@ -7,7 +7,8 @@
 //! (default 30 datasets per class; each draws its run, its biases and its sizes), or
 //! `-- clean SEED` for one clean dataset's findings, or `-- study FILE INDEX` for the
 //! findings and rounds of dataset INDEX of a diagnosis study file (what it hid, each
-//! candidate's evidence, each named effect's stand-in test), or `-- records FILE INDEX...`
+//! candidate's evidence, each named effect's stand-in test; `WITH=EFFECT,...` in the
+//! environment adds effects to the model under test, as `--with` does), or `-- records FILE INDEX...`
 //! for the study's record of each dataset listed, one JSON line each, as `navkf study`
 //! writes them into `summary.json`: a change to the diagnosis can then be measured on just
 //! the datasets it can act on, against the committed records.
@@ -173,11 +174,12 @@ fn main() {
     }
     // `-- records FILE INDEX...`: the study's records of the datasets listed.
     if std::env::args().nth(1).as_deref() == Some("records") {
-        use navkf_diagnose::diagnosis_study::{run, DiagnosisStudyConfig};
+        use navkf_diagnose::diagnosis_study::{dataset_count, run, DiagnosisStudyConfig};
         let path = std::env::args().nth(2).expect("records FILE INDEX...");
         let config = DiagnosisStudyConfig::load(std::path::Path::new(&path)).unwrap();
         for index in std::env::args().skip(3) {
             let i: usize = index.parse().expect("INDEX");
+            assert!(i < dataset_count(&config), "{path} has no dataset {i}");
             for record in run(&config, Some(i..i + 1), &|_| {}).unwrap() {
                 println!("{}", serde_json::to_string(&record).unwrap());
             }
@@ -201,7 +203,8 @@ fn main() {
         let catalogue = navkf_diagnose::catalogue::of(&ds).unwrap();
         let mut o = config.options();
         if let Ok(w) = std::env::var("WITH") {
-            o.with = w.split(',').map(String::from).collect();
+            o.with
+                .extend(w.split(',').filter(|e| !e.is_empty()).map(String::from));
         }
         let (d, _) = diagnose(&ds, &*catalogue, &o).unwrap();
         for r in &d.rounds {

@@ -77,17 +77,9 @@ pub fn name(
 ) -> Result<Naming, DiagnoseError> {
     let filter = &opts.filter;
     let mut candidates: Vec<Candidate> = ranked.iter().map(|e| e.candidate.clone()).collect();
-    weigh_beside_refitted_noise(
-        ds,
-        model,
-        &ranked,
-        &mut candidates,
-        noise_theta,
-        catalogue,
-        opts,
-    )?;
     let mut not_specific = Vec::new();
     let mut rival_notes = Vec::new();
+    let mut weighed = false;
     let (mut choice, mut notes) = loop {
         let (choice, notes) = select(&mut candidates, &not_specific);
         if let Some(i) = choice.filter(|&i| candidates[i].kind == CandidateKind::NoiseOnly) {
@@ -97,16 +89,44 @@ pub fn name(
                 continue;
             }
         }
+        // Under the small-angle rule below no effect can be named, so none goes first.
+        if let Some(n) = choice.filter(|&n| {
+            !weighed && !beyond_small_angle && candidates[n].kind == CandidateKind::NoiseLevels
+        }) {
+            weighed = true;
+            if let Some(s) = best_nameable_structured(&candidates) {
+                candidates[s].beside_refitted_noise = Some(gain_beside_refitted_noise(
+                    ds,
+                    model.fit,
+                    &ranked[s],
+                    &ranked[n],
+                    noise_theta,
+                    catalogue,
+                    opts,
+                )?);
+                continue;
+            }
+        }
         break (choice, notes);
     };
-    notes.extend(rival_notes);
     if let Some(i) = choice.filter(|&i| candidates[i].kind == CandidateKind::Structured) {
         if let Some(note) = outside_look_alike(ds, model, &candidates[i], catalogue, opts)? {
+            let went_first = candidates
+                .iter()
+                .any(|c| c.outcome == Outcome::NoiseAfterStructure);
+            if went_first {
+                // The effect that went first is refused: the noise levels are named as they
+                // would have been without it.
+                candidates[i].beside_refitted_noise = None;
+                (choice, notes) = select(&mut candidates, &not_specific);
+            } else {
+                choice = None;
+            }
             candidates[i].outcome = Outcome::LooksLikeOutside;
             notes.push(note);
-            choice = None;
         }
     }
+    notes.extend(rival_notes);
     if let Some(i) =
         choice.filter(|&i| beyond_small_angle && candidates[i].kind != CandidateKind::NoiseLevels)
     {
@@ -129,39 +149,6 @@ pub fn name(
         named,
         notes,
     })
-}
-
-/// When the refitted noise levels would be named over the best structured candidate that
-/// could be: that candidate's gain over them with the noise refitted beside it
-/// ([`crate::candidates::beside_noise`]), into its [`Candidate::beside_refitted_noise`], which
-/// [`select`] reads.
-fn weigh_beside_refitted_noise(
-    ds: &Dataset,
-    model: &Model<'_>,
-    ranked: &[Evaluated],
-    candidates: &mut [Candidate],
-    noise_theta: Theta,
-    catalogue: &dyn Catalogue,
-    opts: &Options,
-) -> Result<(), DiagnoseError> {
-    let mut trial = candidates.to_vec();
-    let (choice, _) = select(&mut trial, &[]);
-    let Some(n) = choice.filter(|&n| trial[n].kind == CandidateKind::NoiseLevels) else {
-        return Ok(());
-    };
-    let Some(s) = best_nameable_structured(&trial) else {
-        return Ok(());
-    };
-    candidates[s].beside_refitted_noise = Some(gain_beside_refitted_noise(
-        ds,
-        model.fit,
-        &ranked[s],
-        &ranked[n],
-        noise_theta,
-        catalogue,
-        opts,
-    )?);
-    Ok(())
 }
 
 /// The structured candidate with the largest gain among those the rules would name but for
@@ -333,13 +320,15 @@ pub fn select(cands: &mut [Candidate], not_specific: &[usize]) -> (Option<usize>
         }
     }
     // An effect that adds decisively to the noise levels refitted beside it goes first
-    // (crate::candidates::beside_noise).
+    // (crate::candidates::beside_noise), unless another explains the misfit as well: then
+    // neither could be named, and the noise levels are.
     let goes_first = |cands: &[Candidate], n: usize, s: Option<(usize, f64)>| {
         cands[n].kind == CandidateKind::NoiseLevels
             && s.is_some_and(|(s, _)| {
                 cands[s]
                     .beside_refitted_noise
                     .is_some_and(|b| b > DECISIVE_BIC)
+                    && structured_rivals(cands, s).is_empty()
             })
     };
     let named = loop {
@@ -460,14 +449,15 @@ fn competition(n: &Candidate, bn: f64, s: &Candidate, bs: f64) -> String {
     )
 }
 
-/// The note when the noise levels (gain `bn`) explain more than the structured effect `s` alone, but
-/// `s` adds to them decisively with the noise refitted beside it, and goes first.
+/// The note when the noise levels (gain `bn`) explain more than the structured effect `s`
+/// alone (gain `bs`), but `s` adds to them decisively with the noise refitted beside it, and
+/// goes first.
 fn after_structure(bn: f64, s: &Candidate, bs: f64) -> String {
     format!(
         "Refitted noise levels explain more than `{}` alone (BIC gains {bn:.0} and {bs:.0}), \
          but with the noise refitted beside it `{}` still adds decisively to them (BIC gain \
-         {:.0}): a missing effect inflates the fitted noise, so the effect is named first and \
-         the noise is checked again with it in the model.",
+         {:.0}): a missing effect inflates the fitted noise, so the effect is named first, and \
+         the next round weighs the noise again with it in the model.",
         s.effect,
         s.effect,
         s.beside_refitted_noise.unwrap_or(f64::NAN),
@@ -602,8 +592,21 @@ mod tests {
         assert_eq!(named, Some(0));
         assert!(notes.is_empty(), "{notes:?}");
         assert_eq!(after[1].outcome, Outcome::Outranked);
-        // Not weighed (no noise check in the round): as before.
+        // Not weighed yet (the first choice of a round): the noise levels lead.
         let mut plain = cands();
         assert_eq!(select(&mut plain, &[]).0, Some(0));
+        // Another effect explains the misfit as well as the one weighed (counting informed
+        // coefficients): neither could be named, so neither goes first, and the noise levels
+        // are named.
+        let mut tied = cands();
+        tied[1].beside_refitted_noise = Some(2228.0);
+        tied.push(structured(
+            "gyro-misalignment",
+            18776.0,
+            &[0.02, 0.002, 1.0, 1.0, 1.0, 1.0],
+        ));
+        let (named, _) = select(&mut tied, &[]);
+        assert_eq!(named, Some(0));
+        assert_eq!(tied[0].outcome, Outcome::Named);
     }
 }

@@ -26,11 +26,11 @@
 //!       ([`crate::physical`]). Noise competes with structure rather than going first,
 //!       because a missing effect inflates the fitted noise: the right structural model has
 //!       the larger likelihood, and a noise explanation must beat the best structured one
-//!       decisively to be named, and the best effect that could be named goes first if it
-//!       still adds decisively to the noise refitted beside it
-//!       ([`crate::candidates::beside_noise`]). [`crate::rivals`] adds explanations outside the catalogue
-//!       that a choice must beat: a walk of the other sensor for noise terms, a GPS antenna
-//!       away from the platform for `gps-latency`.
+//!       decisively to be named; even then the best effect that could be named goes first
+//!       if it still adds decisively to the noise refitted beside it
+//!       ([`crate::candidates::beside_noise`]). [`crate::rivals`] adds explanations outside
+//!       the catalogue that a choice must beat: a walk of the other sensor for noise terms, a
+//!       GPS antenna away from the platform for `gps-latency`.
 //!
 //!    The named effect joins the model (named noise levels replace the stated ones), which is
 //!    refitted from the starting priors, and the next round ranks the rest against it. The

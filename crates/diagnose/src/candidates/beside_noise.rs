@@ -9,10 +9,13 @@
 //! So before the noise levels are named, the best effect that could be named is weighed
 //! against them on equal terms: the noise check is run again with the effect in the model,
 //! the model is refitted with the effect at the levels that check finds, and the gain of that
-//! fit over the noise levels' is the effect's evidence beside refitted noise. If it is
-//! decisive, the effect adds to any noise explanation and is named first; the next round's
-//! noise check sees the model with it. If not, the noise levels explain what the effect
-//! would, and they go first as before.
+//! fit over the noise levels' is the effect's evidence beside refitted noise, charged for the
+//! effect's coefficients and for the difference in noise sources changed (the levels' fit is
+//! charged for its own). If it is decisive, the effect adds to any noise explanation and goes
+//! first ([`crate::naming`]); the next round's noise check sees the model with it. If not, the
+//! noise levels explain what the effect would, and they are named as before. They are named
+//! too when the effect could not be: another explains the misfit as well, or a look-alike
+//! outside the catalogue does.
 
 use super::evidence::Evaluated;
 use crate::catalogue::Catalogue;
@@ -26,8 +29,8 @@ use navkf_dynamics::dataset::Dataset;
 /// The BIC gain of the structured candidate `effect` over the noise-levels candidate
 /// `noise_levels`, with the noise refitted beside the effect: the noise check run on the
 /// effect's fit from the model's levels `theta`, and the effect refitted at the levels it
-/// finds. Charged for the effect's coefficients and for any noise source the joint fit
-/// changes beyond those the noise levels changed. `-inf` when the joint fit fails.
+/// finds. Charged for the effect's coefficients and the noise sources the joint fit changes,
+/// less the sources the noise levels changed. `-inf` when the joint fit fails.
 pub fn gain_beside_refitted_noise(
     ds: &Dataset,
     model: &Fit,
@@ -53,8 +56,8 @@ pub fn gain_beside_refitted_noise(
     }
     let keep = marginal_states(&noise_levels.fit, joint);
     let dll = joint.profile_loglik(&keep) - noise_levels.fit.profile_loglik(&keep);
-    let extra = noise_changed.saturating_sub(noise_levels.candidate.parameters);
-    let k = effect.candidate.parameters + extra;
+    let k = (effect.candidate.parameters + noise_changed) as f64
+        - noise_levels.candidate.parameters as f64;
     let ln_n = (model.measurement_count().max(1) as f64).ln();
-    Ok(2.0 * dll - k as f64 * ln_n)
+    Ok(2.0 * dll - k * ln_n)
 }

@@ -74,8 +74,8 @@ pub enum Outcome {
     /// A noise-only term that a structured candidate explains as well.
     NoiseAsGoodAsStructure,
     /// The refitted noise levels, which explain more than any effect alone, but an effect
-    /// adds to them decisively when they are refitted beside it: the effect goes first
-    /// ([`crate::naming`]).
+    /// adds to them decisively when they are refitted beside it: the effect is named first
+    /// ([`crate::candidates::beside_noise`]).
     NoiseAfterStructure,
     /// A noise-only term that a walk of another sensor, outside the catalogue, explains as
     /// well ([`crate::rivals`]).

@@ -144,7 +144,7 @@ pub fn constancy(
     catalogue: &dyn Catalogue,
     filter: &FilterSpec,
 ) -> Result<Option<Constancy>, DiagnoseError> {
-    let [first, _] = split_in_halves(ds);
+    let first = first_half(ds);
     let Some(last_of_first) = first.measurements.last() else {
         return Ok(None);
     };
@@ -247,12 +247,21 @@ pub fn density_constancy(
 /// The dataset cut in two at the middle of its measurements (each half keeps every input, so
 /// the filters find the inputs they need).
 fn split_in_halves(ds: &Dataset) -> [Dataset; 2] {
-    let mid = ds.measurements.len() / 2;
-    let mut a = ds.clone();
-    a.measurements.truncate(mid);
-    let mut b = ds.clone();
-    b.measurements.drain(..mid);
-    a.truth = None;
-    b.truth = None;
-    [a, b]
+    [first_half(ds), second_half(ds)]
+}
+
+/// The measurements before the middle, with every input and no truth.
+fn first_half(ds: &Dataset) -> Dataset {
+    let mut half = ds.clone();
+    half.measurements.truncate(ds.measurements.len() / 2);
+    half.truth = None;
+    half
+}
+
+/// The measurements from the middle on, with every input and no truth.
+fn second_half(ds: &Dataset) -> Dataset {
+    let mut half = ds.clone();
+    half.measurements.drain(..ds.measurements.len() / 2);
+    half.truth = None;
+    half
 }

@@ -202,6 +202,16 @@ fn main() {
         let ds = content::simulate(&config, &trajectory, p).unwrap();
         let catalogue = navkf_diagnose::catalogue::of(&ds).unwrap();
         let mut o = config.options();
+        // A misaligned platform is diagnosed with the attitude equations its class says, as
+        // the study does.
+        for h in &p.hidden {
+            if let navkf_diagnose::diagnosis_study::hidden::Hidden::Misaligned {
+                attitude, ..
+            } = h
+            {
+                o.filter.attitude = *attitude;
+            }
+        }
         if let Ok(w) = std::env::var("WITH") {
             o.with
                 .extend(w.split(',').filter(|e| !e.is_empty()).map(String::from));

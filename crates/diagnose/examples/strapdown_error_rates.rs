@@ -8,10 +8,10 @@
 //! `-- clean SEED` for one clean dataset's findings, or `-- study FILE INDEX` for the
 //! findings and rounds of dataset INDEX of a diagnosis study file (what it hid, each
 //! candidate's evidence, each named effect's stand-in test; `WITH=EFFECT,...` in the
-//! environment adds effects to the model under test, as `--with` does), or `-- records FILE INDEX...`
-//! for the study's record of each dataset listed, one JSON line each, as `navkf study`
-//! writes them into `summary.json`: a change to the diagnosis can then be measured on just
-//! the datasets it can act on, against the committed records.
+//! environment adds effects to the model under test, as `--with` does), or
+//! `-- records FILE INDEX...` for the study's record of each dataset listed, one JSON line
+//! each, as `navkf study` writes them into `summary.json`: a change to the diagnosis can then
+//! be measured on just the datasets it can act on, against the committed records.
 
 use navkf_diagnose::catalogue::strapdown::StrapdownCatalogue;
 use navkf_diagnose::{diagnose, Options};

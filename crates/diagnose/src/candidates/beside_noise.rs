@@ -48,9 +48,7 @@ pub fn gain_beside_refitted_noise(
     let check = noise::check(ds, &effect.fit, theta, catalogue, &opts.filter)?;
     let refitted;
     let (joint, noise_changed) = if check.refitted && check.used != effect.fit.setup.noise {
-        let mut setup = effect.fit.setup.clone();
-        setup.noise = check.used;
-        setup.priors = setup.priors.restarted();
+        let setup = effect.fit.setup.at_noise(check.used);
         refitted = fit_adaptive(ds, &setup, catalogue, &opts.filter)?.0;
         (&refitted, check.changed_sources(&model.setup.noise))
     } else {
@@ -68,10 +66,13 @@ pub fn gain_beside_refitted_noise(
     if noise_changed == 0 {
         return Ok(over_levels);
     }
-    let mut setup = model.setup.clone();
-    setup.noise = check.used;
-    setup.priors = setup.priors.restarted();
-    let without = fit_adaptive(ds, &setup, catalogue, &opts.filter)?.0;
+    let without = fit_adaptive(
+        ds,
+        &model.setup.at_noise(check.used),
+        catalogue,
+        &opts.filter,
+    )?
+    .0;
     if without.failure.is_some() {
         return Ok(over_levels);
     }

@@ -25,9 +25,7 @@ pub fn noise_levels(
     catalogue: &dyn Catalogue,
     opts: &Options,
 ) -> Result<Evaluated, DiagnoseError> {
-    let mut setup = model.fit.setup.clone();
-    setup.noise = check.used;
-    setup.priors = setup.priors.restarted();
+    let setup = model.fit.setup.at_noise(check.used);
     let (fit, widened) = fit_adaptive(ds, &setup, catalogue, &opts.filter)?;
     let s = summarize_fit(ds, &fit, opts);
     let keep: Vec<String> = fit

@@ -29,6 +29,15 @@ pub struct FitSetup {
 }
 
 impl FitSetup {
+    /// The same setup at the noise levels `noise`, its coefficients' priors back where they
+    /// started: a model refitted at levels a noise check found.
+    pub fn at_noise(&self, noise: NoiseConfig) -> FitSetup {
+        let mut s = self.clone();
+        s.noise = noise;
+        s.priors = s.priors.restarted();
+        s
+    }
+
     /// The same setup with `effect` added (with its parameter, if given).
     pub fn with_effect(&self, effect: &str, parameter: Option<f64>) -> FitSetup {
         let mut s = self.clone();

@@ -4,14 +4,11 @@
 
 mod common;
 
-use common::{navkf, text};
-use std::path::{Path, PathBuf};
+use common::{navkf, text, Scratch};
+use std::path::Path;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("navkf-attitude-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("attitude-{name}"))
 }
 
 #[test]
@@ -68,7 +65,6 @@ fn a_misaligned_dataset_is_consistent_with_the_exact_model_and_warned_about_with
     let o = diagnose("sideways", &dir.join("none"));
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o.stderr).contains("sideways"), "{}", text(&o.stderr));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -130,5 +126,4 @@ fn a_sweep_writes_every_point_and_the_summary_and_refuses_more_shards_than_block
         "{}",
         text(&o.stderr)
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -50,7 +50,6 @@ fn a_device_is_refused_unread_wherever_a_file_is_named() {
         assert!(err.contains(&format!("expected {expected}")), "{err}");
     }
     assert!(!out.exists(), "nothing written");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[cfg(unix)]
@@ -87,7 +86,6 @@ fn a_fifo_study_file_is_refused_without_blocking() {
     assert_eq!(status.code(), Some(1), "{err}");
     assert!(err.contains("not a regular file (a FIFO"), "{err}");
     assert!(err.contains("expected a study file (TOML)"), "{err}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -107,7 +105,6 @@ fn an_oversized_study_file_is_refused_by_its_size() {
         "{}",
         text(&o.stderr)
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -128,7 +125,6 @@ fn a_giant_csv_header_is_refused_with_its_line_before_it_is_read_whole() {
     let err = text(&o.stderr);
     assert!(err.contains("line longer than 64 KiB"), "{err}");
     assert!(err.len() < 1000, "{} bytes of stderr", err.len());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -158,5 +154,4 @@ fn a_toml_error_on_a_megabyte_line_prints_a_short_cut_of_it() {
         err.contains("aaa\" \" bbb"),
         "the cut shows the column: {err}"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -23,7 +23,6 @@ fn a_study_name_that_is_not_a_plain_name_is_refused() {
         refused_at_once(&o, t.elapsed(), "study.name");
     }
     assert!(!Path::new("../escaped").exists() && !Path::new("/tmp/escaped").exists());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -66,7 +65,6 @@ fn a_study_file_is_what_its_declared_kind_says() {
     let t = Instant::now();
     let o = navkf([Path::new("study"), &diagnosis, Path::new("--quiet")]);
     refused_at_once(&o, t.elapsed(), "missing field `content`");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -93,7 +91,6 @@ fn an_occupied_or_unwritable_out_fails_before_the_runs() {
         Path::new("--quiet"),
     ]);
     refused_at_once(&o, t.elapsed(), "a-file");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -103,7 +100,6 @@ fn a_filter_listed_twice_is_refused_with_its_index() {
     let t = Instant::now();
     let o = navkf([Path::new("study"), &study, Path::new("--quiet")]);
     refused_at_once(&o, t.elapsed(), "study.filters[1]: `ekf` is listed twice");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -135,7 +131,6 @@ fn an_edited_shard_cannot_write_outside_results() {
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(err.contains("config.study.name"), "{err}");
     assert!(!Path::new("../escaped").exists());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[cfg(unix)]
@@ -173,7 +168,6 @@ fn arguments_that_are_not_utf8_work_as_paths_or_are_refused_cleanly() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("invalid UTF-8"), "{err}");
     assert!(!err.contains("panicked"), "{err}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -202,7 +196,6 @@ fn a_bad_or_repeated_effect_is_refused_with_its_index() {
     ]);
     refused_at_once(&o, t.elapsed(), "effect `gyro-fz` is given twice");
     assert!(!dir.join("sim").exists(), "nothing written");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -229,7 +222,6 @@ fn impossible_sizes_are_refused_with_the_memory_they_need() {
     let t = Instant::now();
     let o = navkf([Path::new("study"), &study, Path::new("--quiet")]);
     refused_at_once(&o, t.elapsed(), "truth.input_rate_hz");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[cfg(unix)]
@@ -320,7 +312,6 @@ fn an_edited_shard_is_refused_naming_the_file_and_the_field() {
         let read = |d: &Path| std::fs::read(d.join(file)).unwrap();
         assert!(read(&merged) == read(&whole), "{file} differs");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -384,7 +375,6 @@ fn simulate_refuses_coefficients_no_sensor_has_and_truths_it_cannot_read_back() 
         "--azimuth-sigma 100: beyond what the small-angle model",
     );
     assert!(text(&o.stderr).contains("--attitude exact"));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -447,5 +437,4 @@ fn diagnose_refuses_options_that_make_no_sense() {
         t.elapsed(),
         "dataset.toml [prior] azimuth_rad = 100: beyond what the small-angle model holds",
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

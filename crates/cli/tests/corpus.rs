@@ -10,7 +10,7 @@
 
 mod common;
 
-use common::{navkf, text};
+use common::{navkf, text, Scratch};
 use std::path::{Path, PathBuf};
 
 fn cases(dir: &str) -> Vec<PathBuf> {
@@ -70,7 +70,8 @@ fn every_bad_dataset_gets_its_message_and_exit_code() {
 fn every_bad_study_file_is_refused_with_its_message() {
     let cases = cases("corpus-studies");
     assert!(cases.len() >= 10, "{} cases", cases.len());
-    let out = std::env::temp_dir().join(format!("navkf-corpus-{}", std::process::id()));
+    let dir = Scratch::new("corpus");
+    let out = dir.join("out");
     let mut failures = Vec::new();
     for case in &cases {
         let body = std::fs::read_to_string(case).unwrap();

@@ -5,17 +5,14 @@
 
 mod common;
 
-use common::{navkf, text};
+use common::{navkf, text, Scratch};
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 
 const EFFECTS: &str = "../../studies/effects/examples.toml";
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("navkf-declared-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("declared-{name}"))
 }
 
 /// Runs `navkf diagnose DATA --out DIR/refused ARGS...`, which must be refused (exit 1, no
@@ -96,7 +93,6 @@ fn a_malformed_effects_file_is_refused_by_file_and_key() {
     assert_eq!(o.status.code(), Some(1));
     assert!(text(&o.stderr).contains("bad.toml:"), "{}", text(&o.stderr));
     assert!(!PathBuf::from("unused").exists());
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -154,7 +150,6 @@ fn a_dataset_simulated_with_a_declared_effect_is_diagnosed_with_it() {
         )) && err.contains("`drag` is an effect already"),
         "{err}"
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -193,7 +188,6 @@ fn a_study_file_declares_effects_for_study_and_plan() {
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(text(&o.stdout).contains("kd"), "{}", text(&o.stdout));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 const STRAPDOWN_EFFECTS: &str = "../../studies/effects/strapdown-examples.toml";
@@ -337,7 +331,6 @@ fn strapdown_effects_are_declared_with_places() {
             && err.contains("E_a[x][y], which `m_axy` of `accel-misalignment`"),
         "{err}"
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A strapdown study file's `[[effect]]` tables reach `study` and `plan`.
@@ -376,5 +369,4 @@ fn a_strapdown_study_file_declares_effects() {
     ]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(text(&o.stdout).contains("n_axy"), "{}", text(&o.stdout));
-    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -4,19 +4,16 @@
 
 mod common;
 
-use common::{navkf, text};
+use common::{navkf, text, Scratch};
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Output;
 
 const PAPER: &str = "../../studies/paper.toml";
 
-/// A fresh, empty folder for one test.
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("navkf-folders-{name}-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh, empty folder for one test, removed when it ends.
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("folders-{name}"))
 }
 
 /// A short study: two runs of the paper's.
@@ -320,8 +317,9 @@ fn a_folder_navkf_cannot_replace_is_refused_before_the_work() {
     let before = fs::read(out.join("summary.json")).unwrap();
     fs::set_permissions(&out, fs::Permissions::from_mode(0o555)).unwrap();
     let o = navkf_as_nobody(&args).expect("ran before");
+    // Writable again before any assertion, so that the scratch folder goes whatever follows.
+    fs::set_permissions(&out, fs::Permissions::from_mode(0o755)).unwrap();
     assert_refused(&o, &["navkf made this folder, but cannot replace it"]);
     assert_eq!(fs::read(out.join("summary.json")).unwrap(), before);
     assert!(leftovers(&root).is_empty(), "{:?}", leftovers(&root));
-    fs::set_permissions(&out, fs::Permissions::from_mode(0o755)).unwrap();
 }

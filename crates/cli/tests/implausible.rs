@@ -5,14 +5,11 @@
 
 mod common;
 
-use common::{navkf, text};
-use std::path::{Path, PathBuf};
+use common::{navkf, text, Scratch};
+use std::path::Path;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("navkf-implausible-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("implausible-{name}"))
 }
 
 /// Rewrites every data row of `file` in `dir` through `edit` (cells as strings; `None` drops
@@ -209,7 +206,6 @@ fn every_implausible_dataset_gets_the_verdict_and_where() {
             failures.push(format!("{name}: {problems:?}\n{stdout}\n{stderr}"));
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
 }
 
@@ -226,7 +222,6 @@ fn a_stuck_odometer_is_not_called_gps_longitude_in_radians() {
     });
     let o = navkf(["inspect".as_ref(), ds.as_os_str()]);
     let said = text(&o.stderr) + &text(&o.stdout);
-    let _ = std::fs::remove_dir_all(&dir);
     assert!(said.contains("odometer reads up to 300 m/s"), "{said}");
     assert!(
         !said.contains("radians") && !said.contains("milliseconds"),

@@ -6,6 +6,9 @@
 //! A path is resolved to the longest module prefix that is a file; a name a module
 //! re-exports (`pub use sub::Name`) is followed to the file that defines it.
 
+mod common;
+
+use common::Scratch;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -239,7 +242,7 @@ fn no_source_file_imports_one_that_imports_it_back() {
 
 #[test]
 fn the_check_sees_a_circle() {
-    let dir = std::env::temp_dir().join(format!("navkf-cycles-{}", std::process::id()));
+    let dir = Scratch::new("cycles");
     fs::create_dir_all(dir.join("a")).unwrap();
     fs::write(dir.join("lib.rs"), "pub mod a;\npub mod b;\n").unwrap();
     fs::write(dir.join("a/mod.rs"), "pub use inner::X;\nmod inner;\n").unwrap();
@@ -256,7 +259,6 @@ fn the_check_sees_a_circle() {
     assert!(cycles(&dir).is_empty());
     fs::write(dir.join("b.rs"), "pub struct Y(Box<crate::a::X>);\n").unwrap();
     let found = cycles(&dir);
-    fs::remove_dir_all(&dir).unwrap();
     assert_eq!(found.len(), 1, "{found:?}");
     assert!(found[0].contains(&vec!["a".to_string(), "inner".to_string()]));
 }

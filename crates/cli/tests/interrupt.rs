@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{navkf, text};
+use common::{navkf, text, Scratch};
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -41,9 +41,7 @@ fn names(dir: &Path) -> Vec<String> {
 
 #[test]
 fn ctrl_c_stops_a_study_and_keeps_the_previous_results() {
-    let dir = std::env::temp_dir().join(format!("navkf-interrupt-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::new("interrupt");
     let out = dir.join("paper");
     let out_s = out.to_str().unwrap();
     let paper = "../../studies/paper.toml";
@@ -64,14 +62,11 @@ fn ctrl_c_stops_a_study_and_keeps_the_previous_results() {
     );
     assert_eq!(std::fs::read(out.join("summary.json")).unwrap(), previous);
     assert_eq!(names(&dir), ["paper"], "nothing left beside it");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn ctrl_c_stops_a_diagnosis_removes_its_partial_folder_and_says_so() {
-    let dir = std::env::temp_dir().join(format!("navkf-interrupt-diag-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::new("interrupt-diag");
     let ds = dir.join("drive");
     let sim = navkf([
         "simulate",
@@ -104,5 +99,4 @@ fn ctrl_c_stops_a_diagnosis_removes_its_partial_folder_and_says_so() {
         "took {took:?} after the signal"
     );
     assert_eq!(names(&dir), ["drive"], "nothing left beside the dataset");
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -3,16 +3,14 @@
 
 mod common;
 
-use common::{navkf, text};
+use common::{navkf, text, Scratch};
 use std::path::Path;
 
 #[test]
 fn shards_whose_example_truth_lacks_a_filter_state_merge() {
     // The filters model the odometer scale; the truth does not carry it, so the example
     // run's truth is NaN for kod, which JSON can only write as null.
-    let dir = std::env::temp_dir().join(format!("navkf-merge-nan-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::new("merge-nan");
     let study = dir.join("kod.toml");
     let text_of = include_str!("../../../studies/paper.toml").replace(
         "effects = []               # the filters' model",
@@ -45,7 +43,6 @@ fn shards_whose_example_truth_lacks_a_filter_state_merge() {
         let read = |d: &Path| std::fs::read(d.join(file)).unwrap();
         assert!(read(&merged) == read(&whole), "{file} differs");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// `sweep.json` without the step costs (timings differ from run to run).
@@ -68,9 +65,7 @@ fn without_timings(path: &Path) -> serde_json::Value {
 
 #[test]
 fn shards_of_a_sweep_merge_into_the_single_machine_sweep() {
-    let dir = std::env::temp_dir().join(format!("navkf-merge-sweep-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::new("merge-sweep");
     let mut file = String::new();
     for line in include_str!("../../../studies/paper.toml").lines() {
         let line = match line.split(" =").next() {
@@ -145,5 +140,4 @@ fn shards_of_a_sweep_merge_into_the_single_machine_sweep() {
         err.contains("sweep point 0") && err.contains("shard missing"),
         "{err}"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -3,14 +3,10 @@
 
 mod common;
 
-use common::{navkf, text};
-use std::path::PathBuf;
+use common::{navkf, text, Scratch};
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("navkf-plan-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("plan-{name}"))
 }
 
 const PAPER: &str = "../../studies/paper.toml";
@@ -79,7 +75,6 @@ fn plan_writes_one_design_or_compares_several() {
         "{}",
         text(&o.stderr)
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

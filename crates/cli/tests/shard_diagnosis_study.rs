@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{navkf, text};
+use common::{navkf, text, Scratch};
 use std::path::{Path, PathBuf};
 
 /// A short diagnosis study: two clean datasets, one with an effect hidden, one outside the
@@ -42,11 +42,8 @@ count = 1
 sizes = [3.0, 30.0]
 "#;
 
-fn scratch() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("navkf-shard-diagnosis-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn scratch() -> Scratch {
+    Scratch::new("shard-diagnosis")
 }
 
 fn ok(args: &[&Path]) {
@@ -147,5 +144,4 @@ fn shards_of_a_diagnosis_study_merge_to_the_single_machine_summary() {
         "{}",
         text(&o.stderr)
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

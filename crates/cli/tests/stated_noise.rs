@@ -3,13 +3,11 @@
 
 mod common;
 
-use common::{navkf, text};
+use common::{navkf, text, Scratch};
 
 #[test]
 fn default_noise_is_not_called_stated() {
-    let dir = std::env::temp_dir().join(format!("navkf-stated-noise-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::new("stated-noise");
     let ds = dir.join("drive");
     let o = navkf([
         "simulate",
@@ -38,5 +36,4 @@ fn default_noise_is_not_called_stated() {
     assert!(without.contains(said), "{without}");
     let report = std::fs::read_to_string(dir.join("without/report.md")).unwrap();
     assert!(report.contains(said), "the report says it too");
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -5,19 +5,17 @@
 
 mod common;
 
-use common::{navkf, text};
+use common::{navkf, text, Scratch};
 use std::path::PathBuf;
 
-fn fresh(tag: &str) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("navkf-cli-strapdown-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+fn scratch(tag: &str) -> Scratch {
+    Scratch::new(&format!("cli-strapdown-{tag}"))
 }
 
 #[test]
 fn a_simulated_strapdown_dataset_is_inspected_and_diagnosed() {
-    let out = fresh("sim");
+    let dir = scratch("sim");
+    let out = dir.join("sim");
     let o = navkf(
         [
             "simulate",
@@ -102,13 +100,12 @@ fn a_simulated_strapdown_dataset_is_inspected_and_diagnosed() {
         "{}",
         text(&o.stderr)
     );
-    let _ = std::fs::remove_dir_all(&report);
-    let _ = std::fs::remove_dir_all(&out);
 }
 
 #[test]
 fn strapdown_settings_are_refused_where_they_mean_nothing() {
-    let out = fresh("refused");
+    let dir = scratch("refused");
+    let out = dir.join("out");
     let o = navkf(["simulate", "--unit", "mems", "--out", out.to_str().unwrap()]);
     assert!(!o.status.success());
     assert!(
@@ -152,7 +149,8 @@ fn strapdown_settings_are_refused_where_they_mean_nothing() {
 #[test]
 fn a_kitti_oxts_folder_is_converted_and_read_back() {
     // Four seconds at rest at 10 Hz, in KITTI's layout: yaw 0 (East), az gravity.
-    let oxts = fresh("kitti").join("oxts");
+    let dir = scratch("kitti");
+    let oxts = dir.join("oxts");
     std::fs::create_dir_all(oxts.join("data")).unwrap();
     let mut stamps = String::new();
     for k in 0..=40 {
@@ -165,7 +163,7 @@ fn a_kitti_oxts_folder_is_converted_and_read_back() {
         std::fs::write(oxts.join("data").join(format!("{k:010}.txt")), v.join(" ")).unwrap();
     }
     std::fs::write(oxts.join("timestamps.txt"), stamps).unwrap();
-    let out = fresh("kitti-out");
+    let out = dir.join("kitti-out");
     let o = navkf([
         std::ffi::OsStr::new("convert"),
         std::ffi::OsStr::new("kitti"),
@@ -187,8 +185,6 @@ fn a_kitti_oxts_folder_is_converted_and_read_back() {
     assert!(toml.contains("not a wheel odometer"), "{toml}");
     let o = navkf([std::ffi::OsStr::new("inspect"), out.as_os_str()]);
     assert!(o.status.success(), "{}", text(&o.stderr));
-    let _ = std::fs::remove_dir_all(oxts.parent().unwrap());
-    let _ = std::fs::remove_dir_all(&out);
 }
 
 #[test]
@@ -204,8 +200,7 @@ fn a_strapdown_study_in_shards_merges_to_the_single_run() {
             "initial_standstill_s = 120.0",
             "initial_standstill_s = 30.0",
         );
-    let dir = fresh("shards");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("shards");
     let file = dir.join("sd.toml");
     std::fs::write(&file, study).unwrap();
     let (one, parts, merged) = (dir.join("one"), dir.join("parts"), dir.join("merged"));
@@ -240,5 +235,4 @@ fn a_strapdown_study_in_shards_merges_to_the_single_run() {
     run(merge);
     let csv = |d: &PathBuf| std::fs::read(d.join("rms_over_time.csv")).unwrap();
     assert_eq!(csv(&one), csv(&merged));
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{navkf, text};
+use common::{navkf, text, Scratch};
 use std::path::{Path, PathBuf};
 
 /// studies/paper.toml on a 600 s trajectory with 10 runs.
@@ -33,9 +33,7 @@ fn short_study(dir: &Path) -> PathBuf {
 
 #[test]
 fn the_guard_passes_fails_with_a_table_and_refuses_other_settings() {
-    let dir = std::env::temp_dir().join(format!("navkf-cli-baseline-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::new("cli-baseline");
     let study = short_study(&dir);
     let study = study.to_str().unwrap();
     let out = |name: &str| dir.join(name).to_str().unwrap().to_string();
@@ -118,5 +116,4 @@ fn the_guard_passes_fails_with_a_table_and_refuses_other_settings() {
     ]);
     assert!(!o.status.success());
     assert!(text(&o.stderr).contains("--shard"), "{}", text(&o.stderr));
-    let _ = std::fs::remove_dir_all(&dir);
 }

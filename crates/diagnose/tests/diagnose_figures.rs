@@ -6,6 +6,8 @@
 //! panels, the coefficient errors), and a base model alone (the path in one).
 
 mod figure_text;
+#[path = "../../dynamics/tests/common/scratch.rs"]
+mod scratch;
 
 use navkf_diagnose::{diagnose, plots, report, Options};
 use navkf_dynamics::simulate::Prior;
@@ -13,8 +15,9 @@ use navkf_dynamics::{
     dataset::Dataset, NoiseConfig, PlatformModel, Registry, Simulator, Trajectory,
     TrajectoryConfig, TruthConfig,
 };
+use scratch::Scratch;
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 /// A 2400 s vehicle test whose truth has a 0.5 % odometer scale error.
@@ -36,10 +39,8 @@ fn odometer_dataset() -> Dataset {
     sim.dataset("figures", 11, &run)
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("navkf-dfig-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("dfig-{name}"))
 }
 
 /// Checks figure `name` in `dir`: a PNG and an SVG with text that draw data. Returns what
@@ -135,7 +136,6 @@ fn before_and_after_figures_are_drawn_and_linked() {
         "embedded without a question: {unasked:?}"
     );
     no_temporaries(&dir);
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -157,7 +157,6 @@ fn a_dataset_too_short_for_windows_still_draws() {
     );
     check_figures(&dir, &figs);
     no_temporaries(&dir);
-    std::fs::remove_dir_all(&dir).unwrap();
     // One update fewer is refused, saying how many it needs.
     ds.measurements.truncate(n - 1);
     let e = diagnose(&ds, &Registry::catalogue(), &Options::default())

@@ -46,7 +46,6 @@ fn write_then_read_gives_the_same_dataset() {
             "truth.csv"
         ]
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -72,7 +71,6 @@ fn rewriting_without_truth_or_provenance_removes_them() {
         assert!(toml.contains(key), "{toml}");
     }
     assert_eq!(Dataset::read(&dir).unwrap(), d);
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -84,7 +82,6 @@ fn write_creates_nested_folders_and_read_names_the_dataset_after_the_folder() {
     let back = Dataset::read(&dir).unwrap();
     assert_eq!(back.name, "my-run");
     assert_eq!(back, d);
-    std::fs::remove_dir_all(&base).unwrap();
 }
 
 #[test]
@@ -100,7 +97,6 @@ fn optional_files_absent_give_defaults() {
     assert_eq!(d.truth, None);
     assert_eq!(d.inputs.len(), 50);
     assert_eq!(d.measurements.len(), 2);
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -121,7 +117,6 @@ fn crlf_and_blanks_around_cells_are_accepted() {
     let d = Dataset::read(&dir).unwrap();
     assert_eq!(d.inputs[1].t, 0.1);
     assert_eq!(d.measurements[0].velocity, Some([1.0, 0.0]));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 // ---- headers -------------------------------------------------------------------------------

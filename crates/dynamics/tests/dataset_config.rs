@@ -89,7 +89,6 @@ fn absent_noise_keys_take_defaults_and_simulation_is_read() {
         ],
     );
     let d = Dataset::read(&dir).unwrap();
-    std::fs::remove_dir_all(&dir).unwrap();
     assert_eq!(
         d.noise,
         NoiseConfig {
@@ -124,7 +123,6 @@ fn prior_table_is_read_with_base_and_effect_coefficients() {
         ],
     );
     let d = Dataset::read(&dir).unwrap();
-    std::fs::remove_dir_all(&dir).unwrap();
     assert_eq!(d.prior.level_rad, None);
     assert_eq!(d.prior.azimuth_rad, Some(2e-3));
     assert_eq!(d.prior.coefficients["Kg0x"], 4.8e-7);
@@ -241,7 +239,6 @@ fn a_users_own_effect_coefficient_is_accepted_with_its_registry() {
     let mut registry = Registry::catalogue();
     registry.register(|| Box::new(Drag));
     let d = Dataset::read_with(&dir, &registry).unwrap();
-    std::fs::remove_dir_all(&dir).unwrap();
     assert_eq!(
         d.prior,
         PlatformPrior {

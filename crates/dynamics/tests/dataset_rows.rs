@@ -5,11 +5,10 @@ mod dataset_files;
 
 use dataset_files::*;
 use navkf_dynamics::dataset::Dataset;
-use std::path::PathBuf;
 
 /// 20 s of inputs; measurements at 1 Hz from t = 1 driving north at `speed` m/s, GPS from
 /// `gps(k)` for k = 0.. (odometer cells empty when `speed` is None).
-fn moving_folder(tag: &str, speed: Option<f64>, gps: impl Fn(f64) -> [f64; 2]) -> PathBuf {
+fn moving_folder(tag: &str, speed: Option<f64>, gps: impl Fn(f64) -> [f64; 2]) -> Scratch {
     let mut meas = String::from("t,v_e,v_n,lat_deg,lon_deg\n");
     for k in 0..16 {
         let [lat, lon] = gps(k as f64);
@@ -32,7 +31,6 @@ fn radian_positions_with_odometer_are_detected() {
         [0.799 + 10.0 * k / 6.36e6, 2.2100]
     });
     let e = Dataset::read(&dir).unwrap_err().to_string();
-    std::fs::remove_dir_all(&dir).unwrap();
     assert_mentions(
         &e,
         &[
@@ -49,7 +47,6 @@ fn radian_positions_with_odometer_are_detected() {
 fn radian_positions_without_odometer_are_detected() {
     let dir = moving_folder("radians-still", None, |_| [0.799, 2.21]);
     let e = Dataset::read(&dir).unwrap_err().to_string();
-    std::fs::remove_dir_all(&dir).unwrap();
     assert_mentions(
         &e,
         &[
@@ -66,12 +63,10 @@ fn degrees_near_the_origin_are_not_taken_for_radians() {
     // A synthetic run placed at (0, 0), in degrees, driving north at 10 m/s.
     let dir = moving_folder("null-island", Some(10.0), |k| [10.0 * k / 110_574.0, 0.0]);
     let d = Dataset::read(&dir);
-    std::fs::remove_dir_all(&dir).unwrap();
     assert_eq!(d.unwrap().measurements.len(), 16);
     // And standing at the origin without odometer.
     let dir = moving_folder("null-island-still", None, |_| [0.0, 0.0]);
     let d = Dataset::read(&dir);
-    std::fs::remove_dir_all(&dir).unwrap();
     assert!(d.is_ok(), "{:?}", d.err());
 }
 
@@ -196,7 +191,6 @@ fn an_empty_measurements_file_is_refused() {
 fn a_missing_inputs_file_is_named() {
     let dir = folder("no-inputs", &[("measurements.csv", MEAS_OK)]);
     let e = Dataset::read(&dir).unwrap_err().to_string();
-    std::fs::remove_dir_all(&dir).unwrap();
     assert_mentions(&e, &["inputs.csv", "not found", "t,f_e,f_n,f_u"]);
 }
 
@@ -206,7 +200,6 @@ fn a_missing_folder_is_named() {
     let e = Dataset::read(&base.join("does-not-exist"))
         .unwrap_err()
         .to_string();
-    std::fs::remove_dir_all(&base).unwrap();
     assert_mentions(&e, &["does-not-exist", "not a folder"]);
 }
 

@@ -255,7 +255,6 @@ fn an_error_on_line_2_is_reported_without_reading_the_rest() {
     }
     drop(file);
     let e = Dataset::read(&dir).unwrap_err().to_string();
-    let _ = std::fs::remove_dir_all(&dir);
     assert_mentions(&e, &["inputs.csv:2", "f_n"]);
 }
 
@@ -280,7 +279,6 @@ fn a_device_or_fifo_is_refused_not_read() {
         std::os::unix::fs::symlink("/dev/zero", dir.join(name)).unwrap();
         let e = Dataset::read(&dir).unwrap_err().to_string();
         assert_mentions(&e, &[name, "not a regular file"]);
-        let _ = std::fs::remove_dir_all(&dir);
     }
     let dir = folder(
         "folder",
@@ -289,7 +287,6 @@ fn a_device_or_fifo_is_refused_not_read() {
     std::fs::create_dir(dir.join("truth.csv")).unwrap();
     let e = Dataset::read(&dir).unwrap_err().to_string();
     assert_mentions(&e, &["truth.csv", "a folder"]);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -360,5 +357,4 @@ fn a_file_in_another_encoding_is_named_as_such_and_a_utf8_bom_is_accepted() {
     let with_bom = Dataset::read(&dir).unwrap();
     std::fs::write(dir.join("inputs.csv"), &inputs).unwrap();
     assert_eq!(with_bom.inputs, Dataset::read(&dir).unwrap().inputs);
-    let _ = std::fs::remove_dir_all(&dir);
 }

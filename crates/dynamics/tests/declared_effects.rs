@@ -8,6 +8,8 @@ mod common;
 
 #[path = "common/markdown.rs"]
 mod markdown;
+#[path = "common/scratch.rs"]
+mod scratch;
 use common::*;
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::declared::{parse_declarations, TermFeature, TermSide};
@@ -17,6 +19,7 @@ use navkf_dynamics::{
     DynamicsError, NoiseConfig, PlatformModel, Registry, Simulator, SystemModel, Trajectory,
     TruthConfig,
 };
+use scratch::Scratch;
 use std::sync::Arc;
 
 /// Declared twins of four catalogued effects, under new names and coefficient names.
@@ -187,13 +190,11 @@ fn a_simulated_dataset_carries_its_declared_effects() {
     let ds = sim.dataset("declared", 3, &sim.run(3, 0));
     assert_eq!(ds.effects.len(), 1);
     assert_eq!(ds.effects[0].name, "my-gps-latency");
-    let dir = std::env::temp_dir().join(format!("navkf-declared-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = Scratch::new("declared");
     ds.write(&dir).unwrap();
     let text = std::fs::read_to_string(dir.join("dataset.toml")).unwrap();
     assert!(text.contains("[[effect]]"), "{text}");
     let back = Dataset::read(&dir).unwrap();
-    std::fs::remove_dir_all(&dir).unwrap();
     assert_eq!(back.effects, ds.effects);
     let truth = back.truth.unwrap();
     let column = truth.names.iter().position(|n| n == "lag").unwrap();

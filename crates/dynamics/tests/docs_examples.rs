@@ -17,8 +17,11 @@ use navkf_dynamics::{NoiseConfig, PlatformPrior, Registry};
 
 #[path = "common/markdown.rs"]
 mod markdown;
+#[path = "common/scratch.rs"]
+mod scratch;
 
 use markdown::{doc, fenced};
+use scratch::Scratch;
 
 /// The one block of `md` marked `info`.
 fn one_block(md: &str, info: &str) -> String {
@@ -52,9 +55,7 @@ fn keys<T: serde::Serialize>(value: &T) -> Vec<String> {
 #[test]
 fn the_example_dataset_reads_as_documented() {
     let md = doc("data-format.md");
-    let dir = std::env::temp_dir().join(format!("navkf-docs-dataset-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = Scratch::new("docs-dataset");
     let config = one_block(&md, "toml dataset.toml");
     for (file, info) in [
         (CONFIG_FILE, "toml dataset.toml"),
@@ -78,7 +79,6 @@ fn the_example_dataset_reads_as_documented() {
         .unwrap()
         .names
         .contains(&"kod".to_string()));
-    let _ = std::fs::remove_dir_all(&dir);
 
     // The example writes every key dataset.toml takes.
     let prior = PlatformPrior {

@@ -7,7 +7,11 @@
 use navkf_dynamics::dataset::Dataset;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use std::path::PathBuf;
+
+#[path = "common/scratch.rs"]
+mod scratch;
+
+use scratch::Scratch;
 
 fn cases() -> usize {
     std::env::var("NAVKF_FUZZ_CASES")
@@ -16,11 +20,8 @@ fn cases() -> usize {
         .unwrap_or(300)
 }
 
-fn folder(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("navkf-fuzz-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn folder(tag: &str) -> Scratch {
+    Scratch::new(&format!("fuzz-{tag}"))
 }
 
 const GOOD_INPUTS: &str = "t,f_e,f_n,f_u\n0,0.001,-0.002,9.8\n0.5,0.001,-0.002,9.8\n1,0.002,0,9.81\n1.5,0,0,9.8\n2,0,0.001,9.79\n2.5,0,0,9.8\n3,0,0,9.8\n";
@@ -100,7 +101,7 @@ fn read_does_not_panic(dir: &std::path::Path, files: &[(&str, Vec<u8>)]) {
     for (name, bytes) in files {
         std::fs::write(dir.join(name), bytes).unwrap();
     }
-    // Ok or Err; a panic fails the test with the files left in `dir` to reproduce it.
+    // Ok or Err; a panic fails the test (the seeded generator makes the same files again).
     let _ = Dataset::read(dir);
 }
 
@@ -118,7 +119,6 @@ fn random_bytes_never_panic_the_reader() {
         }
         read_does_not_panic(&dir, &files);
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -154,5 +154,4 @@ fn mutations_of_a_good_dataset_never_panic_the_reader() {
         refused > cases() / 4 && refused < cases(),
         "{refused} refused"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -4,17 +4,16 @@
 
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::input_file::{read_text, TextFile, CSV_LINE_MAX_BYTES, TOML_MAX_BYTES};
-use std::path::PathBuf;
 
-/// A fresh, empty folder under the system temp dir, unique to this process and `tag`.
-fn temp_folder(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "navkf-input-file-test-{}-{tag}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+#[path = "common/scratch.rs"]
+mod scratch;
+
+use scratch::Scratch;
+
+/// A fresh, empty folder under the system temp dir, unique to this process and `tag`,
+/// removed when the test ends.
+fn temp_folder(tag: &str) -> Scratch {
+    Scratch::new(&format!("input-file-test-{tag}"))
 }
 
 fn assert_mentions(message: &str, parts: &[&str]) {
@@ -54,7 +53,6 @@ fn a_device_or_a_folder_is_refused_naming_what_was_expected() {
         &e,
         &["not a regular file (a folder)", "expected a shard file"],
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -73,7 +71,6 @@ fn a_file_over_its_limit_is_refused_by_size_unread() {
     std::fs::rename(&path, dir.join("dataset.toml")).unwrap();
     let e = Dataset::read(&dir).unwrap_err().to_string();
     assert_mentions(&e, &["dataset.toml", "at most 16 MiB"]);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -93,7 +90,6 @@ fn text_that_is_not_utf8_is_refused_with_its_line() {
     std::fs::write(&path, utf16).unwrap();
     let e = read_text(&path, &TextFile::STUDY).unwrap_err().to_string();
     assert_mentions(&e, &["UTF-16"]);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -118,7 +114,6 @@ fn a_csv_line_over_the_limit_is_refused_with_its_number() {
         let e = Dataset::read(&dir).unwrap_err().to_string();
         assert_mentions(&e, &[line]);
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -143,5 +138,4 @@ fn a_toml_error_on_a_megabyte_line_quotes_a_short_cut_of_it() {
             "...",
         ],
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -5,13 +5,13 @@
 
 mod dataset_files;
 
-use dataset_files::{assert_mentions, temp_folder};
+use dataset_files::{assert_mentions, temp_folder, Scratch};
 use navkf_dynamics::dataset::kitti::{read_kitti, OXTS_FIELDS};
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::segments::SegmentSpec;
 use navkf_dynamics::strapdown::simulate::ideal_reading;
 use navkf_dynamics::{ModelKind, Trajectory, TrajectoryConfig};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 const HZ: f64 = 20.0;
 
@@ -43,8 +43,8 @@ fn drive() -> Trajectory {
 
 /// Writes the drive as a KITTI `oxts` folder, the first frame's attitude `first` (roll,
 /// pitch, yaw in KITTI's conventions) instead of the path's.
-fn write_oxts(traj: &Trajectory, first: Option<[f64; 3]>) -> PathBuf {
-    let dir = temp_folder("kitti").join("oxts");
+fn write_oxts(traj: &Trajectory, first: Option<[f64; 3]>) -> Scratch {
+    let dir = temp_folder("kitti-oxts");
     std::fs::create_dir_all(dir.join("data")).unwrap();
     let frames = (traj.duration() * HZ) as usize;
     let mut stamps = String::new();

@@ -3,13 +3,15 @@
 //! reads as one continuous track; inputs slower than the measurements are refused.
 
 mod common;
+#[path = "common/scratch.rs"]
+mod scratch;
 
 use common::datasets::{self, short};
 use navkf_dynamics::dataset::{Dataset, Doubt};
 use navkf_dynamics::{NoiseConfig, Trajectory, TrajectoryConfig};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use std::path::PathBuf;
+use scratch::Scratch;
 
 /// A simulated dataset; `effects` as `simulate --effects` takes them (`name=value`).
 fn simulated(effects: &str, trajectory: TrajectoryConfig, seed: u64) -> Dataset {
@@ -26,10 +28,8 @@ fn doubts(ds: &Dataset) -> Vec<Doubt> {
     ds.warnings().iter().map(|w| w.doubt).collect()
 }
 
-fn temp(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("navkf-plausible-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
+fn temp(tag: &str) -> Scratch {
+    Scratch::new(&format!("plausible-{tag}"))
 }
 
 #[test]
@@ -207,7 +207,6 @@ fn a_track_across_the_antimeridian_is_one_continuous_track() {
     assert!(wrapped > 10, "the test track must cross the antimeridian");
     std::fs::write(&path, lines.join("\n") + "\n").unwrap();
     let back = Dataset::read(&dir).unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
     let extent = back.summary().extent.unwrap();
     assert!(
         extent.east_m < 5_000.0,
@@ -231,7 +230,6 @@ fn inputs_slower_than_the_measurements_are_refused() {
         let dir = temp(&format!("slow-{keep_every}"));
         slow.write(&dir).unwrap();
         let e = Dataset::read(&dir).unwrap_err().to_string();
-        let _ = std::fs::remove_dir_all(&dir);
         assert!(
             e.contains("inputs.csv") && e.contains("slower than the measurements"),
             "{e}"
@@ -243,6 +241,5 @@ fn inputs_slower_than_the_measurements_are_refused() {
     let dir = temp("same-rate");
     same.write(&dir).unwrap();
     let read = Dataset::read(&dir);
-    let _ = std::fs::remove_dir_all(&dir);
     read.unwrap();
 }

@@ -5,6 +5,11 @@
 use navkf_report::{FolderKind, ResultsDir, ShardFolder, MARKER};
 use std::fs;
 
+#[path = "../../dynamics/tests/common/scratch.rs"]
+mod scratch;
+
+use scratch::Scratch;
+
 #[test]
 fn a_results_folder_is_replaced_whole_or_not_at_all() {
     let root = temp_dir("results-dir");
@@ -222,10 +227,7 @@ fn a_killed_run_leaves_a_named_partial_folder_that_the_next_run_removes() {
     assert!(!out.join("summary.json").exists());
 }
 
-/// A fresh, empty folder under the system temporary folder.
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("navkf-report-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("temporary folder");
-    d
+/// A fresh, empty folder under the system temporary folder, removed when the test ends.
+fn temp_dir(name: &str) -> Scratch {
+    Scratch::new(&format!("report-{name}"))
 }

@@ -31,7 +31,6 @@ fn the_baseline_passes_against_itself_and_a_rerun() {
     let path = dir.join("summary.json");
     std::fs::write(&path, serde_json::to_string_pretty(&base).unwrap()).unwrap();
     let stored = navkf_study::guard::load_baseline(&path).unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
     let r = compare(&stored, &again, DEFAULT_K);
     assert!(r.passed(), "{}", r.table());
     assert_eq!(r.identical, r.checks, "same seed and code: identical");

@@ -2,6 +2,9 @@
 //! path): every figure is written as PNG and SVG with its title, and degenerate data (every
 //! run of a filter diverged, NaN, one stored time, nothing at all) draws without a panic.
 
+mod common;
+
+use common::Scratch;
 use navkf_filters::{DivergenceCause, RunFailure};
 use navkf_report::stats::Consistency;
 use navkf_study::monte_carlo::ExampleRun;
@@ -9,7 +12,7 @@ use navkf_study::output::{fold, write_results};
 use navkf_study::summary::summarize;
 use navkf_study::tally::Divergence;
 use navkf_study::{plots, report, Study, StudyConfig, Tally};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The paper's study, shortened like the filter tests' scenarios: 2 runs, 600 s.
 fn tiny(series_every_s: f64) -> (Study, Tally, Option<ExampleRun>) {
@@ -33,10 +36,8 @@ fn tiny(series_every_s: f64) -> (Study, Tally, Option<ExampleRun>) {
     (study, tally, example)
 }
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("navkf-plots-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("plots-{name}"))
 }
 
 /// The figure exists as a non-empty PNG and an SVG; returns the SVG's text.
@@ -104,7 +105,6 @@ fn every_figure_and_the_report_are_written() {
         assert!(md.contains(needle), "report.md lacks {needle:?}");
     }
     no_temporaries(&dir);
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -134,7 +134,6 @@ fn report_states_the_command_and_verdicts() {
         Consistency::of(f64::NAN, [10.0, 20.0]).as_str(),
         "no verdict"
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -193,7 +192,6 @@ fn a_filter_with_every_run_diverged_does_not_panic() {
         md.contains("diverged (2 final error beyond the bound)"),
         "counted by cause"
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -222,8 +220,6 @@ fn one_stored_time_and_an_empty_tally_do_not_panic() {
     assert!(figure(&dir2, "rms_over_time").contains("no data to draw"));
     assert!(figure(&dir2, "estimates_Kg0x").contains("no data to draw"));
     no_temporaries(&dir2);
-    std::fs::remove_dir_all(&dir).unwrap();
-    std::fs::remove_dir_all(&dir2).unwrap();
 }
 
 #[test]
@@ -253,5 +249,4 @@ fn a_spacing_below_the_measurement_interval_stores_every_measurement() {
     }
     let dir = scratch("fine");
     report::write_report(&study, &tally, example.as_ref(), &dir, "test").unwrap();
-    std::fs::remove_dir_all(&dir).unwrap();
 }

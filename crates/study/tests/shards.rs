@@ -132,7 +132,6 @@ fn merged_shards_equal_the_unsharded_study_and_merge_checks_the_set() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("different study file"), "{err}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// An edit of one shard file of a valid set: which shard, what it does to the JSON, and what
@@ -403,7 +402,6 @@ fn every_edited_shard_is_refused_with_the_file_and_the_field() {
     );
     // The valid set still reads.
     assert!(read_partials(&valid).is_ok());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -428,7 +426,6 @@ fn one_shard_of_all_blocks_merges_the_same_and_a_block_missing_from_its_middle_i
         &path,
         "blocks[1].first_run = 20: expected 10 (shard 0/1 holds blocks 0..4 of the study's 4, 10 runs each; a block missing?)",
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -494,7 +491,6 @@ fn sums_that_are_not_finite_are_refused() {
         err,
         "shard 1/3: its blocks bring the merged filters[1].sum_run_nis_sq to inf: sums too large for any run"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The median over `runs` runs of the first filter's largest final coefficient error, in
@@ -554,6 +550,5 @@ fn shards_with_diverged_runs_pass_the_check() {
         } else {
             assert_eq!(ok, [0, 0, 0], "bound {bound}: none finishes");
         }
-        let _ = std::fs::remove_dir_all(&dir);
     }
 }

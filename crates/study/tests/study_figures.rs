@@ -12,11 +12,14 @@
 //! the GPS noise and over the speed a segment of that test reaches (its key, `to`, says no
 //! unit).
 
+mod common;
+
 // Shared with the diagnosis figures' test; not every function of it is used here.
 #[allow(dead_code)]
 #[path = "../../diagnose/tests/figure_text/mod.rs"]
 mod figure_text;
 
+use common::Scratch;
 use navkf_dynamics::state::NAV_DIM;
 use navkf_study::config::SweepSection;
 use navkf_study::output::write_results;
@@ -24,7 +27,7 @@ use navkf_study::plan::{plan, Comparison, Design};
 use navkf_study::plan_output::{write_comparison, write_plan};
 use navkf_study::sweep::{self, points, SweepSummary};
 use navkf_study::{Study, StudyConfig};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 const COMMAND: &str = "cargo test --test study_figures";
 
@@ -97,19 +100,14 @@ effects = ["odometer-scale"]
 effects = ["odometer-scale"]
 "#;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("navkf-sfig-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-/// Removes `dir`, unless `NAVKF_KEEP_FIGURES` is set (to look at the figures).
-fn done(dir: &Path) {
-    if std::env::var_os("NAVKF_KEEP_FIGURES").is_none() {
-        std::fs::remove_dir_all(dir).unwrap();
+/// A fresh folder for one test's figures, removed when the test ends unless
+/// `NAVKF_KEEP_FIGURES` is set (to look at the figures).
+fn scratch(name: &str) -> Scratch {
+    let dir = Scratch::new(&format!("sfig-{name}"));
+    if std::env::var_os("NAVKF_KEEP_FIGURES").is_some() {
+        dir.kept()
     } else {
-        eprintln!("figures kept in {}", dir.display());
+        dir
     }
 }
 
@@ -377,7 +375,6 @@ fn a_study_and_its_plan_draw_every_figure_legibly() {
     let md = std::fs::read_to_string(pdir.join("plan.md")).unwrap();
     links_pngs(&pdir, &md, &drawn);
     no_temporaries(&pdir);
-    done(&dir);
 }
 
 /// Runs a sweep of `key` over `values` in `config` (2 runs a point) into `dir`, as `navkf
@@ -446,7 +443,6 @@ fn sweeps_draw_against_the_setting_in_words_and_units() {
         for (n, svg) in names.iter().zip(&svgs) {
             swept_axis_is_readable(n, svg, key, unit, values, factor);
         }
-        done(&dir);
     }
 }
 
@@ -503,6 +499,5 @@ fn plan_comparisons_draw_against_the_setting_in_words_and_units() {
         let names = compare(StudyConfig::parse(text).unwrap(), key, values, &dir);
         let svgs = check_figures(&dir, &names);
         swept_axis_is_readable(&names[0], &svgs[0], key, unit, values, 1.0);
-        done(&dir);
     }
 }

@@ -1,7 +1,13 @@
-//! What the CLI tests share: running the built `navkf` and reading its output.
+//! What the CLI tests share: running the built `navkf`, reading its output, and scratch
+//! folders that go when the test ends.
 #![allow(dead_code)] // each test file uses a subset
 
 pub mod study_files;
+
+#[path = "../../../dynamics/tests/common/scratch.rs"]
+mod scratch;
+
+pub use scratch::Scratch;
 
 use std::process::{Command, Output};
 

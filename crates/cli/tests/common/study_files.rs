@@ -1,7 +1,7 @@
 //! Study files written for a test, scratch folders, and the check that a command was refused
 //! before any computing.
 
-use super::text;
+use super::{text, Scratch};
 use std::path::{Path, PathBuf};
 use std::process::Output;
 use std::time::Duration;
@@ -27,11 +27,9 @@ pub fn study_file(dir: &Path, file: &str, replace: &[(&str, &str)]) -> PathBuf {
     path
 }
 
-pub fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("navkf-bad-input-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh scratch folder `navkf-bad-input-<name>-<pid>`, removed when the test ends.
+pub fn scratch(name: &str) -> Scratch {
+    Scratch::new(&format!("bad-input-{name}"))
 }
 
 /// Fails with exit 1 within a second (refused before the runs), stderr containing `needle`.

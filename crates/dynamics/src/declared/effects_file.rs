@@ -149,12 +149,31 @@ impl DeclaredFile {
 mod tests {
     use super::*;
 
-    fn file(name: &str, text: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("navkf-effects-file-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join(name);
-        std::fs::write(&path, text).unwrap();
-        path
+    /// A fresh folder of one test's files, removed when the test ends, passed or failed: the
+    /// tests must not litter /tmp.
+    struct Scratch(PathBuf);
+
+    impl Scratch {
+        fn new(test: &str) -> Scratch {
+            let dir = std::env::temp_dir()
+                .join(format!("navkf-effects-file-{test}-{}", std::process::id()));
+            let _ = std::fs::remove_dir_all(&dir);
+            std::fs::create_dir_all(&dir).unwrap();
+            Scratch(dir)
+        }
+
+        /// Writes `text` to the file `name` in the folder; returns its path.
+        fn file(&self, name: &str, text: &str) -> PathBuf {
+            let path = self.0.join(name);
+            std::fs::write(&path, text).unwrap();
+            path
+        }
+    }
+
+    impl Drop for Scratch {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
     }
 
     const DRAG: &str = r#"
@@ -173,10 +192,11 @@ places = [{ coefficient = "n_axy", place = "E_a[x][y]" }]
 
     #[test]
     fn a_file_is_of_the_family_its_declarations_say() {
-        let drag = DeclaredFile::read(&file("drag.toml", DRAG)).unwrap();
+        let dir = Scratch::new("family");
+        let drag = DeclaredFile::read(&dir.file("drag.toml", DRAG)).unwrap();
         assert_eq!(drag.family(), ModelKind::Platform);
         assert!(drag.platform_registry().unwrap().build("drag").is_ok());
-        let skew = DeclaredFile::read(&file("skew.toml", SKEW)).unwrap();
+        let skew = DeclaredFile::read(&dir.file("skew.toml", SKEW)).unwrap();
         assert_eq!(skew.family(), ModelKind::Strapdown);
         assert!(skew.strapdown_registry().unwrap().get("skew").is_ok());
         let refused = skew
@@ -194,12 +214,13 @@ places = [{ coefficient = "n_axy", place = "E_a[x][y]" }]
 
     #[test]
     fn refusals_name_the_file_and_the_key() {
-        let mixed = file("mixed.toml", &format!("{SKEW}\n{}", DRAG));
+        let dir = Scratch::new("refusals");
+        let mixed = dir.file("mixed.toml", &format!("{SKEW}\n{}", DRAG));
         let err = DeclaredFile::read(&mixed).unwrap_err().to_string();
         assert!(err.starts_with(&mixed.display().to_string()), "{err}");
         assert!(err.contains("effect[1]"), "{err}");
         // A clash with an effect declared elsewhere under the same name names this file.
-        let skew = DeclaredFile::read(&file("skew2.toml", SKEW)).unwrap();
+        let skew = DeclaredFile::read(&dir.file("skew2.toml", SKEW)).unwrap();
         let mut registry = StrapdownRegistry::catalogue();
         let mut other = skew.declarations().to_vec();
         other[0].coefficients[0].sigma = 1e-3;

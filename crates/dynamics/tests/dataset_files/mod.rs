@@ -1,30 +1,29 @@
-//! What the dataset tests share: fresh temporary folders, a sample dataset with awkward
-//! values, and the reading of a folder expected to fail.
+//! What the dataset tests share: fresh temporary folders (removed when the test ends), a
+//! sample dataset with awkward values, and the reading of a folder expected to fail.
 //!
 //! Each test file uses only some of them.
 #![allow(dead_code)]
 
 use navkf_dynamics::dataset::{Dataset, InputSample, Measurement, Provenance, Truth};
 use navkf_dynamics::{NoiseConfig, PlatformPrior};
-use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
+
+#[path = "../common/scratch.rs"]
+mod scratch;
+
+pub use scratch::Scratch;
 
 static COUNTER: AtomicUsize = AtomicUsize::new(0);
 
-/// A fresh, empty folder under the system temp dir, unique to this process and call.
-pub fn temp_folder(tag: &str) -> PathBuf {
+/// A fresh, empty folder under the system temp dir, unique to this process and call, removed
+/// when the test ends.
+pub fn temp_folder(tag: &str) -> Scratch {
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!(
-        "navkf-dataset-test-{}-{n}-{tag}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    Scratch::new(&format!("dataset-test-{n}-{tag}"))
 }
 
 /// A folder holding exactly `files`.
-pub fn folder(tag: &str, files: &[(&str, &str)]) -> PathBuf {
+pub fn folder(tag: &str, files: &[(&str, &str)]) -> Scratch {
     let dir = temp_folder(tag);
     for (name, text) in files {
         std::fs::write(dir.join(name), text).unwrap();
@@ -55,9 +54,7 @@ pub fn read_error(tag: &str, files: &[(&str, &str)]) -> String {
     if !files.iter().any(|(n, _)| *n == "measurements.csv") {
         all.push(("measurements.csv", MEAS_OK));
     }
-    let dir = folder(tag, &all);
-    let result = Dataset::read(&dir);
-    let _ = std::fs::remove_dir_all(&dir);
+    let result = Dataset::read(&folder(tag, &all));
     match result {
         Ok(d) => panic!("{tag}: expected an error, read {} inputs", d.inputs.len()),
         Err(e) => e.to_string(),

@@ -35,6 +35,14 @@ pub const MARKER: &str = ".navkf-results";
 /// ```
 /// use navkf_report::ResultsDir;
 /// let out = std::env::temp_dir().join(format!("navkf-doc-results-{}", std::process::id()));
+/// # // Removed however the example ends: it must not litter /tmp.
+/// # struct Cleanup(std::path::PathBuf);
+/// # impl Drop for Cleanup {
+/// #     fn drop(&mut self) {
+/// #         let _ = std::fs::remove_dir_all(&self.0);
+/// #     }
+/// # }
+/// # let _cleanup = Cleanup(out.clone());
 /// let staged = ResultsDir::begin(&out).unwrap();
 /// std::fs::write(staged.path().join("report.md"), "new").unwrap();
 /// assert!(!out.exists(), "nothing is in place before the commit");
@@ -44,7 +52,6 @@ pub const MARKER: &str = ".navkf-results";
 /// std::fs::write(out.join("notes.txt"), "mine").unwrap();
 /// let refused = ResultsDir::begin(&out).unwrap_err().to_string();
 /// assert!(refused.contains("`notes.txt`, which navkf did not write"), "{refused}");
-/// # std::fs::remove_dir_all(&out).unwrap();
 /// ```
 #[derive(Debug)]
 pub struct ResultsDir {

@@ -5,6 +5,11 @@ use navkf_study::output::fold;
 use navkf_study::tally::Tally;
 use navkf_study::{Study, StudyConfig};
 
+#[path = "../../../dynamics/tests/common/scratch.rs"]
+mod scratch;
+
+pub use scratch::Scratch;
+
 /// studies/paper.toml, as committed.
 pub const PAPER: &str = include_str!("../../../../studies/paper.toml");
 
@@ -37,10 +42,7 @@ pub fn without_timings(mut t: Tally) -> Tally {
     t
 }
 
-/// A fresh, empty folder under the system temporary folder.
-pub fn temp_dir(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("navkf-study-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("temporary folder");
-    d
+/// A fresh, empty folder under the system temporary folder, removed when the test ends.
+pub fn temp_dir(name: &str) -> Scratch {
+    Scratch::new(&format!("study-{name}"))
 }

@@ -91,7 +91,10 @@ pub fn name(
         }
         // Under the small-angle rule below no effect can be named, so none goes first.
         if let Some(n) = choice.filter(|&n| {
-            !weighed && !beyond_small_angle && candidates[n].kind == CandidateKind::NoiseLevels
+            !weighed
+                && !beyond_small_angle
+                && candidates[n].kind == CandidateKind::NoiseLevels
+                && !set_aside_term_rivals_the_levels(&candidates, n)
         }) {
             weighed = true;
             if let Some(s) = best_nameable_structured(&candidates) {
@@ -153,6 +156,20 @@ pub fn name(
 
 /// The structured candidate with the largest gain among those the rules would name but for
 /// another's larger one ([`Outcome::Outranked`]).
+/// Whether a noise-only term that explains the misfit at least as well as the noise levels
+/// `levels` was set aside for leaving a misfit. The levels are then not the best account of
+/// what is missing, and an effect that adds to them refitted beside it may only take up part
+/// of the term's misfit, so no effect goes first (measured on the platform's error-rate study:
+/// with a gyro bias walk beside a latency, the walk, 96 % of the excess, was set aside for the
+/// latency's misfit, and an odometer turn that removed 2 % went first and stayed named beside
+/// the two hidden effects, on 2 of 53 such pairs; a round later the walk led the levels by a
+/// BIC of 9, and the turn went first again).
+fn set_aside_term_rivals_the_levels(cands: &[Candidate], levels: usize) -> bool {
+    cands
+        .iter()
+        .any(|c| c.outcome == Outcome::NoiseLeavesMisfit && c.bic_gain >= cands[levels].bic_gain)
+}
+
 fn best_nameable_structured(cands: &[Candidate]) -> Option<usize> {
     cands
         .iter()
@@ -324,6 +341,7 @@ pub fn select(cands: &mut [Candidate], not_specific: &[usize]) -> (Option<usize>
     // neither could be named, and the noise levels are.
     let goes_first = |cands: &[Candidate], n: usize, s: Option<(usize, f64)>| {
         cands[n].kind == CandidateKind::NoiseLevels
+            && !set_aside_term_rivals_the_levels(cands, n)
             && s.is_some_and(|(s, _)| {
                 cands[s]
                     .beside_refitted_noise
@@ -608,5 +626,23 @@ mod tests {
         let (named, _) = select(&mut tied, &[]);
         assert_eq!(named, Some(0));
         assert_eq!(tied[0].outcome, Outcome::Named);
+        // A noise-only term explains as much as the noise levels, or more, but leaves a
+        // misfit, so it is set aside (platform pair 814 of the error-rate study: a gyro bias
+        // walk beside a latency): the levels are not the best account of the misfit, and the
+        // effect that adds to them does not go first, however little the term leads. A term
+        // behind the levels is not set aside and does not stop it.
+        for (walk_dll, goes_first) in [(41540.0, false), (19369.0, false), (19360.0, true)] {
+            let mut walk = cands();
+            walk[1].beside_refitted_noise = Some(2228.0);
+            let mut term = structured("gyro-bias-walk", walk_dll, &[]);
+            term.kind = CandidateKind::NoiseOnly;
+            term.consistent = false;
+            walk.push(term);
+            let (named, _) = select(&mut walk, &[]);
+            assert_eq!(named, Some(if goes_first { 1 } else { 0 }), "{walk_dll}");
+            if walk_dll > 19368.0 {
+                assert_eq!(walk[3].outcome, Outcome::NoiseLeavesMisfit);
+            }
+        }
     }
 }

@@ -15,7 +15,9 @@
 //! named, the best structured candidate that could be is weighed against them with the noise
 //! refitted beside it ([`crate::candidates::beside_noise`]): if it still adds decisively, it
 //! goes first ([`Outcome::NoiseAfterStructure`]), because levels fitted without it soak up a
-//! share of its signature and, once in, bury it. A noise-only term must also beat a
+//! share of its signature and, once in, bury it; but not while a noise-only term set aside for
+//! the misfit it leaves explains as much as the levels, which are then not the best account of
+//! what is missing. A noise-only term must also beat a
 //! walk of the other sensor, outside the catalogue ([`crate::rivals`]): if that fits as well,
 //! the data cannot say which sensor carries the drift.
 //!
@@ -154,8 +156,6 @@ pub fn name(
     })
 }
 
-/// The structured candidate with the largest gain among those the rules would name but for
-/// another's larger one ([`Outcome::Outranked`]).
 /// Whether a noise-only term that explains the misfit at least as well as the noise levels
 /// `levels` was set aside for leaving a misfit. The levels are then not the best account of
 /// what is missing, and an effect that adds to them refitted beside it may only take up part
@@ -170,6 +170,8 @@ fn set_aside_term_rivals_the_levels(cands: &[Candidate], levels: usize) -> bool 
         .any(|c| c.outcome == Outcome::NoiseLeavesMisfit && c.bic_gain >= cands[levels].bic_gain)
 }
 
+/// The structured candidate with the largest gain among those the rules would name but for
+/// another's larger one ([`Outcome::Outranked`]).
 fn best_nameable_structured(cands: &[Candidate]) -> Option<usize> {
     cands
         .iter()

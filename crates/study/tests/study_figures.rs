@@ -121,8 +121,11 @@ fn png_size(png: &[u8]) -> (u32, u32) {
 /// The size of a PNG of `size` pixels, all white, written as the figures are.
 fn blank_png_len(size: (u32, u32)) -> usize {
     use plotters::prelude::*;
+    // A name of its own per call: the tests run in parallel threads and ask for the same sizes.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let path = std::env::temp_dir().join(format!(
-        "navkf-sfig-blank-{}x{}-{}.png",
+        "navkf-sfig-blank-{}x{}-{}-{call}.png",
         size.0,
         size.1,
         std::process::id()

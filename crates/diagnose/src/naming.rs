@@ -96,7 +96,7 @@ pub fn name(
             !weighed
                 && !beyond_small_angle
                 && candidates[n].kind == CandidateKind::NoiseLevels
-                && !set_aside_term_rivals_the_levels(&candidates, n)
+                && !a_noise_term_was_set_aside(&candidates)
         }) {
             weighed = true;
             if let Some(s) = best_nameable_structured(&candidates) {
@@ -156,18 +156,19 @@ pub fn name(
     })
 }
 
-/// Whether a noise-only term that explains the misfit at least as well as the noise levels
-/// `levels` was set aside for leaving a misfit. The levels are then not the best account of
-/// what is missing, and an effect that adds to them refitted beside it may only take up part
-/// of the term's misfit, so no effect goes first (measured on the platform's error-rate study:
-/// with a gyro bias walk beside a latency, the walk, 96 % of the excess, was set aside for the
+/// Whether a noise-only term was set aside for the misfit it leaves ([`select`] sets aside
+/// only the best noise explanation left, so such a term explains at least as much as the
+/// noise levels chosen after it). The levels are then not the best account of what is
+/// missing, and an effect that adds to them refitted beside it may only take up part of the
+/// term's misfit, so no effect goes first (measured on the platform's error-rate study: with a
+/// gyro bias walk beside a latency, the walk, 96 % of the excess, was set aside for the
 /// latency's misfit, and an odometer turn that removed 2 % went first and stayed named beside
 /// the two hidden effects, on 2 of 53 such pairs; a round later the walk led the levels by a
-/// BIC of 9, and the turn went first again).
-fn set_aside_term_rivals_the_levels(cands: &[Candidate], levels: usize) -> bool {
+/// BIC of 9, and the turn went first again under a rule that asked for a decisive lead).
+fn a_noise_term_was_set_aside(cands: &[Candidate]) -> bool {
     cands
         .iter()
-        .any(|c| c.outcome == Outcome::NoiseLeavesMisfit && c.bic_gain >= cands[levels].bic_gain)
+        .any(|c| c.outcome == Outcome::NoiseLeavesMisfit)
 }
 
 /// The structured candidate with the largest gain among those the rules would name but for
@@ -343,7 +344,7 @@ pub fn select(cands: &mut [Candidate], not_specific: &[usize]) -> (Option<usize>
     // neither could be named, and the noise levels are.
     let goes_first = |cands: &[Candidate], n: usize, s: Option<(usize, f64)>| {
         cands[n].kind == CandidateKind::NoiseLevels
-            && !set_aside_term_rivals_the_levels(cands, n)
+            && !a_noise_term_was_set_aside(cands)
             && s.is_some_and(|(s, _)| {
                 cands[s]
                     .beside_refitted_noise

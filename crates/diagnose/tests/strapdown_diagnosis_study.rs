@@ -36,6 +36,39 @@ fn committed() -> DiagnosisStudyConfig {
 }
 
 #[test]
+fn the_manoeuvre_study_drives_its_own_test_and_hides_the_four_effects_it_names() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../studies/strapdown-manoeuvres.toml"
+    );
+    let config = DiagnosisStudyConfig::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
+    assert_eq!(config.model.kind, ModelKind::Strapdown);
+    assert_eq!(
+        config.trajectory.segments.len(),
+        2,
+        "a hold and the repeated cycle"
+    );
+    Trajectory::build(&config.trajectory).unwrap();
+    let planned = plan(&config).unwrap();
+    let count = |class: Class, effect: Option<&str>| {
+        planned
+            .iter()
+            .filter(|p| p.class == class && effect.is_none_or(|e| p.hidden[0].effect() == Some(e)))
+            .count()
+    };
+    assert_eq!(count(Class::Nothing, None), 50);
+    for effect in [
+        "gyro-misalignment",
+        "accel-misalignment",
+        "gyro-g-sensitivity",
+        "accel-bias-instability",
+    ] {
+        assert_eq!(count(Class::Single, Some(effect)), 30, "{effect}");
+    }
+    assert_eq!(planned.len(), 170);
+}
+
+#[test]
 fn the_committed_study_hides_every_effect_and_300_things_outside_the_catalogue() {
     let config = committed();
     assert_eq!(config.model.kind, ModelKind::Strapdown);

@@ -11,7 +11,10 @@
 //! environment adds effects to the model under test, as `--with` does), or
 //! `-- records FILE INDEX...` for the study's record of each dataset listed, one JSON line
 //! each, as `navkf study` writes them into `summary.json`: a change to the diagnosis can then
-//! be measured on just the datasets it can act on, against the committed records.
+//! be measured on just the datasets it can act on, against the committed records; or
+//! `-- wander FILE INDEX...` for how far each listed dataset's true biases moved over its
+//! record (the standard deviation of each bias state about its mean, and its range): a bias
+//! instability's signal is the wander its draw realised, not its steady sigma.
 
 use navkf_diagnose::catalogue::strapdown::StrapdownCatalogue;
 use navkf_diagnose::{diagnose, Options};
@@ -169,6 +172,38 @@ fn main() {
         let (d, _) = diagnose(&ds, &catalogue, &Options::default()).unwrap();
         for f in &d.findings {
             println!("- {f}");
+        }
+        return;
+    }
+    // `-- wander FILE INDEX...`: how far each dataset's true biases moved.
+    if std::env::args().nth(1).as_deref() == Some("wander") {
+        use navkf_diagnose::diagnosis_study::{content, DiagnosisStudyConfig};
+        let path = std::env::args().nth(2).expect("wander FILE INDEX...");
+        let config = DiagnosisStudyConfig::load(std::path::Path::new(&path)).unwrap();
+        let planned = content::plan(&config).unwrap();
+        let trajectory = Arc::new(Trajectory::build(&config.trajectory).unwrap());
+        for index in std::env::args().skip(3) {
+            let i: usize = index.parse().expect("INDEX");
+            let ds = content::simulate(&config, &trajectory, &planned[i]).unwrap();
+            let truth = ds
+                .truth
+                .as_ref()
+                .expect("a simulated dataset has its truth");
+            let mut line = format!("{i}");
+            for (k, name) in truth.names.iter().enumerate() {
+                if !name.starts_with('b') {
+                    continue;
+                }
+                let values: Vec<f64> = truth.states.iter().map(|x| x[k]).collect();
+                let n = values.len() as f64;
+                let mean = values.iter().sum::<f64>() / n;
+                let sd = (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
+                let (lo, hi) = values
+                    .iter()
+                    .fold((f64::MAX, f64::MIN), |(l, h), v| (l.min(*v), h.max(*v)));
+                line += &format!(" {name} sd {sd:.3e} range {:.3e}", hi - lo);
+            }
+            println!("{line}");
         }
         return;
     }

@@ -204,16 +204,15 @@ fn the_manoeuvre_drive_reveals_the_g_sensitivity_but_no_level_drive_a_tilted_gyr
     assert!(o.status.success(), "{}", text(&o.stderr));
     let json = std::fs::read_to_string(dir.join("plan/designs.json")).unwrap();
     let designs: serde_json::Value = serde_json::from_str(&json).unwrap();
-    let ratio = |design: usize, name: &str| -> f64 {
+    let coefficient = |design: usize, name: &str| -> &serde_json::Value {
         designs["designs"][design]["coefficients"]
             .as_array()
             .unwrap()
             .iter()
             .find(|c| c["name"] == name)
-            .unwrap_or_else(|| panic!("{name} missing"))["ratio"]
-            .as_f64()
-            .unwrap()
+            .unwrap_or_else(|| panic!("{name} missing"))
     };
+    let ratio = |design: usize, name: &str| coefficient(design, name)["ratio"].as_f64().unwrap();
     let (paper, manoeuvres) = (0, 1);
     assert!(ratio(paper, "g_x") > 0.6, "{}", ratio(paper, "g_x"));
     assert!(
@@ -230,12 +229,7 @@ fn the_manoeuvre_drive_reveals_the_g_sensitivity_but_no_level_drive_a_tilted_gyr
             );
         }
     }
-    let m_gxz = &designs["designs"][manoeuvres]["coefficients"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == "m_gxz")
-        .unwrap()["confounded"];
+    let m_gxz = &coefficient(manoeuvres, "m_gxz")["confounded"];
     assert!(
         m_gxz
             .as_array()

@@ -393,8 +393,8 @@ pub fn select(cands: &mut [Candidate], not_specific: &[usize]) -> (Option<usize>
             notes.push(format!(
                 "{} explain the misfit equally well (BIC gains {}, each counting only the \
                  coefficients the data inform): the data cannot tell them apart, so none is \
-                 named. They are suggested; a test that excites one and not the others (turns \
-                 both ways, a second mounting of the unit) would decide.",
+                 named. They are suggested; a test that excites one and not the others would \
+                 decide (`navkf plan` says which coefficients a trajectory identifies).",
                 tied.join(" and "),
                 gains.join(", ")
             ));
@@ -436,9 +436,15 @@ pub fn effective_bic(c: &Candidate) -> f64 {
     2.0 * c.delta_loglik - informed * ln_n
 }
 
-/// The structured candidates other than `chosen` that could be named and explain the misfit
-/// within [`DECISIVE_BIC`] of it, on the BIC that counts informed coefficients only
+/// The structured candidates other than `chosen` that explain the misfit within
+/// [`DECISIVE_BIC`] of it, on the BIC that counts informed coefficients only
 /// ([`effective_bic`]): rival explanations the data cannot tell from the chosen one.
+///
+/// A rival need not be nameable itself. One the trajectory cannot tell apart from the
+/// model's own coefficients (`Confounded`) still explains the misfit as well: on the
+/// stop-and-go drive a hidden gyro misalignment, confounded with the unit's tilt, fits as
+/// well as the odometer's (log-likelihoods +373 and +374), and naming the odometer's would
+/// name a stand-in.
 fn structured_rivals(cands: &[Candidate], chosen: usize) -> Vec<usize> {
     let bar = effective_bic(&cands[chosen]) - DECISIVE_BIC;
     cands
@@ -447,7 +453,7 @@ fn structured_rivals(cands: &[Candidate], chosen: usize) -> Vec<usize> {
         .filter(|&(j, c)| {
             j != chosen
                 && c.kind == CandidateKind::Structured
-                && c.outcome == Outcome::Outranked
+                && matches!(c.outcome, Outcome::Outranked | Outcome::Confounded)
                 && effective_bic(c) > bar
         })
         .map(|(j, _)| j)
@@ -562,6 +568,37 @@ mod tests {
             notes[0].contains("`odometer-misalignment` and `gyro-misalignment`"),
             "{notes:?}"
         );
+    }
+
+    #[test]
+    fn a_confounded_rival_that_fits_as_well_stops_the_name() {
+        // The measured case (dataset 54 of studies/strapdown-manoeuvres.toml): a hidden gyro
+        // misalignment. The odometer's misalignment gains 729.8 with two coefficients; the
+        // gyro's, at the same likelihood, cannot be told apart from the unit's tilt.
+        let mut cands = vec![
+            structured("odometer-misalignment", 374.3, &[0.05, 0.1]),
+            structured("gyro-misalignment", 373.2, &[0.05, 0.1, 0.9, 0.9, 1.0, 1.0]),
+            structured("accel-scale", 12.0, &[0.3, 0.3]),
+        ];
+        cands[0].separable_bic = Some(700.0);
+        cands[1].separable_bic = Some(3.0);
+        let (named, notes) = select(&mut cands, &[]);
+        assert_eq!(named, None, "{notes:?}");
+        assert_eq!(cands[0].outcome, Outcome::Indistinguishable);
+        assert_eq!(cands[1].outcome, Outcome::Indistinguishable);
+        assert!(
+            notes
+                .iter()
+                .any(|n| n.contains("`odometer-misalignment` and `gyro-misalignment`")),
+            "{notes:?}"
+        );
+        // A confounded candidate far behind is no rival: the lead is named.
+        let mut behind = cands.clone();
+        behind[1].delta_loglik = 300.0;
+        behind[1].bic_gain = 600.0 - 6.0 * (2400.0f64).ln();
+        let (named, _) = select(&mut behind, &[]);
+        assert_eq!(named, Some(0));
+        assert_eq!(behind[1].outcome, Outcome::Confounded);
     }
 
     #[test]

@@ -175,7 +175,7 @@ fn main() {
         }
         return;
     }
-    // `-- wander FILE INDEX...`: how far each dataset's true biases moved.
+    // `-- wander FILE INDEX...`: how far each dataset's true biases and departures moved.
     if std::env::args().nth(1).as_deref() == Some("wander") {
         use navkf_diagnose::diagnosis_study::{content, DiagnosisStudyConfig};
         let path = std::env::args().nth(2).expect("wander FILE INDEX...");
@@ -191,7 +191,9 @@ fn main() {
                 .expect("a simulated dataset has its truth");
             let mut line = format!("{i}");
             for (k, name) in truth.names.iter().enumerate() {
-                if !name.starts_with('b') {
+                // The turn-on biases (constant) and, where a triad wanders, their
+                // departures (docs/model.md eq. (69)).
+                if !(name.starts_with('b') || name.starts_with("db")) {
                     continue;
                 }
                 let values: Vec<f64> = truth.states.iter().map(|x| x[k]).collect();

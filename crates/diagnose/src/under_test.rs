@@ -101,7 +101,12 @@ fn manual_round(ds: &Dataset, before: &Fit, after: &Fit, opts: &Options) -> Roun
         .map(|(_, n)| n.clone())
         .collect();
     let dll = after.profile_loglik(&keep) - before.profile_loglik(&keep);
-    let k = (after.names.len() - before.names.len()).max(opts.with.len());
+    // The coefficients added; a bias instability's departures are driven by noise and
+    // count as its one parameter (the density), as a candidate's do.
+    let added = (after.nav_dim..after.names.len())
+        .filter(|&i| !after.noisy[i] && !before.names.contains(&after.names[i]))
+        .count();
+    let k = added.max(opts.with.len());
     let ln_n = (before.measurement_count().max(1) as f64).ln();
     let removed = if b.excess_nis > 0.0 {
         1.0 - a.excess_nis.max(0.0) / b.excess_nis

@@ -7,6 +7,7 @@
 
 mod common;
 
+use navkf_dynamics::family::FamilyModel;
 use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
 use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::model::{StrapdownModel, MEAS_DIM};
@@ -490,9 +491,13 @@ fn a_turned_mounting_turns_the_units_attitude() {
     }
 }
 
-/// The biases' Gauss-Markov law: over 20 runs of 2400 s, the one-second steps
-/// `b(t+1) - exp(-1/T) b(t)` have the variance `sigma^2 (1 - exp(-2/T))` (chi-square within
-/// 4 sigma), and the model's noise channel is `2 sigma^2 / T` on each bias with rate `-b/T`.
+/// The biases' Gauss-Markov law (docs/model.md eq. (69)): each triad that wanders carries
+/// three departures from its turn-on biases. Over 20 runs of 2400 s the turn-on biases hold
+/// their drawn values, the departures start from their steady law (variance `sigma^2`), and
+/// their one-second steps `d(t+1) - exp(-1/T) d(t)` have the variance
+/// `sigma^2 (1 - exp(-2/T))` (chi-square within 4 sigma); the model's noise channel is
+/// `2 sigma^2 / T` on each departure with rate `-d/T`, the turn-on bias's rate zero, and the
+/// readings carry their sum.
 #[test]
 fn wandering_biases_follow_their_stated_law() {
     let traj = drive();
@@ -500,23 +505,65 @@ fn wandering_biases_follow_their_stated_law() {
     let noise = UnitClass::Mems.errors().noise(NoiseConfig::default());
     let list = format!("T_g={t_g}, sigma_bg={s_g}, T_a={t_a}, sigma_ba={s_a}");
     let model = Arc::new(model_with(&list, &noise));
-    assert_eq!((model.dim(), model.dynamic_dim()), (BASE_DIM, BASE_DIM));
+    let (dg, da) = (BASE_DIM, BASE_DIM + 3);
+    assert_eq!(
+        (model.dim(), model.dynamic_dim()),
+        (BASE_DIM + 6, BASE_DIM + 6)
+    );
+    let names = model.state_names();
+    assert_eq!(
+        names[dg..],
+        ["dbgx", "dbgy", "dbgz", "dbax", "dbay", "dbaz"]
+    );
+    assert_eq!(model.coefficient_sigma(dg + 1), Some(s_g));
+    assert_eq!(model.coefficient_sigma(da + 2), Some(s_a));
+    // A fit's prior for a departure is the class's typical steady sigma, whatever is stated.
+    let law = |name: &str| {
+        StrapdownRegistry::catalogue()
+            .get(name)
+            .unwrap()
+            .instability
+            .unwrap()
+            .sigma_for(UnitClass::Mems)
+    };
+    assert_eq!(model.typical_sigma(dg), law("gyro-bias-instability"));
+    assert_eq!(model.typical_sigma(da + 1), law("accel-bias-instability"));
     let channel = |s: usize| {
         model
             .noise_channels()
             .iter()
             .find(|c| c.state == s)
-            .unwrap()
-            .psd
+            .map(|c| c.psd)
     };
-    assert!((channel(BG_X + 1) - 2.0 * s_g * s_g / t_g).abs() < 1e-25);
-    assert!((channel(BA_X + 2) - 2.0 * s_a * s_a / t_a).abs() < 1e-18);
-    let mut dx = vec![0.0; BASE_DIM];
-    let mut x = vec![0.0; BASE_DIM];
+    assert!((channel(dg + 1).unwrap() - 2.0 * s_g * s_g / t_g).abs() < 1e-25);
+    assert!((channel(da + 2).unwrap() - 2.0 * s_a * s_a / t_a).abs() < 1e-18);
+    assert_eq!(channel(BG_X), None);
+    assert_eq!(channel(BA_X + 2), None);
+    let mut dx = vec![0.0; BASE_DIM + 6];
+    let mut x = vec![0.0; BASE_DIM + 6];
     x[BG_X] = 1e-4;
     x[BA_X] = 1e-2;
+    x[dg] = 2e-5;
+    x[da] = 1e-3;
     model.rates(&x, &[0.0, 0.0, 0.0, 0.0, 0.0, 9.8], &mut dx);
-    assert!((dx[BG_X] + 1e-4 / t_g).abs() < 1e-18 && (dx[BA_X] + 1e-2 / t_a).abs() < 1e-15);
+    assert_eq!((dx[BG_X], dx[BA_X]), (0.0, 0.0));
+    assert!((dx[dg] + 2e-5 / t_g).abs() < 1e-18 && (dx[da] + 1e-3 / t_a).abs() < 1e-15);
+    // The bias and its departure enter the readings as one: moving weight from one to the
+    // other leaves the rates of the navigation states as they were.
+    let mut y = x.clone();
+    y[BA_X] += 5e-4;
+    y[da] -= 5e-4;
+    y[BG_X] -= 1e-5;
+    y[dg] += 1e-5;
+    let mut dy = vec![0.0; BASE_DIM + 6];
+    model.rates(&y, &[0.01, 0.0, 0.02, 0.3, 0.0, 9.8], &mut dy);
+    model.rates(&x, &[0.01, 0.0, 0.02, 0.3, 0.0, 9.8], &mut dx);
+    for i in 0..NAV_DIM {
+        assert!(
+            (dx[i] - dy[i]).abs() <= 1e-12 * dx[i].abs().max(1e-9),
+            "{i}"
+        );
+    }
     let sim = StrapdownSimulator::new(
         model,
         traj,
@@ -528,16 +575,25 @@ fn wandering_biases_follow_their_stated_law() {
     )
     .unwrap();
     let (mut chi2, mut dof) = (0.0, 0.0);
+    let (mut start2, mut start_dof) = (0.0, 0.0);
     for run in 0..20 {
         let r = sim.run(5, run);
+        let first = &r.truth.states[0];
         for pair in r.truth.states.windows(2) {
-            for (first, t, s) in [(BG_X, t_g, s_g), (BA_X, t_a, s_a)] {
+            assert_eq!(pair[1][BG_X..BASE_DIM], first[BG_X..BASE_DIM]);
+            for (d, t, s) in [(dg, t_g, s_g), (da, t_a, s_a)] {
                 let phi: f64 = (-1.0 / t).exp();
                 let var = s * s * (1.0 - phi * phi);
-                for i in first..first + 3 {
+                for i in d..d + 3 {
                     chi2 += (pair[1][i] - phi * pair[0][i]).powi(2) / var;
                     dof += 1.0;
                 }
+            }
+        }
+        for (d, s) in [(dg, s_g), (da, s_a)] {
+            for i in d..d + 3 {
+                start2 += (first[i] / s).powi(2);
+                start_dof += 1.0;
             }
         }
     }
@@ -545,6 +601,26 @@ fn wandering_biases_follow_their_stated_law() {
         (chi2 - dof).abs() < 4.0 * (2.0 * dof).sqrt(),
         "{chi2} against {dof}"
     );
+    assert!(
+        (start2 - start_dof).abs() < 4.0 * (2.0 * start_dof).sqrt(),
+        "{start2} against {start_dof}"
+    );
+}
+
+/// One triad wandering: its three departures follow the base states, before the effects'
+/// coefficients, and only they are dynamic beyond the base states.
+#[test]
+fn one_wandering_triad_puts_its_departures_before_the_coefficients() {
+    let noise = NoiseConfig::default();
+    let model = model_with("gyro-scale, accel-bias-instability, odometer-scale", &noise);
+    let names = model.state_names();
+    assert_eq!(
+        names[BASE_DIM..BASE_DIM + 4],
+        ["dbax", "dbay", "dbaz", "s_gx"]
+    );
+    assert_eq!(model.dynamic_dim(), BASE_DIM + 3);
+    assert_eq!(model.dim(), BASE_DIM + 3 + 3 + 1);
+    assert_eq!(model.state_units()[BASE_DIM], "m/s^2");
 }
 
 /// The batch of eight lands where each point lands alone, for the model with every effect.
@@ -571,9 +647,10 @@ fn batched_propagation_with_effects_matches_one_point_at_a_time() {
         .map(|_| rng.gen_range(-1e-3..1e-3))
         .collect();
     let alone = common::batch_matches_one_point(&model, &points, &noise, &w);
-    // The biases wander.
+    // The departures wander; the turn-on biases hold.
     for p in 0..count {
-        assert_ne!(alone[p * n + BG_X], points[p * n + BG_X]);
+        assert_ne!(alone[p * n + BASE_DIM], points[p * n + BASE_DIM]);
+        assert_eq!(alone[p * n + BG_X], points[p * n + BG_X]);
     }
 }
 

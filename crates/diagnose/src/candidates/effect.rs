@@ -54,11 +54,12 @@ pub fn evaluate(
     } else {
         0.0
     };
-    let confused = confusion(&fit, model.fit.names.len());
+    let ours = own_states(&fit, &model.fit.names);
+    let confused = confusion(&fit, &model.fit.names, &ours);
     let own: Vec<Coefficient> = s
         .coefficients
         .iter()
-        .filter(|c| !model.fit.names.contains(&c.name))
+        .filter(|c| ours.iter().any(|&i| fit.names[i] == c.name))
         .cloned()
         .collect();
     let beyond = crate::physical::coefficients_beyond(&effect, &own);
@@ -75,7 +76,7 @@ pub fn evaluate(
         density,
         noise: None,
         widened,
-        separable_bic: separable_evidence(&fit, model.fit.names.len(), &confused, ln_n),
+        separable_bic: separable_evidence(&fit, &ours, &confused, ln_n),
         confused_with: confused,
         beside_refitted_noise: None,
         beyond_bounds: beyond,
@@ -93,8 +94,19 @@ pub fn evaluate(
     }))
 }
 
-/// Coefficients of the candidate (those after the model's own `n_model` states) that cannot
-/// be told apart from one of the model's: correlated beyond [`INDISTINGUISHABLE`] in the
+/// The candidate's own coefficients in its fit `f`: the states the model (`model_names`) does
+/// not hold, but for those driven by noise. A strapdown bias instability's departures from
+/// the turn-on biases (docs/model.md eq. (69)) are such states: at any instant the data see
+/// only their sum with the biases, and what tells the candidate apart is its noise, which the
+/// likelihood weighs, not a constant to be separated.
+fn own_states(f: &Fit, model_names: &[String]) -> Vec<usize> {
+    (f.nav_dim..f.names.len())
+        .filter(|&i| !f.noisy[i] && !model_names.contains(&f.names[i]))
+        .collect()
+}
+
+/// Coefficients of the candidate (`ours`, from [`own_states`]) that cannot be told apart from
+/// one of the model's: correlated beyond [`INDISTINGUISHABLE`] in the
 /// posterior the data would give from the priors the diagnosis started from.
 ///
 /// Not the fit's own posterior: after widening, two coefficients the data see only as a sum
@@ -104,7 +116,7 @@ pub fn evaluate(
 /// paper's test, and only the platform's priors (a drift of 500 times its typical size is not
 /// this platform's) tell them apart. So the data's information `F = P_c^-1 - P0^-1` is put
 /// back on the starting priors and the correlation read from `(F + P_start^-1)^-1`.
-fn confusion(f: &Fit, n_model: usize) -> Vec<Confusion> {
+fn confusion(f: &Fit, model_names: &[String], ours: &[usize]) -> Vec<Confusion> {
     let n = f.names.len();
     // States driven by noise (the drifts under `gyro-bias-walk`) stay in, with their
     // posterior as it is: a walking drift still cannot be told from a constant g-sensitive one.
@@ -127,11 +139,11 @@ fn confusion(f: &Fit, n_model: usize) -> Vec<Confusion> {
     };
     let mut out = Vec::new();
     for (u, &i) in idx.iter().enumerate() {
-        if i < n_model {
+        if !ours.contains(&i) {
             continue;
         }
         for (v, &j) in idx.iter().enumerate() {
-            if j >= n_model {
+            if !model_names.contains(&f.names[j]) {
                 continue;
             }
             let corr = c[(u, v)] / (c[(u, u)] * c[(v, v)]).sqrt();
@@ -147,14 +159,16 @@ fn confusion(f: &Fit, n_model: usize) -> Vec<Confusion> {
     out
 }
 
-/// The Wald evidence of the candidate's coefficients (those after `n_model`) that are not in
-/// `confused`, as a BIC gain; `None` when none is confused.
-fn separable_evidence(f: &Fit, n_model: usize, confused: &[Confusion], ln_n: f64) -> Option<f64> {
+/// The Wald evidence of the candidate's coefficients (`ours`) that are not in `confused`, as
+/// a BIC gain; `None` when none is confused.
+fn separable_evidence(f: &Fit, ours: &[usize], confused: &[Confusion], ln_n: f64) -> Option<f64> {
     if confused.is_empty() {
         return None;
     }
     let n = f.names.len();
-    let free: Vec<usize> = (n_model..n)
+    let free: Vec<usize> = ours
+        .iter()
+        .copied()
         .filter(|&i| !confused.iter().any(|c| c.coefficient == f.names[i]))
         .collect();
     let m = free.len();

@@ -43,7 +43,8 @@ pub fn propagate_blocks(
 }
 
 /// [`propagate_blocks`] for a model with effects: `dim` values per point, the rates of
-/// `layout` ([`rates_with_effects_at`]), the biases among the dynamic states when they wander.
+/// `layout` ([`rates_with_effects_at`]), the biases and their departures among the dynamic
+/// states when a triad wanders ([`ErrorLayout::dynamic_dim`]).
 pub fn propagate_blocks_with(
     layout: &ErrorLayout,
     dim: usize,
@@ -52,15 +53,22 @@ pub fn propagate_blocks_with(
     channels: &[NoiseChannel],
     window: &InputWindow,
 ) {
+    const ONE_TRIAD: usize = BASE_DIM + 3;
+    const BOTH_TRIADS: usize = BASE_DIM + 6;
     let rates = EffectRates(layout);
-    if layout.biases_wander() {
-        dispatch!(propagate::<MAX_DIM, BASE_DIM>(
+    match layout.dynamic_dim() {
+        NAV_DIM => dispatch!(propagate::<MAX_DIM, NAV_DIM>(
             dim, points, noise, channels, window, rates
-        ));
-    } else {
-        dispatch!(propagate::<MAX_DIM, NAV_DIM>(
+        )),
+        ONE_TRIAD => dispatch!(propagate::<MAX_DIM, ONE_TRIAD>(
             dim, points, noise, channels, window, rates
-        ));
+        )),
+        d => {
+            debug_assert_eq!(d, BOTH_TRIADS);
+            dispatch!(propagate::<MAX_DIM, BOTH_TRIADS>(
+                dim, points, noise, channels, window, rates
+            ))
+        }
     }
 }
 

@@ -14,16 +14,28 @@ use super::rates::ImuReading;
 use super::state::*;
 use crate::real::Real;
 
-/// The most states a strapdown model holds: the base states and one coefficient in each
-/// place of [`Slot`] (9 + 9 gyro and accelerometer matrix entries, 3 g-sensitivities, the
-/// odometer's 3, the lever arm's 3, the latency).
-pub const MAX_DIM: usize = BASE_DIM + 28;
+/// The most states a strapdown model holds: the base states, both triads' bias departures
+/// (docs/model.md eq. (69)) and one coefficient in each place of [`Slot`] (9 + 9 gyro and accelerometer
+/// matrix entries, 3 g-sensitivities, the odometer's 3, the lever arm's 3, the latency).
+pub const MAX_DIM: usize = BASE_DIM + 6 + 28;
+
+/// A triad's bias departure (docs/model.md eq. (69)): three states, from `first`, that wander
+/// about the constant turn-on bias with rate `-d / T`, and add to it in the readings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wander {
+    /// The state of the x axis' departure; y and z follow.
+    pub first: usize,
+    /// `1 / T`.
+    pub decay: f64,
+}
 
 /// A coefficient's state index and the factor it enters a place with.
 type Entry = Option<(usize, f64)>;
 
 /// Where each place of the sensor-error description reads its coefficient in the state (and
-/// with which factor), and which bias triads follow a Gauss-Markov law.
+/// with which factor), and which bias triads wander (docs/model.md eq. (69)). The states after the base
+/// ones: the departures (the gyro's, then the accelerometer's, of the triads that wander),
+/// then the effects' coefficients in the effects' order.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ErrorLayout {
     gyro: [[Entry; 3]; 3],
@@ -34,20 +46,41 @@ pub struct ErrorLayout {
     odometer_pitch: Entry,
     lever_arm: [Entry; 3],
     latency: Entry,
-    /// `1 / T` of the gyro biases' Gauss-Markov law, when they follow one.
-    pub gyro_decay: Option<f64>,
-    /// `1 / T` of the accelerometer biases' law.
-    pub accel_decay: Option<f64>,
+    /// The gyro biases' departure, when they wander.
+    pub gyro_wander: Option<Wander>,
+    /// The accelerometer biases' departure.
+    pub accel_wander: Option<Wander>,
 }
 
 impl ErrorLayout {
-    /// The layout of `effects`, their coefficients numbered from [`BASE_DIM`] in order;
-    /// `decay(triad)` gives `1 / T` of an instability's law. A coefficient may act in several
-    /// places (a declared one), each with its factor. Two coefficients in one place are
-    /// refused (only a user's effect can ask for that).
+    /// The layout of `effects`: the departures of the triads an instability makes wander
+    /// numbered from [`BASE_DIM`], then the coefficients in order; `decay(triad)` gives
+    /// `1 / T` of an instability's law. A coefficient may act in several places (a declared
+    /// one), each with its factor. Two coefficients in one place are refused (only a user's
+    /// effect can ask for that).
     pub fn new(effects: &[StrapdownEffect], decay: impl Fn(Triad) -> f64) -> Result<Self, String> {
         let mut layout = ErrorLayout::default();
         let mut index = BASE_DIM;
+        for triad in [Triad::Gyro, Triad::Accel] {
+            let mut wandering = effects
+                .iter()
+                .filter(|e| e.instability.is_some_and(|l| l.triad == triad));
+            if wandering.next().is_none() {
+                continue;
+            }
+            if let Some(second) = wandering.next() {
+                return Err(format!("`{}`: that triad already wanders", second.name));
+            }
+            let wander = Some(Wander {
+                first: index,
+                decay: decay(triad),
+            });
+            match triad {
+                Triad::Gyro => layout.gyro_wander = wander,
+                Triad::Accel => layout.accel_wander = wander,
+            }
+            index += 3;
+        }
         // Who holds each place taken so far, for the refusal.
         let mut holders: Vec<(Slot, &str, &str)> = Vec::new();
         for effect in effects {
@@ -80,16 +113,6 @@ impl ErrorLayout {
                 holders.push((p.slot, c.name, effect.name));
             }
             index += effect.coefficients.len();
-            if let Some(law) = effect.instability {
-                let slot = match law.triad {
-                    Triad::Gyro => &mut layout.gyro_decay,
-                    Triad::Accel => &mut layout.accel_decay,
-                };
-                if slot.is_some() {
-                    return Err(format!("`{}`: that triad already wanders", effect.name));
-                }
-                *slot = Some(decay(law.triad));
-            }
         }
         Ok(layout)
     }
@@ -110,9 +133,31 @@ impl ErrorLayout {
             || self.latency.is_some()
     }
 
-    /// Whether the biases have a derivative (a Gauss-Markov law).
+    /// Whether a triad's biases wander (docs/model.md eq. (69)).
     pub fn biases_wander(&self) -> bool {
-        self.gyro_decay.is_some() || self.accel_decay.is_some()
+        self.gyro_wander.is_some() || self.accel_wander.is_some()
+    }
+
+    /// The departures' states: 3 per triad that wanders.
+    pub fn departures(&self) -> usize {
+        3 * (usize::from(self.gyro_wander.is_some()) + usize::from(self.accel_wander.is_some()))
+    }
+
+    /// The states with a derivative: the navigation states, or, when a triad wanders, the
+    /// base states (the biases' derivative is zero) and the departures.
+    pub fn dynamic_dim(&self) -> usize {
+        if self.biases_wander() {
+            BASE_DIM + self.departures()
+        } else {
+            NAV_DIM
+        }
+    }
+
+    /// The triads that wander, each with the first of its base bias states.
+    pub fn wanders(&self) -> impl Iterator<Item = (usize, Wander)> {
+        [(BG_X, self.gyro_wander), (BA_X, self.accel_wander)]
+            .into_iter()
+            .filter_map(|(bias, w)| w.map(|w| (bias, w)))
     }
 
     /// Whether the vehicle's axes are turned from the unit's.
@@ -162,9 +207,11 @@ fn inverse<T: Real>(m: &[[T; 3]; 3]) -> [[T; 3]; 3] {
     adj.map(|row| row.map(|a| a * inv_det))
 }
 
-/// The true body rate and specific force from `imu` and the state `x` (biases and effect
-/// coefficients): `f = (I + E_a)^-1 (f~ - b_a)`, `w = (I + E_g)^-1 (w~ - b_g - G f)`
-/// (docs/model.md eqs. (51), (63)-(67)). Without reading errors: the readings less the biases.
+/// The true body rate and specific force from `imu` and the state `x` (biases, their
+/// departures and effect coefficients): `f = (I + E_a)^-1 (f~ - b_a)`,
+/// `w = (I + E_g)^-1 (w~ - b_g - G f)`, each bias the turn-on state plus its departure when
+/// the triad wanders (docs/model.md eqs. (51), (63)-(67), (69)). Without reading errors: the
+/// readings less the biases.
 #[inline(always)]
 pub fn corrected_reading<T: Real>(
     layout: &ErrorLayout,
@@ -173,6 +220,16 @@ pub fn corrected_reading<T: Real>(
 ) -> ([T; 3], [T; 3]) {
     let mut w: [T; 3] = std::array::from_fn(|i| T::splat(imu.w[i]) - x[BG_X + i]);
     let mut f: [T; 3] = std::array::from_fn(|i| T::splat(imu.f[i]) - x[BA_X + i]);
+    if let Some(d) = layout.gyro_wander {
+        for (i, w) in w.iter_mut().enumerate() {
+            *w -= x[d.first + i];
+        }
+    }
+    if let Some(d) = layout.accel_wander {
+        for (i, f) in f.iter_mut().enumerate() {
+            *f -= x[d.first + i];
+        }
+    }
     if layout.accel.iter().flatten().any(Option::is_some) {
         f = rotate(&inverse(&one_plus(x, &layout.accel)), f);
     }
@@ -188,12 +245,13 @@ pub fn corrected_reading<T: Real>(
 }
 
 /// [`corrected_reading`] on `f64` with its partial derivatives: it returns `(w, f)` and calls
-/// `column(i, dw/dx_i, df/dx_i)` for each state `i` they depend on (the six biases and the
-/// reading errors' coefficients), once per place of a coefficient acting in several: the
+/// `column(i, dw/dx_i, df/dx_i)` for each state `i` they depend on (the six biases, their
+/// departures and the reading errors' coefficients), once per place of a coefficient acting
+/// in several: the
 /// caller adds them up. With `A = I + E_a`, `B = I + E_g`: `df = -A^-1 e_i` for `ba_i` and
 /// `-A^-1 e_i f_j` for `E_a[i][j]`; `dw = -B^-1 e_i` for `bg_i`, `-B^-1 e_i w_j` for
 /// `E_g[i][j]`, `-B^-1 e_i f_i` for `g_i`, and `-B^-1 G df` through `f`; each times the
-/// place's factor.
+/// place's factor. A departure's columns are its bias's.
 pub fn corrected_reading_partials(
     layout: &ErrorLayout,
     imu: &ImuReading,
@@ -210,9 +268,16 @@ pub fn corrected_reading_partials(
     let through_f =
         |df: [f64; 3]| rotate(&b_inv, [g[0] * df[0], g[1] * df[1], g[2] * df[2]]).map(|v| -v);
     for i in 0..3 {
-        column(BG_X + i, minus_col(&b_inv, i, 1.0), [0.0; 3]);
+        let dw = minus_col(&b_inv, i, 1.0);
+        column(BG_X + i, dw, [0.0; 3]);
+        if let Some(d) = layout.gyro_wander {
+            column(d.first + i, dw, [0.0; 3]);
+        }
         let df = minus_col(&a_inv, i, 1.0);
         column(BA_X + i, through_f(df), df);
+        if let Some(d) = layout.accel_wander {
+            column(d.first + i, through_f(df), df);
+        }
     }
     for i in 0..3 {
         for j in 0..3 {

@@ -14,9 +14,18 @@ use std::sync::Arc;
 impl FamilyModel for StrapdownModel {
     fn state_units(&self) -> Vec<String> {
         let coefficients = self.effects().iter().flat_map(|e| e.coefficients.iter());
+        // A departure has its bias's unit.
+        let departures = self.departure_names().map(|n| {
+            if n.starts_with("dbg") {
+                STATE_UNITS[BG_X]
+            } else {
+                STATE_UNITS[BA_X]
+            }
+        });
         STATE_UNITS
             .iter()
             .copied()
+            .chain(departures)
             .chain(coefficients.map(|c| c.unit))
             .map(str::to_string)
             .collect()
@@ -26,7 +35,10 @@ impl FamilyModel for StrapdownModel {
         match i {
             i if (BG_X..BG_X + 3).contains(&i) => unit.gyro_bias,
             i if (BA_X..BA_X + 3).contains(&i) => unit.accel_bias,
-            i => self.coefficient_sigma(i).unwrap_or(0.0),
+            i => self
+                .departure_typical(i)
+                .or_else(|| self.coefficient_sigma(i))
+                .unwrap_or(0.0),
         }
     }
     /// Every navigation state is absolute: a filter starts from the truth off by a draw.

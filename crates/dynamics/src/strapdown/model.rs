@@ -47,8 +47,11 @@ pub struct StrapdownModel {
     unit: UnitErrors,
     effects: Vec<StrapdownEffect>,
     layout: ErrorLayout,
-    /// Typical one-sigma of each effect coefficient, in state order.
+    /// Typical one-sigma of each state after the base ones (the bias departures' steady
+    /// sigma, then each effect coefficient's), in state order.
     coefficient_sigma: Vec<f64>,
+    /// The unit class's typical steady sigma of each bias departure, in state order.
+    departure_typical: Vec<f64>,
 }
 
 impl StrapdownModel {
@@ -71,6 +74,7 @@ impl StrapdownModel {
             effects: Vec::new(),
             layout: ErrorLayout::default(),
             coefficient_sigma: Vec::new(),
+            departure_typical: Vec::new(),
         }
     }
 
@@ -83,8 +87,9 @@ impl StrapdownModel {
 
     /// The model with `list`'s effects switched on: their coefficients join the state after
     /// the base states, typical sizes those of `class` times `scale`; a bias instability
-    /// adds its Gauss-Markov law (docs/model.md eq. (69)) with the list's parameters or the
-    /// class's defaults.
+    /// adds its triad's three departures from the turn-on biases, which follow a Gauss-Markov
+    /// law (docs/model.md eq. (69)) with the list's parameters or the class's defaults, their
+    /// typical size the law's steady sigma (not scaled: it is the law's, not a prior's).
     pub fn with_effects(
         mut self,
         list: &StrapdownEffectList,
@@ -94,26 +99,41 @@ impl StrapdownModel {
         let law = |triad| list.instability(triad, class);
         let layout = ErrorLayout::new(&list.effects, |t| 1.0 / law(t).map_or(1.0, |l| l.0))
             .map_err(DynamicsError::Effect)?;
-        for triad in [Triad::Gyro, Triad::Accel] {
-            if let Some((time_s, sigma)) = law(triad) {
-                let (first, prefix) = match triad {
-                    Triad::Gyro => (BG_X, "w_bg"),
-                    Triad::Accel => (BA_X, "w_ba"),
+        let mut sigmas = Vec::new();
+        let mut typical = Vec::new();
+        for (triad, wander) in [
+            (Triad::Gyro, layout.gyro_wander),
+            (Triad::Accel, layout.accel_wander),
+        ] {
+            if let (Some(w), Some((time_s, sigma))) = (wander, law(triad)) {
+                let prefix = match triad {
+                    Triad::Gyro => "w_dbg",
+                    Triad::Accel => "w_dba",
                 };
                 for (a, axis) in ["x", "y", "z"].iter().enumerate() {
                     self.noise.push(NoiseChannel {
                         name: format!("{prefix}{axis}"),
-                        state: first + a,
+                        state: w.first + a,
                         psd: 2.0 * sigma * sigma / time_s,
                     });
+                    sigmas.push(sigma);
+                    typical.extend(
+                        list.effects
+                            .iter()
+                            .filter_map(|e| e.instability)
+                            .find(|l| l.triad == triad)
+                            .map(|l| l.sigma_for(class)),
+                    );
                 }
             }
         }
-        self.coefficient_sigma = list
-            .effects
-            .iter()
-            .flat_map(|e| e.coefficients.iter().map(|c| c.sigma_for(class) * scale))
-            .collect();
+        sigmas.extend(
+            list.effects
+                .iter()
+                .flat_map(|e| e.coefficients.iter().map(|c| c.sigma_for(class) * scale)),
+        );
+        self.coefficient_sigma = sigmas;
+        self.departure_typical = typical;
         self.effects = list.effects.clone();
         self.layout = layout;
         Ok(self)
@@ -142,10 +162,34 @@ impl StrapdownModel {
         &self.layout
     }
 
-    /// Typical one-sigma of state `i` when it is an effect coefficient.
+    /// The unit class's typical steady sigma when state `i` is a bias departure: the
+    /// departure's prior in a fit ([`crate::family::FamilyModel::typical_sigma`]). A fit
+    /// that tries densities keeps it whatever the density tried: at the start a departure
+    /// cannot be told from its turn-on bias, whose own prior covers how far off the bias
+    /// is, so the density measures how fast the bias wanders, not how far it starts. Tied to
+    /// the density instead, a correlation time far from the one declared made the two halves
+    /// of a drive fit densities four times apart (a true instability withdrawn as a
+    /// stand-in, `crates/diagnose/tests/strapdown_diagnosis.rs`).
+    pub fn departure_typical(&self, i: usize) -> Option<f64> {
+        i.checked_sub(BASE_DIM)
+            .and_then(|k| self.departure_typical.get(k).copied())
+    }
+
+    /// Typical one-sigma of state `i` when it is a bias departure (its law's steady sigma, the
+    /// simulator's draw) or an effect coefficient.
     pub fn coefficient_sigma(&self, i: usize) -> Option<f64> {
         i.checked_sub(BASE_DIM)
             .and_then(|k| self.coefficient_sigma.get(k).copied())
+    }
+
+    /// The names of the bias departures the model carries, in state order.
+    pub fn departure_names(&self) -> impl Iterator<Item = &'static str> {
+        let gyro = self.layout.gyro_wander.map(|_| GYRO_DEPARTURE_NAMES.iter());
+        let accel = self
+            .layout
+            .accel_wander
+            .map(|_| ACCEL_DEPARTURE_NAMES.iter());
+        gyro.into_iter().chain(accel).flatten().copied()
     }
 
     fn plain(&self) -> bool {
@@ -183,11 +227,7 @@ impl SystemModel for StrapdownModel {
         BASE_DIM + self.coefficient_sigma.len()
     }
     fn dynamic_dim(&self) -> usize {
-        if self.layout.biases_wander() {
-            BASE_DIM
-        } else {
-            NAV_DIM
-        }
+        self.layout.dynamic_dim()
     }
     fn noise_channels(&self) -> &[NoiseChannel] {
         &self.noise
@@ -241,9 +281,13 @@ impl SystemModel for StrapdownModel {
         false
     }
     fn state_names(&self) -> Vec<String> {
-        let base = STATE_NAMES.iter().map(|s| s.to_string());
         let coefficients = self.effects.iter().flat_map(|e| e.coefficients.iter());
-        base.chain(coefficients.map(|c| c.name.to_string()))
+        STATE_NAMES
+            .iter()
+            .copied()
+            .chain(self.departure_names())
+            .map(|s| s.to_string())
+            .chain(coefficients.map(|c| c.name.to_string()))
             .collect()
     }
     fn propagate_points(

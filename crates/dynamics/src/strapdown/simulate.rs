@@ -23,7 +23,7 @@
 //! noise from `ProcessNoise`, the odometer and GPS noise from `MeasurementNoise`.
 
 use super::attitude::{body_to_nav, euler_of, rotate_back};
-use super::errors::{measurement_with, reading_with_errors, vehicle_axes, ErrorLayout};
+use super::errors::{measurement_with, reading_with_errors, vehicle_axes, ErrorLayout, Wander};
 use super::model::{StrapdownModel, MEAS_DIM};
 use super::rates::{input_of, ImuReading};
 use super::sensors::StrapdownSensors;
@@ -171,11 +171,15 @@ impl StrapdownSimulator {
                     ),
                 ));
             }
-            // The biases' bounds are the platform's drift and accelerometer bias; an
-            // effect's, its own.
+            // The biases' bounds (and their departures') are the platform's drift and
+            // accelerometer bias; an effect's, its own.
             let bound = match i {
-                i if i < BA_X => Some(crate::sensor_classes::GYRO_DRIFT),
-                i if i < BASE_DIM => Some(crate::sensor_classes::ACCEL_BIAS),
+                i if i < BA_X || GYRO_DEPARTURE_NAMES.contains(&name.as_str()) => {
+                    Some(crate::sensor_classes::GYRO_DRIFT)
+                }
+                i if i < BASE_DIM || ACCEL_DEPARTURE_NAMES.contains(&name.as_str()) => {
+                    Some(crate::sensor_classes::ACCEL_BIAS)
+                }
                 _ => model
                     .effects()
                     .iter()
@@ -265,9 +269,11 @@ impl StrapdownSimulator {
     pub fn run(&self, seed: u64, run: u64) -> SimulatedRun {
         let constants = self.coefficients(seed, run);
         let layout = self.model.layout();
-        // The state's constant part, biases updated as they wander.
+        // The state's constant part, the biases' departures updated as they wander (drawn at
+        // the start from their steady law).
         let mut x = vec![0.0; NAV_DIM];
         x.extend_from_slice(&constants);
+        let dynamic_end = BASE_DIM + layout.departures();
         let mount = vehicle_axes(layout, &x);
         let h = 1.0 / self.imu_rate_hz;
         let sg = (self.noise.gyro_psd / h).sqrt();
@@ -279,7 +285,7 @@ impl StrapdownSimulator {
         let mut inputs: Vec<InputSample> = Vec::with_capacity(self.ideal.len());
         for (k, (t, ideal)) in self.ideal.iter().enumerate() {
             if k % self.per_measurement == 0 {
-                biases.push(x[BG_X..BA_X + 3].to_vec());
+                biases.push(x[BG_X..dynamic_end].to_vec());
             }
             let mut truth = *ideal;
             if let Some(m) = &mount {
@@ -291,21 +297,20 @@ impl StrapdownSimulator {
             } else {
                 truth
             };
+            let departure = |w: Option<Wander>, a: usize| w.map_or(0.0, |w| x[w.first + a]);
             for a in 0..3 {
                 let (ng, na): (f64, f64) = (rng.sample(StandardNormal), rng.sample(StandardNormal));
-                read.w[a] += x[BG_X + a] + sg * ng;
-                read.f[a] += x[BA_X + a] + sa * na;
+                read.w[a] += x[BG_X + a] + departure(layout.gyro_wander, a) + sg * ng;
+                read.f[a] += x[BA_X + a] + departure(layout.accel_wander, a) + sa * na;
             }
             inputs.push(InputSample {
                 t: *t,
                 f: input_of(&read),
             });
             // docs/model.md eq. (69), exact over the sample interval.
-            for (first, law) in [(BG_X, wander[0]), (BA_X, wander[1])] {
-                if let Some((decay, step_sigma)) = law {
-                    for b in &mut x[first..first + 3] {
-                        *b = decay * *b + step_sigma * walk.sample::<f64, _>(StandardNormal);
-                    }
+            for &(first, decay, step_sigma) in &wander {
+                for d in &mut x[first..first + 3] {
+                    *d = decay * *d + step_sigma * walk.sample::<f64, _>(StandardNormal);
                 }
             }
         }
@@ -316,7 +321,7 @@ impl StrapdownSimulator {
             states: Vec::with_capacity(self.path.len()),
         };
         let mut measurements = Vec::with_capacity(self.path.len());
-        let effects = &constants[6..];
+        let effects = &constants[dynamic_end - NAV_DIM..];
         let unit_state = |nav: &[f64; NAV_DIM], bias: &[f64]| {
             self.unit_state(nav, mount.as_ref(), bias, effects)
         };
@@ -368,25 +373,28 @@ impl StrapdownSimulator {
         }
     }
 
-    /// For each triad (gyro, accelerometer) whose biases wander: the decay over one sample
-    /// interval `h` and the sigma of the step's draw, `exp(-h/T)` and
-    /// `sigma sqrt(1 - exp(-2h/T))` (the discrete form of docs/model.md eq. (69)).
-    fn bias_laws(&self, h: f64) -> [Option<(f64, f64)>; 2] {
-        let layout = self.model.layout();
+    /// For each triad (gyro, accelerometer) whose biases wander: the first of its departure
+    /// states, the decay over one sample interval `h` and the sigma of the step's draw,
+    /// `exp(-h/T)` and `sigma sqrt(1 - exp(-2h/T))` (the discrete form of
+    /// docs/model.md eq. (69)).
+    fn bias_laws(&self, h: f64) -> Vec<(usize, f64, f64)> {
         let steady = |first: usize| {
             self.model
                 .noise_channels()
                 .iter()
                 .find(|c| c.state == first)
-                .map(|c| c.psd)
+                .map_or(0.0, |c| c.psd)
         };
-        [(layout.gyro_decay, BG_X), (layout.accel_decay, BA_X)].map(|(decay, first)| {
-            let d = decay?;
-            // psd = 2 sigma^2 / T.
-            let sigma = (steady(first)? / (2.0 * d)).sqrt();
-            let phi = (-h * d).exp();
-            Some((phi, sigma * (1.0 - phi * phi).sqrt()))
-        })
+        self.model
+            .layout()
+            .wanders()
+            .map(|(_, w)| {
+                // psd = 2 sigma^2 / T.
+                let sigma = (steady(w.first) / (2.0 * w.decay)).sqrt();
+                let phi = (-h * w.decay).exp();
+                (w.first, phi, sigma * (1.0 - phi * phi).sqrt())
+            })
+            .collect()
     }
 
     /// The unit's full true state where the vehicle's navigation state is `nav`, its biases

@@ -35,3 +35,10 @@ pub const STATE_UNITS: [&str; BASE_DIM] = [
     "rad", "rad", "rad", "m/s", "m/s", "rad", "rad", "rad/s", "rad/s", "rad/s", "m/s^2", "m/s^2",
     "m/s^2",
 ];
+
+/// The gyro biases' departures from their turn-on values when they wander, x, y, z
+/// (docs/model.md eq. (69)); they follow the base states, before the effects' coefficients.
+pub const GYRO_DEPARTURE_NAMES: [&str; 3] = ["dbgx", "dbgy", "dbgz"];
+
+/// The accelerometer biases' departures.
+pub const ACCEL_DEPARTURE_NAMES: [&str; 3] = ["dbax", "dbay", "dbaz"];

@@ -31,12 +31,12 @@ fn jacobian_by_chunks(
     f: impl Fn(&[Dual<CHUNK>], &mut [Dual<CHUNK>]),
 ) {
     let n = x.len();
-    assert!(n <= MAX_DIM && rows <= BASE_DIM && stride >= n && jac.len() >= rows * stride);
+    assert!(n <= MAX_DIM && rows <= MAX_DIM && stride >= n && jac.len() >= rows * stride);
     let mut xd = [Dual::<CHUNK>::constant(0.0); MAX_DIM];
     for (d, v) in xd.iter_mut().zip(x) {
         *d = Dual::constant(*v);
     }
-    let mut out = [Dual::<CHUNK>::constant(0.0); BASE_DIM];
+    let mut out = [Dual::<CHUNK>::constant(0.0); MAX_DIM];
     for row in jac[..rows * stride].chunks_mut(stride) {
         row[n..].fill(0.0);
     }
@@ -110,9 +110,9 @@ pub fn rate_jacobian(
         }
     });
     if dynamic > NAV_DIM {
-        for (first, decay) in [(BG_X, layout.gyro_decay), (BA_X, layout.accel_decay)] {
-            for i in first..first + 3 {
-                jac[i * stride + i] = decay.map_or(0.0, |d| -d);
+        for (_, w) in layout.wanders() {
+            for i in w.first..w.first + 3 {
+                jac[i * stride + i] = -w.decay;
             }
         }
     }

@@ -1,6 +1,7 @@
-//! `accel-bias-instability`: the accelerometer biases `bax, bay, baz` follow first-order
-//! Gauss-Markov processes, `b' = -b / T_a + w_b`, of steady one-sigma `sigma_ba`
-//! (docs/model.md eq. (69)), as `gyro-bias-instability` does for the gyros.
+//! `accel-bias-instability`: the accelerometer biases wander about their turn-on values
+//! `bax, bay, baz`, the departures `dbax, dbay, dbaz` first-order Gauss-Markov processes,
+//! `d' = -d / T_a + w`, of steady one-sigma `sigma_ba` (docs/model.md eq. (69)), as
+//! `gyro-bias-instability` does for the gyros.
 //!
 //! Defaults: `T_a` one hour; `sigma_ba` 10 ug navigation, 50 ug tactical, 250 ug MEMS
 //! (Groves, 2013, section 4.4.1, from memory).
@@ -12,7 +13,8 @@ const UG: f64 = 1e-6 * G0;
 /// See the module documentation.
 pub const ACCEL_BIAS_INSTABILITY: StrapdownEffect = StrapdownEffect {
     name: "accel-bias-instability",
-    description: "b_a' = -b_a / T_a + w, steady sigma sigma_ba (accelerometer bias instability)",
+    description:
+        "b_a + d_a, d_a' = -d_a / T_a + w, steady sigma sigma_ba (accelerometer bias instability)",
     coefficients: &[],
     instability: Some(Instability {
         triad: Triad::Accel,

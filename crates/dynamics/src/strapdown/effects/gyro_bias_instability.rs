@@ -1,7 +1,8 @@
-//! `gyro-bias-instability`: the gyro biases `bgx, bgy, bgz` are no longer constants but
-//! first-order Gauss-Markov processes, `b' = -b / T_g + w_b`, of steady one-sigma `sigma_bg`
-//! (docs/model.md eq. (69)). It adds no coefficient; it changes the noise model, and its two
-//! parameters are set by name in an effect list (`T_g=1800, sigma_bg=5e-5`).
+//! `gyro-bias-instability`: the gyro biases wander about their turn-on values `bgx, bgy, bgz`:
+//! each reading carries `b + d`, the departure `d` a first-order Gauss-Markov process,
+//! `d' = -d / T_g + w`, of steady one-sigma `sigma_bg` (docs/model.md eq. (69)). It adds no
+//! coefficient; it adds the three departures `dbgx, dbgy, dbgz` as noise-driven states, and
+//! its two parameters are set by name in an effect list (`T_g=1800, sigma_bg=5e-5`).
 //!
 //! Defaults: `T_g` one hour, as KF-GINS models its MEMS units' biases; `sigma_bg` the
 //! in-run bias stability of each class (0.003 deg/h navigation, 0.3 deg/h tactical, 10 deg/h
@@ -12,7 +13,7 @@ use super::{Instability, StrapdownEffect, Triad, DEG_PER_H};
 /// See the module documentation.
 pub const GYRO_BIAS_INSTABILITY: StrapdownEffect = StrapdownEffect {
     name: "gyro-bias-instability",
-    description: "b_g' = -b_g / T_g + w, steady sigma sigma_bg (gyro bias instability)",
+    description: "b_g + d_g, d_g' = -d_g / T_g + w, steady sigma sigma_bg (gyro bias instability)",
     coefficients: &[],
     instability: Some(Instability {
         triad: Triad::Gyro,

@@ -148,8 +148,8 @@ pub enum Triad {
     Accel,
 }
 
-/// A first-order Gauss-Markov law for a triad's biases, `b' = -b / T + w`, steady one-sigma
-/// `sigma` (docs/model.md eq. (69)).
+/// A first-order Gauss-Markov law for a triad's biases' departures from their turn-on
+/// values, `d' = -d / T + w`, steady one-sigma `sigma` (docs/model.md eq. (69)).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Instability {
     /// Whose biases wander.

@@ -60,6 +60,27 @@ fn a_clean_mems_drive_names_nothing() {
             eprintln!("  {f}");
         }
         assert!(d.effects.is_empty(), "run {run}: named {:?}", d.effects);
+        // A coefficient the family holds at zero is no parameter of a candidate: the BIC
+        // does not charge for it and the candidate does not list it (charged, an
+        // accelerometer misalignment paid for six coefficients and lost to an odometer turn
+        // the data cannot tell from it).
+        let candidate = |name: &str| {
+            d.rounds[0]
+                .candidates
+                .iter()
+                .find(|c| c.effect == name)
+                .unwrap_or_else(|| panic!("no candidate {name}"))
+        };
+        for (name, free) in [
+            ("accel-misalignment", 4),
+            ("gyro-scale", 1),
+            ("accel-scale", 2),
+        ] {
+            let c = candidate(name);
+            assert_eq!(c.parameters, free, "{name}");
+            assert_eq!(c.coefficients.len(), free, "{name}: {:?}", c.coefficients);
+            assert!(c.coefficients.iter().all(|q| !d.pinned.contains(&q.name)));
+        }
     }
     // A held coefficient stays held whatever prior is stated (freed, s_az's widened from
     // 1e-3 to 1.8 on this clean drive), and the report says the stated prior is not used.

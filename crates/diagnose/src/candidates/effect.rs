@@ -45,7 +45,15 @@ pub fn evaluate(
     let s = summarize_fit(ds, &fit, opts);
     let keep = marginal_states(model.fit, &fit);
     let dll = fit.profile_loglik(&keep) - model.fit.profile_loglik(&keep);
-    let k = k_coef.max(1);
+    // A coefficient the family holds at zero ([`Catalogue::pinned`]) is no parameter: no fit
+    // moves it, so the BIC does not charge for it.
+    let pinned = catalogue.pinned();
+    let k = effect
+        .coefficients
+        .iter()
+        .filter(|c| !pinned.contains(&c.as_str()))
+        .count()
+        .max(1);
     let ln_n = (model.fit.measurement_count().max(1) as f64).ln();
     let bic = 2.0 * dll - k as f64 * ln_n;
     let excess = model.summary.excess_nis;
@@ -54,7 +62,7 @@ pub fn evaluate(
     } else {
         0.0
     };
-    let ours = own_states(&fit, &model.fit.names);
+    let ours = own_states(&fit, &model.fit.names, pinned);
     let confused = confusion(&fit, &model.fit.names, &ours);
     let own: Vec<Coefficient> = s
         .coefficients
@@ -95,13 +103,18 @@ pub fn evaluate(
 }
 
 /// The candidate's own coefficients in its fit `f`: the states the model (`model_names`) does
-/// not hold, but for those driven by noise. A strapdown bias instability's departures from
+/// not hold, but for those the family holds at zero (`pinned`: nothing to estimate, separate
+/// or bound) and those driven by noise. A strapdown bias instability's departures from
 /// the turn-on biases (docs/model.md eq. (69)) are such states: at any instant the data see
 /// only their sum with the biases, and what tells the candidate apart is its noise, which the
 /// likelihood weighs, not a constant to be separated.
-fn own_states(f: &Fit, model_names: &[String]) -> Vec<usize> {
+fn own_states(f: &Fit, model_names: &[String], pinned: &[&str]) -> Vec<usize> {
     (f.nav_dim..f.names.len())
-        .filter(|&i| !f.noisy[i] && !model_names.contains(&f.names[i]))
+        .filter(|&i| {
+            !f.noisy[i]
+                && !pinned.contains(&f.names[i].as_str())
+                && !model_names.contains(&f.names[i])
+        })
         .collect()
 }
 

@@ -520,6 +520,7 @@ mod tests {
                     sigma: r * 1e-3,
                     prior_sigma: 1e-3,
                     truth: None,
+                    wanders: false,
                 })
                 .collect(),
             density: None,

@@ -61,6 +61,10 @@ pub struct Coefficient {
     pub prior_sigma: f64,
     /// True value, when the dataset has `truth.csv`.
     pub truth: Option<f64>,
+    /// Driven by process noise (a walking coefficient, a bias instability's departure): the
+    /// estimate is its value at the end of the record, not a constant's.
+    #[serde(default)]
+    pub wanders: bool,
 }
 
 /// Updates per sliding window of `opts.window_s` seconds at the fit's mean update interval
@@ -124,6 +128,7 @@ pub fn summarize_fit(ds: &Dataset, fit: &Fit, opts: &Options) -> FitSummary {
             estimate: fit.x[i],
             sigma: fit.sigma(i),
             prior_sigma: fit.prior_sigma[i],
+            wanders: fit.noisy[i],
             truth: truth_last.and_then(|(t, s)| {
                 t.names
                     .iter()

@@ -80,12 +80,13 @@ pub fn fit_table(out: &mut String, title: &str, f: &FitSummary) {
     }
     let mut coefficients = Table::new(header);
     for c in &f.coefficients {
-        let mut row = vec![
-            c.name.clone(),
-            fmt(c.estimate),
-            fmt(c.sigma),
-            fmt(c.prior_sigma),
-        ];
+        // A wandering state's estimate is its value at the end, not a constant's.
+        let name = if c.wanders {
+            format!("{} (wanders; at the end)", c.name)
+        } else {
+            c.name.clone()
+        };
+        let mut row = vec![name, fmt(c.estimate), fmt(c.sigma), fmt(c.prior_sigma)];
         if has_truth {
             match c.truth {
                 Some(t) => row.extend([

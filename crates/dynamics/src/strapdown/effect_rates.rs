@@ -37,7 +37,7 @@ pub fn rates_with_effects_at<T: Real>(
         for d in &mut dx[BG_X..BASE_DIM] {
             *d = T::splat(0.0);
         }
-        for (_, w) in layout.wanders() {
+        for w in layout.wanders() {
             for i in w.first..w.first + 3 {
                 dx[i] = -(x[i] * w.decay);
             }

@@ -153,11 +153,9 @@ impl ErrorLayout {
         }
     }
 
-    /// The triads that wander, each with the first of its base bias states.
-    pub fn wanders(&self) -> impl Iterator<Item = (usize, Wander)> {
-        [(BG_X, self.gyro_wander), (BA_X, self.accel_wander)]
-            .into_iter()
-            .filter_map(|(bias, w)| w.map(|w| (bias, w)))
+    /// The departures of the triads that wander, the gyros' first.
+    pub fn wanders(&self) -> impl Iterator<Item = Wander> {
+        [self.gyro_wander, self.accel_wander].into_iter().flatten()
     }
 
     /// Whether the vehicle's axes are turned from the unit's.

@@ -15,13 +15,11 @@ impl FamilyModel for StrapdownModel {
     fn state_units(&self) -> Vec<String> {
         let coefficients = self.effects().iter().flat_map(|e| e.coefficients.iter());
         // A departure has its bias's unit.
-        let departures = self.departure_names().map(|n| {
-            if n.starts_with("dbg") {
-                STATE_UNITS[BG_X]
-            } else {
-                STATE_UNITS[BA_X]
-            }
-        });
+        let layout = self.layout();
+        let departures = [(layout.gyro_wander, BG_X), (layout.accel_wander, BA_X)]
+            .into_iter()
+            .filter(|(wander, _)| wander.is_some())
+            .flat_map(|(_, bias)| [STATE_UNITS[bias]; 3]);
         STATE_UNITS
             .iter()
             .copied()

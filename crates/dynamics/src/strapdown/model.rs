@@ -106,6 +106,12 @@ impl StrapdownModel {
             (Triad::Accel, layout.accel_wander),
         ] {
             if let (Some(w), Some((time_s, sigma))) = (wander, law(triad)) {
+                let class_sigma = list
+                    .effects
+                    .iter()
+                    .filter_map(|e| e.instability)
+                    .find(|l| l.triad == triad)
+                    .map(|l| l.sigma_for(class));
                 let prefix = match triad {
                     Triad::Gyro => "w_dbg",
                     Triad::Accel => "w_dba",
@@ -117,13 +123,7 @@ impl StrapdownModel {
                         psd: 2.0 * sigma * sigma / time_s,
                     });
                     sigmas.push(sigma);
-                    typical.extend(
-                        list.effects
-                            .iter()
-                            .filter_map(|e| e.instability)
-                            .find(|l| l.triad == triad)
-                            .map(|l| l.sigma_for(class)),
-                    );
+                    typical.extend(class_sigma);
                 }
             }
         }

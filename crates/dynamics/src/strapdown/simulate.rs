@@ -388,7 +388,7 @@ impl StrapdownSimulator {
         self.model
             .layout()
             .wanders()
-            .map(|(_, w)| {
+            .map(|w| {
                 // psd = 2 sigma^2 / T.
                 let sigma = (steady(w.first) / (2.0 * w.decay)).sqrt();
                 let phi = (-h * w.decay).exp();

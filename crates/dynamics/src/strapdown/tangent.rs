@@ -110,7 +110,7 @@ pub fn rate_jacobian(
         }
     });
     if dynamic > NAV_DIM {
-        for (_, w) in layout.wanders() {
+        for w in layout.wanders() {
             for i in w.first..w.first + 3 {
                 jac[i * stride + i] = -w.decay;
             }

@@ -91,6 +91,14 @@ impl Dataset {
                 let mut catalogue = crate::strapdown::effects::StrapdownRegistry::catalogue();
                 catalogue.declare(&config.effect)?;
                 names.extend(config::strapdown_coefficients(&catalogue));
+                // A bias instability's truth carries its triad's departures (docs/model.md
+                // eq. (69)); they are states, not coefficients a prior may name.
+                names.extend(
+                    crate::strapdown::state::GYRO_DEPARTURE_NAMES
+                        .iter()
+                        .chain(&crate::strapdown::state::ACCEL_DEPARTURE_NAMES)
+                        .map(|s| s.to_string()),
+                );
                 (read_imu(&dir.join(IMU_FILE))?, Layout::Strapdown, names)
             }
         };

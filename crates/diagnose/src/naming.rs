@@ -521,6 +521,7 @@ mod tests {
                     prior_sigma: 1e-3,
                     truth: None,
                     wanders: false,
+                    held: false,
                 })
                 .collect(),
             density: None,

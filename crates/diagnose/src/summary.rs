@@ -65,6 +65,10 @@ pub struct Coefficient {
     /// estimate is its value at the end of the record, not a constant's.
     #[serde(default)]
     pub wanders: bool,
+    /// Held at zero by the family ([`crate::catalogue::Catalogue::pinned`]): not estimated,
+    /// so it has no error to judge.
+    #[serde(default)]
+    pub held: bool,
 }
 
 /// Updates per sliding window of `opts.window_s` seconds at the fit's mean update interval
@@ -129,6 +133,7 @@ pub fn summarize_fit(ds: &Dataset, fit: &Fit, opts: &Options) -> FitSummary {
             sigma: fit.sigma(i),
             prior_sigma: fit.prior_sigma[i],
             wanders: fit.noisy[i],
+            held: fit.pinned[i],
             truth: truth_last.and_then(|(t, s)| {
                 t.names
                     .iter()

@@ -77,6 +77,9 @@ pub struct Fit {
     pub tilt_names: [&'static str; 2],
     /// Whether each state is driven by process noise (not a constant).
     pub noisy: Vec<bool>,
+    /// Whether each state is a coefficient the family holds at zero
+    /// ([`Catalogue::pinned`]).
+    pub pinned: Vec<bool>,
     /// Update times.
     pub t: Vec<f64>,
     /// Measured values of each channel of [`Fit::channels`] (NaN where absent and beyond
@@ -254,6 +257,10 @@ pub fn fit(
     let cap = ds.measurements.len();
     let width = n - nav;
     let channels = catalogue.channels();
+    let pinned = names
+        .iter()
+        .map(|n| catalogue.pinned().contains(&n.as_str()))
+        .collect();
     let mut fit = Fit {
         setup: setup.clone(),
         effects: setup.effects.clone(),
@@ -262,6 +269,7 @@ pub fn fit(
         channels,
         tilt_names: catalogue.tilt_names(),
         noisy,
+        pinned,
         t: Vec::with_capacity(cap),
         z: Vec::with_capacity(cap),
         z_hat: Vec::with_capacity(cap),

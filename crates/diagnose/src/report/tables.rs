@@ -80,15 +80,18 @@ pub fn fit_table(out: &mut String, title: &str, f: &FitSummary) {
     }
     let mut coefficients = Table::new(header);
     for c in &f.coefficients {
-        // A wandering state's estimate is its value at the end, not a constant's.
+        // A wandering state's estimate is its value at the end, not a constant's; a held
+        // one is no estimate at all.
         let name = if c.wanders {
             format!("{} (wanders; at the end)", c.name)
+        } else if c.held {
+            format!("{} (held at zero)", c.name)
         } else {
             c.name.clone()
         };
         let mut row = vec![name, fmt(c.estimate), fmt(c.sigma), fmt(c.prior_sigma)];
         if has_truth {
-            match c.truth {
+            match c.truth.filter(|_| !c.held) {
                 Some(t) => row.extend([
                     fmt(t),
                     number((c.estimate - t) / c.sigma, Number::SignedFixed(2)),

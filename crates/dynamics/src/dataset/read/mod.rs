@@ -91,8 +91,8 @@ impl Dataset {
                 let mut catalogue = crate::strapdown::effects::StrapdownRegistry::catalogue();
                 catalogue.declare(&config.effect)?;
                 names.extend(config::strapdown_coefficients(&catalogue));
-                // A bias instability's truth carries its triad's departures (docs/model.md
-                // eq. (69)); they are states, not coefficients a prior may name.
+                // A bias instability's truth carries its triad's departures, states and not
+                // coefficients a prior may name (docs/model.md eq. (69)).
                 names.extend(
                     crate::strapdown::state::GYRO_DEPARTURE_NAMES
                         .iter()

@@ -63,11 +63,11 @@ pub struct Coefficient {
     pub truth: Option<f64>,
     /// Driven by process noise (a walking coefficient, a bias instability's departure): the
     /// estimate is its value at the end of the record, not a constant's.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub wanders: bool,
     /// Held at zero by the family ([`crate::catalogue::Catalogue::pinned`]): not estimated,
     /// so it has no error to judge.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub held: bool,
 }
 

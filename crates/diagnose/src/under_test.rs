@@ -135,7 +135,7 @@ fn manual_round(ds: &Dataset, before: &Fit, after: &Fit, pinned: &[&str], opts: 
             coefficients: a
                 .coefficients
                 .iter()
-                .filter(|c| !before.names.contains(&c.name) && !c.wanders)
+                .filter(|c| !before.names.contains(&c.name) && !c.wanders && !c.held)
                 .cloned()
                 .collect(),
             density: None,

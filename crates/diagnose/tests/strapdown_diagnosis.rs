@@ -156,10 +156,11 @@ fn a_hidden_effect_is_named_with_its_value() {
         }
         assert_eq!(d.pinned, ["baz", "s_az", "m_azx", "m_azy", "s_gx", "s_gy"]);
         assert!(d.findings.iter().any(|f| f.contains("Held at zero")));
-        // An instability's departures are states that wander, not constants: the report
-        // labels their estimates as values at the end.
+        // An instability's departures are states that wander, not constants, and the held
+        // coefficients are not estimated: the report labels both.
         for c in &d.model.coefficients {
             assert_eq!(c.wanders, c.name.starts_with("dbg"), "{list}: {}", c.name);
+            assert_eq!(c.held, d.pinned.contains(&c.name), "{list}: {}", c.name);
         }
     }
 }

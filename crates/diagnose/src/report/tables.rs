@@ -81,7 +81,7 @@ pub fn fit_table(out: &mut String, title: &str, f: &FitSummary) {
     let mut coefficients = Table::new(header);
     for c in &f.coefficients {
         // A wandering state's estimate is its value at the end, not a constant's; a held
-        // one is no estimate at all.
+        // one stays at zero whatever the data (its row shows that, and no error).
         let name = if c.wanders {
             format!("{} (wanders; at the end)", c.name)
         } else if c.held {
@@ -152,7 +152,12 @@ pub fn before_after(out: &mut String, b: &FitSummary, a: &FitSummary) {
         table.row([wa.channel.to_string(), wb, white(wa)]);
     }
     out.push_str(&table.render());
-    let err = |c: &Coefficient| c.truth.map(|t| (c.estimate - t) / c.prior_sigma);
+    // A held coefficient is not estimated: no error to judge.
+    let err = |c: &Coefficient| {
+        c.truth
+            .filter(|_| !c.held)
+            .map(|t| (c.estimate - t) / c.prior_sigma)
+    };
     let rows: Vec<ErrorRow> = a
         .coefficients
         .iter()

@@ -77,7 +77,7 @@ pub fn fit_under_test(
         None
     } else {
         let (b, _) = fit_adaptive(ds, &base, catalogue, &opts.filter)?;
-        Some(manual_round(ds, &b, &fit, catalogue.pinned(), opts))
+        Some(manual_round(ds, &b, &fit, opts))
     };
     Ok(UnderTest {
         start,
@@ -90,7 +90,7 @@ pub fn fit_under_test(
 }
 
 /// The `--with` round: the effects added together to the base model `before`, giving `after`.
-fn manual_round(ds: &Dataset, before: &Fit, after: &Fit, pinned: &[&str], opts: &Options) -> Round {
+fn manual_round(ds: &Dataset, before: &Fit, after: &Fit, opts: &Options) -> Round {
     let b = summarize_fit(ds, before, opts);
     let a = summarize_fit(ds, after, opts);
     let keep: Vec<String> = after
@@ -105,11 +105,7 @@ fn manual_round(ds: &Dataset, before: &Fit, after: &Fit, pinned: &[&str], opts: 
     // count as its one parameter (the density), as a candidate's do, and a coefficient the
     // family holds at zero is none.
     let added = (after.nav_dim..after.names.len())
-        .filter(|&i| {
-            !after.noisy[i]
-                && !pinned.contains(&after.names[i].as_str())
-                && !before.names.contains(&after.names[i])
-        })
+        .filter(|&i| !after.noisy[i] && !after.pinned[i] && !before.names.contains(&after.names[i]))
         .count();
     let k = added.max(opts.with.len());
     let ln_n = (before.measurement_count().max(1) as f64).ln();

@@ -62,7 +62,7 @@ pub fn evaluate(
     } else {
         0.0
     };
-    let ours = own_states(&fit, &model.fit.names, pinned);
+    let ours = own_states(&fit, &model.fit.names);
     let confused = confusion(&fit, &model.fit.names, &ours);
     let own: Vec<Coefficient> = s
         .coefficients
@@ -103,18 +103,14 @@ pub fn evaluate(
 }
 
 /// The candidate's own coefficients in its fit `f`: the states the model (`model_names`) does
-/// not hold, but for those the family holds at zero (`pinned`: nothing to estimate, separate
+/// not hold, but for those the family holds at zero ([`Fit::pinned`]: nothing to estimate, separate
 /// or bound) and those driven by noise. A strapdown bias instability's departures from
 /// the turn-on biases (docs/model.md eq. (69)) are such states: at any instant the data see
 /// only their sum with the biases, and what tells the candidate apart is its noise, which the
 /// likelihood weighs, not a constant to be separated.
-fn own_states(f: &Fit, model_names: &[String], pinned: &[&str]) -> Vec<usize> {
+fn own_states(f: &Fit, model_names: &[String]) -> Vec<usize> {
     (f.nav_dim..f.names.len())
-        .filter(|&i| {
-            !f.noisy[i]
-                && !pinned.contains(&f.names[i].as_str())
-                && !model_names.contains(&f.names[i])
-        })
+        .filter(|&i| !f.noisy[i] && !f.pinned[i] && !model_names.contains(&f.names[i]))
         .collect()
 }
 
@@ -140,7 +136,14 @@ fn confusion(f: &Fit, model_names: &[String], ours: &[usize]) -> Vec<Confusion> 
         return Vec::new();
     };
     let mut precision = p_inv;
-    for (a, &i) in idx.iter().enumerate().filter(|(_, &i)| !f.noisy[i]) {
+    // A coefficient held at zero keeps its pinned prior: put back on a starting prior, it
+    // would be free, and every coefficient the data see only beside it would read as confused
+    // with a state that no fit moves.
+    for (a, &i) in idx
+        .iter()
+        .enumerate()
+        .filter(|(_, &i)| !f.noisy[i] && !f.pinned[i])
+    {
         let start = f
             .setup
             .priors
@@ -156,7 +159,7 @@ fn confusion(f: &Fit, model_names: &[String], ours: &[usize]) -> Vec<Confusion> 
             continue;
         }
         for (v, &j) in idx.iter().enumerate() {
-            if !model_names.contains(&f.names[j]) {
+            if f.pinned[j] || !model_names.contains(&f.names[j]) {
                 continue;
             }
             let corr = c[(u, v)] / (c[(u, u)] * c[(v, v)]).sqrt();

@@ -104,7 +104,8 @@ pub fn widest_sigma(priors: &Priors, name: &str, start: f64, typical: f64) -> f6
 pub fn widenings(f: &Fit, refused: &[String]) -> Vec<Widening> {
     let mut out = Vec::new();
     for i in f.nav_dim..f.names.len() {
-        if f.noisy[i] || refused.contains(&f.names[i]) {
+        // A coefficient held at zero keeps its pinned prior whatever the setup says.
+        if f.noisy[i] || f.pinned[i] || refused.contains(&f.names[i]) {
             continue;
         }
         let s = f.prior_sigma[i];

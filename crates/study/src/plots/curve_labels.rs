@@ -1,6 +1,8 @@
 //! Names written on curves (the plan's panels): each just above or just below its own curve,
 //! where it crosses no line of the panel and no other name and stays inside the plot, as near
-//! as it can to where the names would spread evenly along the time axis. Placed blindly (at
+//! as it can to where the names would spread evenly along the time axis. Where curves run
+//! together and leave no clear place beside a curve, its name stands a row or more of text
+//! off it, clear of the bundle. Placed blindly (at
 //! evenly spread times), a name sat across its own curve where it fell steeply, or across a
 //! neighbour's.
 //!
@@ -16,6 +18,9 @@ const LIFT: f64 = 4.0;
 const MARGIN: f64 = 3.0;
 /// Names tried along a curve, at most.
 const TRIES: usize = 150;
+/// Rows of text a name may stand off its curve, to clear a bundle of curves that run
+/// together (a dozen misalignments all near their priors): a name across a line is not read.
+const ROWS: usize = 4;
 
 /// The plot of a panel: its x range, its log y range and its size in pixels.
 pub(super) struct Plot {
@@ -58,10 +63,12 @@ impl Plot {
 /// A box `((u0, u1), (v0, v1))` in the plot's units.
 type Box2 = ((f64, f64), (f64, f64));
 
-/// A place for a name: how many lines its box crosses, how far it is from where the names
-/// would spread evenly, its box, and its bottom centre, in the plot's units.
+/// A place for a name: how many lines its box crosses, how many rows of text it stands off
+/// its curve, how far it is from where the names would spread evenly, its box, and its
+/// bottom centre, in the plot's units.
 struct Place {
     crossed: usize,
+    row: usize,
     off: f64,
     b: Box2,
     at: (f64, f64),
@@ -144,41 +151,44 @@ pub(super) fn place(
         let target = (k + 1) as f64 / (n + 1) as f64;
         let own = to_plot(pts);
         let step = own.len().div_ceil(TRIES).max(1);
-        // The best place so far: the fewest lines crossed, then the nearest the target; above
-        // the curve on a tie (it is tried first).
+        // The best place so far: the fewest lines crossed, then the nearest its curve, then
+        // the nearest the target; above the curve on a tie (it is tried first).
         let mut best: Option<Place> = None;
         for &(u, _) in own.iter().step_by(step) {
             // The curve's lowest and highest under the name: the name clears its own curve
             // however steep it is there.
             let (v_lo, v_hi) = extent(&own, (u - half, u + half));
-            for below in [false, true] {
-                // The name's bottom edge, in the plot's units.
-                let bottom = if below {
-                    v_lo - (LIFT + size as f64) / h
-                } else {
-                    v_hi + LIFT / h
-                };
-                let b = ((u - half, u + half), (bottom - MARGIN / h, bottom + tall));
-                if b.0 .0 < 0.0 || b.0 .1 > 1.0 || b.1 .0 < 0.0 || b.1 .1 > 1.0 {
-                    continue;
-                }
-                let overlaps = taken.iter().any(|t| {
-                    t.0 .0 < b.0 .1 && b.0 .0 < t.0 .1 && t.1 .0 < b.1 .1 && b.1 .0 < t.1 .1
-                });
-                if overlaps {
-                    continue;
-                }
-                let here = Place {
-                    crossed: crossings(&lines, b),
-                    off: (u - target).abs(),
-                    b,
-                    at: (u, bottom),
-                };
-                if best
-                    .as_ref()
-                    .is_none_or(|p| (here.crossed, here.off) < (p.crossed, p.off))
-                {
-                    best = Some(here);
+            for row in 0..ROWS {
+                let stand_off = row as f64 * (size as f64 + MARGIN) / h;
+                for below in [false, true] {
+                    // The name's bottom edge, in the plot's units.
+                    let bottom = if below {
+                        v_lo - (LIFT + size as f64) / h - stand_off
+                    } else {
+                        v_hi + LIFT / h + stand_off
+                    };
+                    let b = ((u - half, u + half), (bottom - MARGIN / h, bottom + tall));
+                    if b.0 .0 < 0.0 || b.0 .1 > 1.0 || b.1 .0 < 0.0 || b.1 .1 > 1.0 {
+                        continue;
+                    }
+                    let overlaps = taken.iter().any(|t| {
+                        t.0 .0 < b.0 .1 && b.0 .0 < t.0 .1 && t.1 .0 < b.1 .1 && b.1 .0 < t.1 .1
+                    });
+                    if overlaps {
+                        continue;
+                    }
+                    let here = Place {
+                        crossed: crossings(&lines, b),
+                        row,
+                        off: (u - target).abs(),
+                        b,
+                        at: (u, bottom),
+                    };
+                    if best.as_ref().is_none_or(|p| {
+                        (here.crossed, here.row, here.off) < (p.crossed, p.row, p.off)
+                    }) {
+                        best = Some(here);
+                    }
                 }
             }
         }
@@ -188,4 +198,50 @@ pub(super) fn place(
         }));
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use navkf_report::figure::BIG;
+
+    /// Eight curves within 7 % of each other, flat at their priors (the strapdown plan's
+    /// misalignments): no name may sit across a line, as it did when names had to touch their
+    /// own curve.
+    #[test]
+    fn names_clear_a_bundle_of_curves() {
+        let x = (0.0, 100.0);
+        let y = (0.1 / 1.15, 1.15);
+        let plot = Plot::in_cell((560, 400), BIG, x, y);
+        let names: Vec<String> = (0..8).map(|k| format!("m_g{k}z")).collect();
+        let curves: Vec<(&str, Vec<(f64, f64)>)> = names
+            .iter()
+            .enumerate()
+            .map(|(k, n)| {
+                let level = 1.0 - 0.01 * k as f64;
+                (n.as_str(), (0..=100).map(|t| (t as f64, level)).collect())
+            })
+            .collect();
+        let places = place(&plot, &curves, &[], BIG.note);
+        let lines: Vec<Vec<(f64, f64)>> = curves
+            .iter()
+            .map(|c| c.1.iter().filter_map(|&(t, r)| plot.at(t, r)).collect())
+            .collect();
+        let (w, h) = plot.px;
+        let size = BIG.note as f64;
+        for ((name, _), at) in curves.iter().zip(&places) {
+            let (t, r) = at.expect("every curve has points");
+            let (u, v) = plot.at(t, r).unwrap();
+            let half = (text_width(name, BIG.note) as f64 / 2.0 + MARGIN) / w;
+            let b = (
+                (u - half, u + half),
+                (v - MARGIN / h, v + (size + MARGIN) / h),
+            );
+            assert_eq!(
+                crossings(&lines, b),
+                0,
+                "{name} at ({t}, {r}) crosses a line"
+            );
+        }
+    }
 }

@@ -330,6 +330,7 @@ fn repeated_measurement_time_is_refused() {
             "measurements.csv:3:",
             "column `t`",
             "t = 2 is not after t = 2 on line 2",
+            "the same time twice",
             "strictly increasing",
         ],
     );

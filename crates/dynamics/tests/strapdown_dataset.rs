@@ -114,7 +114,7 @@ fn increments_are_read_as_mean_rates_at_the_middle_of_their_interval() {
 fn bad_strapdown_files_are_refused_where_they_are_wrong() {
     let imu = "t,w_x,w_y,w_z,f_x,f_y,f_z\n0,0,0,0,0,0,9.8\n0.5,0,0,0,0,0,9.8\n1,0,0,0,0,0,9.8\n1.5,0,0,0,0,0,9.8\n";
     type Case<'a> = (&'a str, Vec<(&'a str, String)>, &'a [&'a str]);
-    let cases: [Case; 6] = [
+    let cases: [Case; 7] = [
         (
             "empty-imu-cell",
             vec![(
@@ -148,6 +148,21 @@ fn bad_strapdown_files_are_refused_where_they_are_wrong() {
             &["dataset.toml:10:", "initial.pitch_deg", "singular"],
         ),
         ("no-imu", vec![("imu.csv", String::new())], &["imu.csv"]),
+        (
+            // A unit's clock that restarts mid-file.
+            "clock-restarts",
+            vec![(
+                "imu.csv",
+                imu.replace("1.5,0,0,0,0,0,9.8", "0,0,0,0,0,0,9.8"),
+            )],
+            &[
+                "imu.csv:5:",
+                "column `t`",
+                "t = 0 is not after t = 1 on line 4",
+                "goes back by 1 s",
+                "restarted",
+            ],
+        ),
         (
             "platform-initial",
             vec![(

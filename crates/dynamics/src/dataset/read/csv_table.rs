@@ -291,7 +291,9 @@ impl Cells<'_> {
     }
 }
 
-/// Checks `t` against the previous row's time `(t, line)` and remembers it.
+/// Checks `t` against the previous row's time `(t, line)` and remembers it. A time that goes
+/// back is said to be one: a unit's clock that restarts, or two recordings joined, is the
+/// usual cause, and a reader told only "not increasing" hunts for a typo.
 pub(super) fn check_increasing(
     path: &Path,
     line: usize,
@@ -300,13 +302,22 @@ pub(super) fn check_increasing(
 ) -> Result<(), DynamicsError> {
     if let Some((tp, lp)) = *previous {
         if t <= tp {
+            let why = if t == tp {
+                "the same time twice (a repeated row?)".to_owned()
+            } else {
+                format!(
+                    "the time goes back by {} s (a clock that restarted, or two recordings \
+                     joined: split them into two datasets)",
+                    tp - t
+                )
+            };
             return Err(data_error(
                 path,
                 line,
                 "t",
                 format!(
-                    "t = {t} is not after t = {tp} on line {lp}; expected times strictly \
-                     increasing"
+                    "t = {t} is not after t = {tp} on line {lp}: {why}; expected times \
+                     strictly increasing"
                 ),
             ));
         }

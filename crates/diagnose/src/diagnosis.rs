@@ -71,6 +71,10 @@ pub struct Diagnosis {
     /// ([`crate::catalogue::Catalogue::pinned`]).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub pinned: Vec<String>,
+    /// The attitude the filters start from and where it came from (the strapdown family:
+    /// `[initial]` or the alignment from the data); absent for the platform.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start_attitude: Option<crate::start_attitude::StartAttitude>,
     /// The attitude equations of every fit's model.
     #[serde(default)]
     pub attitude: navkf_dynamics::Attitude,

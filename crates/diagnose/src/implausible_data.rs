@@ -53,6 +53,7 @@ pub fn implausible_diagnosis(
         dataset: ds.name.clone(),
         family: catalogue.kind(),
         pinned: catalogue.pinned().iter().map(|p| p.to_string()).collect(),
+        start_attitude: catalogue.start_attitude(ds),
         attitude: opts.filter.attitude,
         verdict: Verdict::ImplausibleData,
         best: None,

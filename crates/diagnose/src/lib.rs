@@ -37,6 +37,7 @@ pub mod request;
 pub mod rivals;
 pub mod rounds;
 pub mod stand_ins;
+pub mod start_attitude;
 pub mod summary;
 pub mod under_test;
 pub mod verdict;

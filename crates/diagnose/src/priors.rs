@@ -81,10 +81,16 @@ pub fn resolve(
         }
     };
     let mut entries = Vec::new();
+    // Without [initial], the tilt defaults are the alignment's sigmas.
+    let unstated = if catalogue.start_attitude(ds).is_some_and(|a| a.is_aligned()) {
+        PriorSource::Aligned
+    } else {
+        PriorSource::Default
+    };
     let mut tilt = |name: &str, value: Option<f64>, flag: Option<f64>, default: f64| {
         let (sigma, src) = match value {
             Some(v) => (v, source(flag.is_some())),
-            None => (default, PriorSource::Default),
+            None => (default, unstated),
         };
         entries.push(PriorEntry {
             name: name.into(),

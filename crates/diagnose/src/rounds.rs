@@ -229,6 +229,7 @@ pub fn diagnose(
         dataset: ds.name.clone(),
         family: catalogue.kind(),
         pinned: catalogue.pinned().iter().map(|p| p.to_string()).collect(),
+        start_attitude: catalogue.start_attitude(ds),
         attitude: opts.filter.attitude,
         verdict,
         best: effects.first().cloned(),

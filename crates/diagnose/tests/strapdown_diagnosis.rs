@@ -299,3 +299,56 @@ fn an_effect_is_not_credited_with_a_better_noise_fit() {
     let (d, _) = diagnose(&ds, &StrapdownCatalogue::default(), &config.options()).unwrap();
     assert!(d.effects.is_empty(), "{:?}: {:#?}", d.verdict, d.findings);
 }
+
+/// A drive whose dataset.toml states no `[initial]` is aligned from its own data, and the
+/// diagnosis says so: the attitude, the seconds of the record it came from and its sigmas, in
+/// `diagnosis.json` and the report, with the tilt priors marked as the alignment's. (Every
+/// drive of the error-rate studies states `[initial]`; this path had no end-to-end test.)
+#[test]
+fn a_drive_without_initial_is_aligned_and_the_report_says_so() {
+    use navkf_diagnose::start_attitude::AttitudeSource;
+    use navkf_dynamics::prior::PriorSource;
+    let mut ds = drive("", 4, 0);
+    let true_heading = ds.truth.as_ref().unwrap().states[0][2].to_degrees();
+    // Neither the attitude nor its sigmas stated: the alignment gives both.
+    ds.initial = None;
+    ds.prior.level_rad = None;
+    ds.prior.azimuth_rad = None;
+    let (d, _) = diagnose(&ds, &StrapdownCatalogue::default(), &Options::default()).unwrap();
+    let a = d.start_attitude.expect("a start attitude");
+    let AttitudeSource::Aligned {
+        level_from_s,
+        heading_from_s,
+        heading_sigma_rad,
+        ..
+    } = a.source
+    else {
+        panic!("not aligned: {a:?}");
+    };
+    let off = (a.heading_deg - true_heading + 540.0).rem_euclid(360.0) - 180.0;
+    assert!(
+        off.abs() < 4.0 * heading_sigma_rad.to_degrees(),
+        "heading {} against the true {true_heading}, sigma {} deg",
+        a.heading_deg,
+        heading_sigma_rad.to_degrees()
+    );
+    assert!(level_from_s[1] > level_from_s[0] && heading_from_s[0] >= level_from_s[1]);
+    for name in ["level_rad", "heading_rad"] {
+        let p = d.priors.iter().find(|p| p.name == name).unwrap();
+        assert_eq!(p.source, PriorSource::Aligned, "{name}");
+    }
+    assert!(d.effects.is_empty(), "named {:?}", d.effects);
+    let report = navkf_diagnose::report::markdown(&d, "navkf diagnose drive", &[]);
+    assert!(
+        report.contains("aligned from the data (dataset.toml has no [initial])"),
+        "{report}"
+    );
+    // Stated, the start is said to be the file's.
+    let (d, _) = diagnose(
+        &drive("", 4, 0),
+        &StrapdownCatalogue::default(),
+        &Options::default(),
+    )
+    .unwrap();
+    assert_eq!(d.start_attitude.unwrap().source, AttitudeSource::Stated);
+}

@@ -80,6 +80,10 @@ pub enum PriorSource {
     Dataset,
     /// A command-line flag.
     Flag,
+    /// Found in the data: a strapdown dataset without `[initial]` is aligned from its own
+    /// readings, and the alignment's sigmas are the tilt priors
+    /// (`crate::dataset::alignment`).
+    Aligned,
 }
 
 impl PlatformPrior {

@@ -138,6 +138,12 @@ pub trait Catalogue: Send + Sync + std::fmt::Debug {
     fn pinned(&self) -> &'static [&'static str] {
         &[]
     }
+    /// The attitude the filters start from on `ds` and where it came from, when the family
+    /// starts from an attitude (the strapdown family's `[initial]` or its alignment from the
+    /// data); the report states it.
+    fn start_attitude(&self, _ds: &Dataset) -> Option<crate::start_attitude::StartAttitude> {
+        None
+    }
     /// Why `candidate` cannot join a model holding `effects`, if it cannot: the strapdown
     /// family holds one coefficient per place of its sensor errors, and a declared effect
     /// may take a place of a catalogued one. The rounds then do not try it, and say so.

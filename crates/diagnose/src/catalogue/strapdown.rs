@@ -205,6 +205,9 @@ impl Catalogue for StrapdownCatalogue {
     fn tilt_names(&self) -> [&'static str; 2] {
         ["level_rad", "heading_rad"]
     }
+    fn start_attitude(&self, ds: &Dataset) -> Option<crate::start_attitude::StartAttitude> {
+        crate::start_attitude::StartAttitude::of(ds)
+    }
     fn default_tilt(&self, ds: &Dataset, _start_lat: f64) -> [f64; 2] {
         let level = stated_level_sigma(self.class);
         self.initial(ds)

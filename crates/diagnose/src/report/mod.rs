@@ -104,6 +104,9 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
         "## Priors\n\nWhere the diagnosis starts (flags over dataset.toml's [prior] over the defaults; see `navkf_dynamics::prior` for their reasons):\n\n{}",
         priors.render()
     );
+    if let Some(a) = &d.start_attitude {
+        let _ = writeln!(out, "\n{}", a.sentence());
+    }
     if !d.widened.is_empty() {
         let mut widened = Table::new(["coefficient", "from", "to", "estimate"]);
         for w in &d.widened {

@@ -83,6 +83,13 @@ fn a_simulated_strapdown_dataset_is_inspected_and_diagnosed() {
         serde_json::from_slice(&std::fs::read(report.join("diagnosis.json")).unwrap()).unwrap();
     assert_eq!(d["family"], "strapdown");
     assert_eq!(d["effects"], serde_json::json!([]));
+    // It starts from the alignment, and its report says so.
+    assert_eq!(d["start_attitude"]["source"]["kind"], "aligned", "{d}");
+    let md = std::fs::read_to_string(report.join("report.md")).unwrap();
+    assert!(
+        md.contains("aligned from the data (dataset.toml has no [initial])"),
+        "{md}"
+    );
     assert!(
         text(&o.stdout).contains("constraint tolerance"),
         "{}",

@@ -64,7 +64,8 @@ pub struct PriorEntry {
 }
 
 /// The starting priors for `ds`: `flags` over the dataset's `[prior]` table over the defaults
-/// (the azimuth's at the dataset's first latitude). Returns them with the report's table: the
+/// (the azimuth's at the dataset's first latitude; a strapdown dataset without `[initial]`
+/// takes its tilt defaults from its alignment, marked [`PriorSource::Aligned`]). Returns them with the report's table: the
 /// tilt, the 13 base coefficients and every stated effect coefficient.
 pub fn resolve(
     ds: &Dataset,

@@ -23,7 +23,7 @@ pub struct StartAttitude {
 
 /// Where a [`StartAttitude`] came from.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum AttitudeSource {
     /// `dataset.toml`'s `[initial]`.
     Stated,
@@ -33,6 +33,9 @@ pub enum AttitudeSource {
         level_from_s: [f64; 2],
         /// One-sigma of roll and pitch the alignment gives, rad.
         level_sigma_rad: f64,
+        /// Whether that sigma is the dataset's `[prior] level_rad` (otherwise a MEMS unit's
+        /// accelerometer bias over g).
+        level_sigma_stated: bool,
         /// The GPS track the heading came from, s.
         heading_from_s: [f64; 2],
         /// One-sigma of the heading the alignment gives, rad.
@@ -60,6 +63,7 @@ impl StartAttitude {
             source: AttitudeSource::Aligned {
                 level_from_s: al.level_from,
                 level_sigma_rad: al.level_sigma,
+                level_sigma_stated: ds.prior.level_rad.is_some(),
                 heading_from_s: al.heading_from,
                 heading_sigma_rad: al.heading_sigma,
             },
@@ -82,6 +86,7 @@ impl StartAttitude {
     ///     source: AttitudeSource::Aligned {
     ///         level_from_s: [0.0, 60.0],
     ///         level_sigma_rad: 0.005,
+    ///         level_sigma_stated: false,
     ///         heading_from_s: [75.0, 82.0],
     ///         heading_sigma_rad: 0.01,
     ///     },
@@ -101,14 +106,15 @@ impl StartAttitude {
             AttitudeSource::Aligned {
                 level_from_s,
                 level_sigma_rad,
+                level_sigma_stated,
                 heading_from_s,
                 heading_sigma_rad,
             } => format!(
                 "Start attitude, aligned from the data (dataset.toml has no [initial]): roll \
                  {:.3} deg and pitch {:.3} deg from the mean specific force over the \
-                 standstill {:.0}-{:.0} s (one-sigma {:.3} deg: the accelerometer bias over g), \
-                 heading {:.3} deg from the GPS track {:.0}-{:.0} s (one-sigma {:.3} deg), \
-                 turned back to the first reading by the gyro. The level and heading priors \
+                 standstill {:.0}-{:.0} s (one-sigma {:.3} deg: {}), heading {:.3} deg from \
+                 the GPS track {:.0}-{:.0} s (one-sigma {:.3} deg), turned back to the first \
+                 reading by the gyro. The level and heading priors \
                  above are these sigmas unless a flag or [prior] states others. State \
                  [initial] in dataset.toml to start from an attitude of your own.",
                 self.roll_deg,
@@ -116,6 +122,11 @@ impl StartAttitude {
                 level_from_s[0],
                 level_from_s[1],
                 level_sigma_rad.to_degrees(),
+                if level_sigma_stated {
+                    "dataset.toml's [prior] level_rad"
+                } else {
+                    "a MEMS unit's accelerometer bias over g, as none is stated"
+                },
                 self.heading_deg,
                 heading_from_s[0],
                 heading_from_s[1],

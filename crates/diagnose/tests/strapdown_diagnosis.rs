@@ -71,6 +71,19 @@ fn a_clean_mems_drive_names_nothing() {
                 .find(|c| c.effect == name)
                 .unwrap_or_else(|| panic!("no candidate {name}"))
         };
+        // A held coefficient keeps its pinned prior: no candidate's coefficient is read as
+        // confused with it, and no fit widens it.
+        for r in &d.rounds {
+            for c in &r.candidates {
+                for q in &c.confused_with {
+                    assert!(!d.pinned.contains(&q.with), "{}: {q:?}", c.effect);
+                }
+                for w in &c.widened {
+                    assert!(!d.pinned.contains(&w.name), "{}: {w:?}", c.effect);
+                }
+            }
+        }
+        assert!(d.widened.iter().all(|w| !d.pinned.contains(&w.name)));
         for (name, free) in [
             ("accel-misalignment", 4),
             ("gyro-scale", 1),
@@ -300,31 +313,36 @@ fn an_effect_is_not_credited_with_a_better_noise_fit() {
     assert!(d.effects.is_empty(), "{:?}: {:#?}", d.verdict, d.findings);
 }
 
-/// A drive whose dataset.toml states no `[initial]` is aligned from its own data, and the
-/// diagnosis says so: the attitude, the seconds of the record it came from and its sigmas, in
-/// `diagnosis.json` and the report, with the tilt priors marked as the alignment's. (Every
-/// drive of the error-rate studies states `[initial]`; this path had no end-to-end test.)
+/// A drive whose dataset.toml states neither `[initial]` nor tilt priors is aligned from its
+/// own data, and the diagnosis starts from that alignment and says so: the attitude within
+/// its sigma of the truth, the tilt priors the alignment's sigmas and marked as its, the
+/// report's sentence. (The CLI test of a strapdown drive checks the same through the command.)
 #[test]
-fn a_drive_without_initial_is_aligned_and_the_report_says_so() {
-    use navkf_diagnose::start_attitude::AttitudeSource;
+fn a_drive_without_initial_starts_from_its_alignment_and_says_so() {
+    use navkf_diagnose::start_attitude::{AttitudeSource, StartAttitude};
     use navkf_dynamics::prior::PriorSource;
-    let mut ds = drive("", 4, 0);
-    let true_heading = ds.truth.as_ref().unwrap().states[0][2].to_degrees();
-    // Neither the attitude nor its sigmas stated: the alignment gives both.
+    let stated = drive("", 4, 0);
+    assert_eq!(
+        StartAttitude::of(&stated).unwrap().source,
+        AttitudeSource::Stated
+    );
+    let true_heading = stated.truth.as_ref().unwrap().states[0][2].to_degrees();
+    let mut ds = stated;
     ds.initial = None;
     ds.prior.level_rad = None;
     ds.prior.azimuth_rad = None;
     let (d, _) = diagnose(&ds, &StrapdownCatalogue::default(), &Options::default()).unwrap();
     let a = d.start_attitude.expect("a start attitude");
     let AttitudeSource::Aligned {
-        level_from_s,
-        heading_from_s,
+        level_sigma_rad,
+        level_sigma_stated,
         heading_sigma_rad,
         ..
     } = a.source
     else {
         panic!("not aligned: {a:?}");
     };
+    assert!(!level_sigma_stated);
     let off = (a.heading_deg - true_heading + 540.0).rem_euclid(360.0) - 180.0;
     assert!(
         off.abs() < 4.0 * heading_sigma_rad.to_degrees(),
@@ -332,23 +350,19 @@ fn a_drive_without_initial_is_aligned_and_the_report_says_so() {
         a.heading_deg,
         heading_sigma_rad.to_degrees()
     );
-    assert!(level_from_s[1] > level_from_s[0] && heading_from_s[0] >= level_from_s[1]);
-    for name in ["level_rad", "heading_rad"] {
+    for (name, sigma) in [
+        ("level_rad", level_sigma_rad),
+        ("heading_rad", heading_sigma_rad),
+    ] {
         let p = d.priors.iter().find(|p| p.name == name).unwrap();
         assert_eq!(p.source, PriorSource::Aligned, "{name}");
+        assert_eq!(p.sigma, sigma, "{name}");
     }
     assert!(d.effects.is_empty(), "named {:?}", d.effects);
     let report = navkf_diagnose::report::markdown(&d, "navkf diagnose drive", &[]);
     assert!(
-        report.contains("aligned from the data (dataset.toml has no [initial])"),
+        report.contains("aligned from the data (dataset.toml has no [initial])")
+            && report.contains("as none is stated"),
         "{report}"
     );
-    // Stated, the start is said to be the file's.
-    let (d, _) = diagnose(
-        &drive("", 4, 0),
-        &StrapdownCatalogue::default(),
-        &Options::default(),
-    )
-    .unwrap();
-    assert_eq!(d.start_attitude.unwrap().source, AttitudeSource::Stated);
 }

@@ -310,6 +310,8 @@ fn input_times_must_increase() {
             "inputs.csv:7:",
             "column `t`",
             "t = 0.35 is not after t = 0.4 on line 6",
+            // 0.4 - 0.35 is 0.05000000000000002 in floating point.
+            "goes back by 0.05 s",
             "strictly increasing",
         ],
     );

@@ -101,7 +101,7 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
     }
     let _ = write!(
         out,
-        "## Priors\n\nWhere the diagnosis starts (flags over dataset.toml's [prior] over the defaults; see `navkf_dynamics::prior` for their reasons):\n\n{}",
+        "## Priors\n\nWhere the diagnosis starts (flags over dataset.toml's [prior] over the defaults, or over the alignment's sigmas for a strapdown dataset without [initial]; see `navkf_dynamics::prior` for their reasons):\n\n{}",
         priors.render()
     );
     if let Some(a) = &d.start_attitude {

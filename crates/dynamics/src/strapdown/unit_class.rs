@@ -21,17 +21,19 @@
 //! | tactical (fibre-optic) | 1 deg/h | 0.05 deg/sqrt(h) | 1 mg | 100 ug/sqrt(Hz) |
 //! | MEMS (industrial) | 50 deg/h | 0.3 deg/sqrt(h) | 5 mg | 200 ug/sqrt(Hz) |
 //!
-//! Checked against the public models (biases per axis as the demos draw them):
+//! Checked against the public models (the demos' biases are fixed per axis, given here as
+//! their range):
 //!
 //! | class | Groves's demonstration | gnss-ins-sim |
 //! |---|---|---|
-//! | navigation | aviation: gyro 0.0008-0.0013 deg/h, ARW 0.002 deg/sqrt(h), accel 26-45 ug, 20 ug/sqrt(Hz) | high: instability 0.1 deg/h, ARW 0.002 deg/sqrt(h), accel instability 0.37 ug, VRW 2.5e-5 m/s/sqrt(h) (0.04 ug/sqrt(Hz)) |
-//! | tactical | gyro 8-13 deg/h, ARW 0.01 deg/sqrt(h), accel 0.8-1.3 mg, 100 ug/sqrt(Hz) | mid: instability 3.5 deg/h, ARW 0.25 deg/sqrt(h), accel instability 5 ug, VRW 0.03 m/s/sqrt(h) (51 ug/sqrt(Hz)) |
-//! | MEMS | consumer: gyro 160-260 deg/h, ARW 1 deg/sqrt(h), accel 8-13 mg, 1000 ug/sqrt(Hz) | low: instability 10 deg/h, ARW 0.75 deg/sqrt(h), accel instability 20 ug, VRW 0.05 m/s/sqrt(h) (85 ug/sqrt(Hz)) |
+//! | navigation | aviation: gyro 0.0008-0.0013 deg/h, ARW 0.002 deg/sqrt(h), accel 26-45 ug, 20 ug/sqrt(Hz) | high: instability 0.1 deg/h, ARW 0.002 deg/sqrt(h), accel instability 0.37 ug, VRW 0.04 ug/sqrt(Hz) |
+//! | tactical | gyro 8-13 deg/h, ARW 0.01 deg/sqrt(h), accel 0.8-1.3 mg, 100 ug/sqrt(Hz) | mid: instability 3.5 deg/h, ARW 0.25 deg/sqrt(h), accel instability 5 ug, VRW 51 ug/sqrt(Hz) |
+//! | MEMS | consumer: gyro 160-260 deg/h, ARW 1 deg/sqrt(h), accel 8-13 mg, 1000 ug/sqrt(Hz) | low: instability 10 deg/h, ARW 0.75 deg/sqrt(h), accel instability 20 ug, VRW 85 ug/sqrt(Hz) |
 //!
-//! So: the navigation class matches the aviation demo's noise and accelerometer bias and
-//! takes a gyro bias ten times the demo's (0.01 deg/h, the usual data-sheet figure); the
-//! tactical class matches the demo's accelerometer bias and noise, takes an ARW between the
+//! So: the navigation class is near the aviation demo's noise and accelerometer bias (ARW
+//! equal, VRW 30 against 20 ug/sqrt(Hz), bias 50 against 26-45 ug) and takes a gyro bias ten
+//! times the demo's (0.01 deg/h, the usual data-sheet figure); the
+//! tactical class matches the demo's accelerometer bias and VRW, takes an ARW between the
 //! two sources and a gyro bias below both (1 deg/h against the demo's 8-13 deg/h and the mid
 //! model's 3.5 deg/h instability: the better, fibre-optic end of the grade); the MEMS class is an *industrial* unit, between the
 //! consumer demo and the tactical grade: a quarter of the consumer demo's gyro bias and a

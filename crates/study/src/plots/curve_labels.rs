@@ -1,8 +1,8 @@
 //! Names written on curves (the plan's panels): each just above or just below its own curve,
-//! where it crosses no line of the panel and no other name and stays inside the plot, as near
-//! as it can to where the names would spread evenly along the time axis. Where curves run
-//! together and leave no clear place beside a curve, its name stands a row or more of text
-//! off it, clear of the bundle. Placed blindly (at
+//! where it crosses no line of the panel and no other name and stays inside the plot, as
+//! near as it can to where the names would spread evenly along the time axis. Where curves
+//! run together and leave no clear place beside a curve, its name stands a row or more of
+//! text off it, clear of the bundle, in the curve's colour. Placed blindly (at
 //! evenly spread times), a name sat across its own curve where it fell steeply, or across a
 //! neighbour's.
 //!
@@ -18,9 +18,9 @@ const LIFT: f64 = 4.0;
 const MARGIN: f64 = 3.0;
 /// Names tried along a curve, at most.
 const TRIES: usize = 150;
-/// Rows of text a name may stand off its curve, to clear a bundle of curves that run
+/// The most rows of text a name may stand off its curve, to clear a bundle of curves that run
 /// together (a dozen misalignments all near their priors): a name across a line is not read.
-const ROWS: usize = 4;
+const MOST_ROWS_OFF: usize = 3;
 
 /// The plot of a panel: its x range, its log y range and its size in pixels.
 pub(super) struct Plot {
@@ -158,7 +158,7 @@ pub(super) fn place(
             // The curve's lowest and highest under the name: the name clears its own curve
             // however steep it is there.
             let (v_lo, v_hi) = extent(&own, (u - half, u + half));
-            for row in 0..ROWS {
+            for row in 0..=MOST_ROWS_OFF {
                 let stand_off = row as f64 * (size as f64 + MARGIN) / h;
                 for below in [false, true] {
                     // The name's bottom edge, in the plot's units.

@@ -305,10 +305,11 @@ pub(super) fn check_increasing(
             let why = if t == tp {
                 "the same time twice (a repeated row?)".to_owned()
             } else {
+                // Seven significant digits: `0.30000000000000004 s` reads as a bug of its own.
+                let back: f64 = format!("{:.6e}", tp - t).parse().unwrap_or(tp - t);
                 format!(
-                    "the time goes back by {} s (a clock that restarted, or two recordings \
-                     joined: split them into two datasets)",
-                    tp - t
+                    "the time goes back by {back} s (a clock that restarted, two recordings \
+                     joined (split them into two datasets), or rows out of order)"
                 )
             };
             return Err(data_error(

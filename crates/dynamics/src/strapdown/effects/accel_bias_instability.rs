@@ -5,7 +5,8 @@
 //!
 //! Defaults: `T_a` one hour; `sigma_ba` 10 ug navigation, 50 ug tactical, 250 ug MEMS
 //! (Groves, 2013, section 4.4.1, cited from memory). gnss-ins-sim's built-in models give far
-//! smaller ones, 0.37, 5 and 20 ug for its high, mid and low accuracy units: read a detection
+//! smaller ones, 0.37, 5 and 20 ug for its high, mid and low accuracy units (correlation time
+//! 100 s): read a detection
 //! limit stated in multiples of these sizes with that in mind, and state a data sheet's
 //! figure (`sigma_ba=...`) when there is one.
 

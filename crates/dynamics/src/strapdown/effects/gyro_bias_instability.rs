@@ -7,7 +7,8 @@
 //! Defaults: `T_g` one hour, as KF-GINS models its MEMS units' biases; `sigma_bg` the
 //! in-run bias stability of each class (0.003 deg/h navigation, 0.3 deg/h tactical, 10 deg/h
 //! MEMS; Groves, 2013, section 4.4.1, cited from memory; gnss-ins-sim's built-in models give
-//! 0.1, 3.5 and 10 deg/h for its high, mid and low accuracy units).
+//! 0.1, 3.5 and 10 deg/h for its high, mid and low accuracy units, with a 100 s correlation
+//! time: only the MEMS value agrees).
 
 use super::{Instability, StrapdownEffect, Triad, DEG_PER_H};
 

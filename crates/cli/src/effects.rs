@@ -64,8 +64,9 @@ pub fn effects_file_of(
 }
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
-    let text = match a.model.as_str() {
-        "platform" => {
+    let model: ModelKind = a.model.parse().map_err(|e| format!("--model {e}"))?;
+    let text = match model {
+        ModelKind::Platform => {
             if let Some(unit) = a.unit {
                 return Err(format!(
                     "--unit {unit}: a strapdown unit's class; expected --model strapdown or \
@@ -92,7 +93,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             }
             text
         }
-        "strapdown" => {
+        ModelKind::Strapdown => {
             let registry = match effects_file_of(
                 a.effects_file.as_deref(),
                 ModelKind::Strapdown,
@@ -112,9 +113,6 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
                 }
             }
             text
-        }
-        other => {
-            return Err(format!("--model {other}: expected platform or strapdown").into());
         }
     };
     say!("{}", text.trim_end());

@@ -47,7 +47,7 @@ pub struct Args {
     truth: bool,
     /// The model family: `platform` (the paper's) or `strapdown` (a unit bolted to the
     /// vehicle; writes imu.csv and the odometer's speed).
-    #[arg(long, default_value = "platform", value_parser = ["platform", "strapdown"])]
+    #[arg(long, default_value = "platform")]
     model: String,
     /// The strapdown unit's class: `navigation`, `tactical` or `mems` (its bias sizes and
     /// noise densities; docs/model.md, "Simulating a strapdown test").
@@ -62,10 +62,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
-    let model = match a.model.as_str() {
-        "strapdown" => ModelKind::Strapdown,
-        _ => ModelKind::Platform,
-    };
+    let model: ModelKind = a.model.parse().map_err(|e| format!("--model {e}"))?;
     let declarations = crate::effects::effects_file_of(
         a.effects_file.as_deref(),
         model,

@@ -196,6 +196,20 @@ fn a_bad_or_repeated_effect_is_refused_with_its_index() {
     ]);
     refused_at_once(&o, t.elapsed(), "effect `gyro-fz` is given twice");
     assert!(!dir.join("sim").exists(), "nothing written");
+    let t = Instant::now();
+    let o = navkf([
+        Path::new("simulate"),
+        Path::new("--out"),
+        &dir.join("sim"),
+        Path::new("--model"),
+        Path::new("gimbal"),
+    ]);
+    refused_at_once(
+        &o,
+        t.elapsed(),
+        "--model `gimbal`: expected platform or strapdown",
+    );
+    assert!(!dir.join("sim").exists(), "nothing written");
 }
 
 #[test]

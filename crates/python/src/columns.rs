@@ -1,10 +1,7 @@
 //! A dataset's files as columns: each CSV column a numpy array under its header's name
 //! (`docs/data-format.md`), an empty cell a NaN.
 
-use navkf_dynamics::dataset::{
-    Dataset, IMU_RATE_COLUMNS, INPUT_COLUMNS, MEASUREMENT_COLUMNS, SPEED_MEASUREMENT_COLUMNS,
-};
-use navkf_dynamics::model_kind::ModelKind;
+use navkf_dynamics::dataset::{files_of, Dataset, Odometer};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -22,9 +19,9 @@ fn dict<'py>(
     Ok(d)
 }
 
-/// The columns of `rows`, each row `width` values long.
-fn transpose<const W: usize>(rows: impl Iterator<Item = [f64; W]>) -> Vec<Vec<f64>> {
-    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); W];
+/// The columns of `rows`, as many as `names`.
+fn transpose(names: &[&str], rows: impl Iterator<Item = Vec<f64>>) -> Vec<Vec<f64>> {
+    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
     for r in rows {
         for (c, v) in cols.iter_mut().zip(r) {
             c.push(v);
@@ -33,47 +30,34 @@ fn transpose<const W: usize>(rows: impl Iterator<Item = [f64; W]>) -> Vec<Vec<f6
     cols
 }
 
-/// The input file's columns: `inputs.csv` (platform) or `imu.csv` as rates (strapdown).
+/// The input file's columns, as the dataset's family writes them: `inputs.csv` (platform)
+/// or `imu.csv` as rates (strapdown).
 pub fn inputs<'py>(py: Python<'py>, ds: &Dataset) -> PyResult<Bound<'py, PyDict>> {
-    match ds.model {
-        ModelKind::Platform => dict(
-            py,
-            &INPUT_COLUMNS,
-            transpose(ds.inputs.iter().map(|s| [s.t, s.f[0], s.f[1], s.f[2]])),
-        ),
-        ModelKind::Strapdown => dict(
-            py,
-            &IMU_RATE_COLUMNS,
-            transpose(ds.inputs.iter().map(|s| {
-                let [a, b, c, d, e, f] = s.f;
-                [s.t, a, b, c, d, e, f]
-            })),
-        ),
-    }
+    let names = files_of(ds.model).input_columns();
+    let rows = ds.inputs.iter().map(|s| {
+        std::iter::once(s.t)
+            .chain(s.f[..names.len() - 1].iter().copied())
+            .collect()
+    });
+    dict(py, names, transpose(names, rows))
 }
 
 /// `measurements.csv`'s columns, NaN where a sensor gave nothing.
 pub fn measurements<'py>(py: Python<'py>, ds: &Dataset) -> PyResult<Bound<'py, PyDict>> {
+    let files = files_of(ds.model);
+    let names = files.measurement_columns();
     let pair = |p: Option<[f64; 2]>| p.unwrap_or([f64::NAN; 2]);
-    match ds.model {
-        ModelKind::Platform => dict(
-            py,
-            &MEASUREMENT_COLUMNS,
-            transpose(ds.measurements.iter().map(|m| {
+    let rows = ds.measurements.iter().map(|m| {
+        let [lat, lon] = pair(m.position_deg);
+        match files.odometer() {
+            Odometer::VelocityEastNorth => {
                 let [ve, vn] = pair(m.velocity);
-                let [lat, lon] = pair(m.position_deg);
-                [m.t, ve, vn, lat, lon]
-            })),
-        ),
-        ModelKind::Strapdown => dict(
-            py,
-            &SPEED_MEASUREMENT_COLUMNS,
-            transpose(ds.measurements.iter().map(|m| {
-                let [lat, lon] = pair(m.position_deg);
-                [m.t, m.speed.unwrap_or(f64::NAN), lat, lon]
-            })),
-        ),
-    }
+                vec![m.t, ve, vn, lat, lon]
+            }
+            Odometer::ForwardSpeed => vec![m.t, m.speed.unwrap_or(f64::NAN), lat, lon],
+        }
+    });
+    dict(py, names, transpose(names, rows))
 }
 
 /// `truth.csv`'s columns (`t`, then the states by name), when the dataset has truth.

@@ -99,7 +99,10 @@ impl Filter {
             sensors,
             state_names: model.state_names(),
             channel_names: catalogue.channels().iter().map(|c| c.name).collect(),
-            input_width: if ds.model.is_platform() { 3 } else { 6 },
+            input_width: navkf_dynamics::dataset::files_of(ds.model)
+                .input_columns()
+                .len()
+                - 1,
             start_t: start.t,
             x0: start.x,
             p0: start.p,

@@ -35,15 +35,12 @@ pub fn simulate(
     nhc_sigma: Option<f64>,
     effects_file: Option<PathBuf>,
 ) -> PyResult<Dataset> {
-    let model = match model {
-        "platform" => ModelKind::Platform,
-        "strapdown" => ModelKind::Strapdown,
-        other => {
-            return Err(crate::errors::to_py(&format!(
-                "model {other:?}: expected \"platform\" or \"strapdown\""
-            )))
-        }
-    };
+    let model: ModelKind = model.parse().map_err(|_| {
+        crate::errors::to_py(&format!(
+            "model {model:?}: expected {}",
+            ModelKind::expected("\"")
+        ))
+    })?;
     let declarations = match effects_file {
         Some(path) => {
             let file = DeclaredFile::read(&path).or_py()?;

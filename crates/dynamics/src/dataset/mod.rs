@@ -7,6 +7,7 @@
 //! bit-identical; [`Measurement::gps_rad`] converts for the filters.
 
 pub mod alignment;
+mod family;
 mod implausibility;
 mod implausible;
 pub mod kitti;
@@ -17,6 +18,7 @@ mod strapdown_plausibility;
 mod summary;
 mod write;
 
+pub use family::{files_of, FamilyFiles, Odometer};
 pub use implausibility::{Implausibility, JumpShape};
 pub use implausible::noise_beyond_sensors;
 pub use limits::{
@@ -114,14 +116,11 @@ impl Measurement {
 }
 
 impl Dataset {
-    /// The specific force of input sample `s`, m/s^2: the platform's navigation-frame
-    /// `[f_e, f_n, f_u]`, or the strapdown unit's body-frame `[f_x, f_y, f_z]` (its inputs
-    /// hold the body rate first). Its magnitude is the same in any frame.
+    /// The specific force of input sample `s`, m/s^2, in the frame of the family's inputs
+    /// ([`FamilyFiles::specific_force`]): the platform's navigation-frame `[f_e, f_n, f_u]`,
+    /// the strapdown unit's body-frame `[f_x, f_y, f_z]`.
     pub fn specific_force(&self, s: &InputSample) -> [f64; 3] {
-        match self.model {
-            crate::model_kind::ModelKind::Platform => [s.f[0], s.f[1], s.f[2]],
-            crate::model_kind::ModelKind::Strapdown => [s.f[3], s.f[4], s.f[5]],
-        }
+        files_of(self.model).specific_force(s)
     }
 }
 

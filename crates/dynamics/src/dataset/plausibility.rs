@@ -96,11 +96,15 @@ pub(super) const SLOWEST_INPUT_S: f64 = 1.5;
 pub(super) const GRAVITY_TOLERANCE: f64 = 0.3;
 
 impl Dataset {
-    /// The warnings this module describes: empty for data that look as data-format.md says.
+    /// Values that parse, yet look written in the wrong unit, axes or form: empty for data
+    /// that look as data-format.md says. Each family has its checks
+    /// ([`super::FamilyFiles::warnings`]).
     pub fn warnings(&self) -> Vec<DataWarning> {
-        if self.model == crate::model_kind::ModelKind::Strapdown {
-            return self.strapdown_warnings();
-        }
+        super::files_of(self.model).warnings(self)
+    }
+
+    /// The warnings of a platform dataset (module documentation).
+    pub(super) fn platform_warnings(&self) -> Vec<DataWarning> {
         let mut out = Vec::new();
         let odometer_fast = !self.odometer_beyond_road().is_empty();
         // Nor is a GPS track at a pole, where longitude measures no distance.

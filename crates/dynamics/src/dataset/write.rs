@@ -12,10 +12,7 @@
 //! `write` does not validate: it writes what it is given, and [`Dataset::read`] is the judge
 //! (a NaN written here is refused on reading, with its line).
 
-use super::{
-    Dataset, CONFIG_FILE, IMU_FILE, IMU_RATE_COLUMNS, INPUTS_FILE, INPUT_COLUMNS,
-    MEASUREMENTS_FILE, MEASUREMENT_COLUMNS, SPEED_MEASUREMENT_COLUMNS, TRUTH_FILE,
-};
+use super::{files_of, Dataset, Odometer, CONFIG_FILE, MEASUREMENTS_FILE, TRUTH_FILE};
 use crate::error::DynamicsError;
 use crate::model_kind::ModelKind;
 use std::fs;
@@ -31,12 +28,8 @@ impl Dataset {
     /// otherwise). Existing files are replaced atomically.
     pub fn write(&self, dir: &Path) -> Result<(), DynamicsError> {
         fs::create_dir_all(dir).map_err(|source| io_error(dir, source))?;
-        let inputs_file = match self.model {
-            ModelKind::Platform => INPUTS_FILE,
-            ModelKind::Strapdown => IMU_FILE,
-        };
         let mut files = vec![
-            (inputs_file, self.inputs_csv(dir)?),
+            (files_of(self.model).inputs_file(), self.inputs_csv(dir)?),
             (MEASUREMENTS_FILE, self.measurements_csv(dir)?),
             (CONFIG_FILE, self.config_toml(dir)?),
         ];
@@ -74,26 +67,19 @@ impl Dataset {
     }
 
     fn inputs_csv(&self, dir: &Path) -> Result<Vec<u8>, DynamicsError> {
+        let files = files_of(self.model);
+        let path = dir.join(files.inputs_file());
+        let columns = files.input_columns();
         let mut w = csv_writer();
-        let path = match self.model {
-            ModelKind::Platform => {
-                let path = dir.join(INPUTS_FILE);
-                record(&mut w, &path, INPUT_COLUMNS)?;
-                for s in &self.inputs {
-                    record(&mut w, &path, [s.t, s.f[0], s.f[1], s.f[2]].map(fmt_f64))?;
-                }
-                path
-            }
-            ModelKind::Strapdown => {
-                let path = dir.join(IMU_FILE);
-                record(&mut w, &path, IMU_RATE_COLUMNS)?;
-                for s in &self.inputs {
-                    let [a, b, c, d, e, f] = s.f;
-                    record(&mut w, &path, [s.t, a, b, c, d, e, f].map(fmt_f64))?;
-                }
-                path
-            }
-        };
+        record(&mut w, &path, columns)?;
+        for s in &self.inputs {
+            let used = &s.f[..columns.len() - 1];
+            record(
+                &mut w,
+                &path,
+                std::iter::once(&s.t).chain(used).copied().map(fmt_f64),
+            )?;
+        }
         finish(w, &path)
     }
 
@@ -102,17 +88,17 @@ impl Dataset {
         let mut w = csv_writer();
         let pair =
             |p: Option<[f64; 2]>| p.map_or([String::new(), String::new()], |p| p.map(fmt_f64));
-        match self.model {
-            ModelKind::Platform => {
-                record(&mut w, &path, MEASUREMENT_COLUMNS)?;
+        let files = files_of(self.model);
+        record(&mut w, &path, files.measurement_columns())?;
+        match files.odometer() {
+            Odometer::VelocityEastNorth => {
                 for m in &self.measurements {
                     let [ve, vn] = pair(m.velocity);
                     let [lat, lon] = pair(m.position_deg);
                     record(&mut w, &path, [fmt_f64(m.t), ve, vn, lat, lon])?;
                 }
             }
-            ModelKind::Strapdown => {
-                record(&mut w, &path, SPEED_MEASUREMENT_COLUMNS)?;
+            Odometer::ForwardSpeed => {
                 for m in &self.measurements {
                     let speed = m.speed.map_or(String::new(), fmt_f64);
                     let [lat, lon] = pair(m.position_deg);
@@ -149,7 +135,7 @@ impl Dataset {
         let path = dir.join(CONFIG_FILE);
         let n = &self.noise;
         let mut text = String::new();
-        if self.model != ModelKind::Platform {
+        if self.model != ModelKind::default() {
             text.push_str(&format!("[model]\nkind = \"{}\"\n\n", self.model.name()));
         }
         if let Some(a) = &self.initial {
@@ -192,10 +178,7 @@ impl Dataset {
         if !self.prior.is_empty() {
             let p = &self.prior;
             text.push_str("\n[prior]\n");
-            let azimuth = match self.model {
-                ModelKind::Platform => "azimuth_rad",
-                ModelKind::Strapdown => "heading_rad",
-            };
+            let azimuth = files_of(self.model).heading_prior_key();
             for (key, value) in [("level_rad", p.level_rad), (azimuth, p.azimuth_rad)] {
                 if let Some(v) = value {
                     text.push_str(&format!("{key} = {}\n", toml_f64(v)));

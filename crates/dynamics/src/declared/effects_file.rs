@@ -91,10 +91,7 @@ impl DeclaredFile {
             message: format!(
                 "declares {} effects ({}); {what} is a {} one; expected a file of {} effects",
                 self.family.name(),
-                match self.family {
-                    ModelKind::Strapdown => "`places`",
-                    ModelKind::Platform => "`rates` and `measurement` terms",
-                },
+                crate::dataset::files_of(self.family).declaration_terms(),
                 family.name(),
                 family.name()
             ),

@@ -42,7 +42,7 @@ impl ConfigFile {
 /// The coefficient names `[prior.coefficients]` and `truth.csv` may use in a strapdown
 /// dataset: the biases and the coefficients of `catalogue` (the strapdown catalogue with the
 /// dataset's declared effects).
-pub(super) fn strapdown_coefficients(catalogue: &StrapdownRegistry) -> Vec<String> {
+pub(in crate::dataset) fn strapdown_coefficients(catalogue: &StrapdownRegistry) -> Vec<String> {
     let effects = catalogue
         .names()
         .into_iter()
@@ -58,7 +58,7 @@ pub(super) fn strapdown_coefficients(catalogue: &StrapdownRegistry) -> Vec<Strin
 
 /// Every coefficient name a `[prior.coefficients]` key may take: the base model's and those
 /// of `registry`'s effects.
-pub(super) fn known_coefficients(registry: &Registry) -> Vec<String> {
+pub(in crate::dataset) fn known_coefficients(registry: &Registry) -> Vec<String> {
     let mut names: Vec<String> = BASE_NAMES[NAV_DIM..]
         .iter()
         .map(|s| s.to_string())
@@ -71,35 +71,22 @@ pub(super) fn known_coefficients(registry: &Registry) -> Vec<String> {
     names
 }
 
-/// Reads and checks `dataset.toml`. `registry` holds the platform effects known before the
-/// file's own declarations, which join it (an extended copy is returned with the file).
+/// Reads and checks `dataset.toml`, and returns it with every coefficient name its
+/// `[prior.coefficients]` and `truth.csv` may use ([`FamilyFiles::declare`]). `registry`
+/// holds the platform effects known before the file's own declarations.
 pub(super) fn read_config(
     path: &Path,
     registry: &Registry,
-) -> Result<(ConfigFile, Registry), DynamicsError> {
+) -> Result<(ConfigFile, Vec<String>), DynamicsError> {
     let text = read_text(path, &TextFile::DATASET_CONFIG)?;
     let config: ConfigFile = toml::from_str(&text).map_err(|e| toml_error(path, &text, &e))?;
-    let kind = config.kind();
-    let mut registry = registry.clone();
-    let declaration_error = |e: DynamicsError| DynamicsError::File {
-        path: path.to_path_buf(),
-        message: printable(&e.to_string().replace("configuration: ", "")),
-    };
-    let known = match kind {
-        ModelKind::Platform => {
-            registry
-                .declare(&config.effect)
-                .map_err(declaration_error)?;
-            known_coefficients(&registry)
-        }
-        ModelKind::Strapdown => {
-            let mut catalogue = StrapdownRegistry::catalogue();
-            catalogue
-                .declare(&config.effect)
-                .map_err(declaration_error)?;
-            strapdown_coefficients(&catalogue)
-        }
-    };
+    let files = files_of(config.kind());
+    let known = files
+        .declare(&mut registry.clone(), &config.effect)
+        .map_err(|e| DynamicsError::File {
+            path: path.to_path_buf(),
+            message: printable(&e.to_string().replace("configuration: ", "")),
+        })?;
     let located = |table: &str, key: &str, message: String| match key_line(&text, table, key) {
         Some(line) => data_error(path, line, &format!("{table}.{key}"), message),
         None => DynamicsError::File {
@@ -107,39 +94,33 @@ pub(super) fn read_config(
             message: printable(&format!("{table}.{key}: {message}")),
         },
     };
-    match (kind, &config.initial) {
-        (ModelKind::Platform, Some(_)) => {
+    if let Some(a) = &config.initial {
+        if let Some(why) = files.initial_refused() {
             return Err(DynamicsError::File {
                 path: path.to_path_buf(),
-                message: "[initial]: a platform dataset has no attitude to state (its tilt is \
-                          an error, stated by [prior]); expected [model] kind = \"strapdown\" \
-                          or no [initial]"
-                    .into(),
-            })
+                message: format!("[initial]: {why}"),
+            });
         }
-        (ModelKind::Strapdown, Some(a)) => {
-            for (key, v, limit) in [
-                ("roll_deg", a.roll_deg, 180.0),
-                ("pitch_deg", a.pitch_deg, 90.0),
-                ("heading_deg", a.heading_deg, f64::INFINITY),
-            ] {
-                if !(v.is_finite() && v.abs() <= limit) {
-                    return Err(located(
-                        "initial",
-                        key,
-                        format!("{v}: expected finite degrees within +-{limit}"),
-                    ));
-                }
-            }
-            if a.pitch_deg.abs() == 90.0 {
+        for (key, v, limit) in [
+            ("roll_deg", a.roll_deg, 180.0),
+            ("pitch_deg", a.pitch_deg, 90.0),
+            ("heading_deg", a.heading_deg, f64::INFINITY),
+        ] {
+            if !(v.is_finite() && v.abs() <= limit) {
                 return Err(located(
                     "initial",
-                    "pitch_deg",
-                    "90 deg: the Euler angles are singular there; expected |pitch| < 90".into(),
+                    key,
+                    format!("{v}: expected finite degrees within +-{limit}"),
                 ));
             }
         }
-        _ => {}
+        if a.pitch_deg.abs() == 90.0 {
+            return Err(located(
+                "initial",
+                "pitch_deg",
+                "90 deg: the Euler angles are singular there; expected |pitch| < 90".into(),
+            ));
+        }
     }
     if let Err(message) = config.noise.unwrap_or_default().validate() {
         // validate() names the key as `noise.<key>`; point at its line when we can find it.
@@ -162,7 +143,7 @@ pub(super) fn read_config(
             config.noise.is_some_and(|n| n.zupt_m_s.is_some()),
         ),
     ] {
-        if kind == ModelKind::Platform && set {
+        if !files.has_pseudo_measurements() && set {
             let message = format!(
                 "the strapdown family's pseudo-measurements; expected [model] kind = \
                  \"strapdown\" or no noise.{key}"
@@ -187,7 +168,7 @@ pub(super) fn read_config(
             },
         });
     }
-    Ok((config, registry))
+    Ok((config, known))
 }
 
 /// The 1-based line of `key = ...` inside `[table]`, for the simple layout this project

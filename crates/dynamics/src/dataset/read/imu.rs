@@ -23,7 +23,7 @@ pub(super) enum ImuForm {
     Increments,
 }
 
-pub(super) fn read_imu(path: &Path) -> Result<Vec<InputSample>, DynamicsError> {
+pub(in crate::dataset) fn read_imu(path: &Path) -> Result<Vec<InputSample>, DynamicsError> {
     let both = format!(
         "{}` or `{}",
         IMU_RATE_COLUMNS.join(","),

@@ -4,7 +4,7 @@
 
 use super::*;
 
-pub(super) fn read_inputs(path: &Path) -> Result<Vec<InputSample>, DynamicsError> {
+pub(in crate::dataset) fn read_inputs(path: &Path) -> Result<Vec<InputSample>, DynamicsError> {
     let mut table = read_table(path, &INPUT_COLUMNS.join(","))?;
     check_header(&table, &INPUT_COLUMNS)?;
     let mut inputs = Vec::new();
@@ -38,37 +38,12 @@ pub(super) fn read_inputs(path: &Path) -> Result<Vec<InputSample>, DynamicsError
     Ok(inputs)
 }
 
-/// The family's `measurements.csv`: its header, and the file of inputs beside it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Layout {
-    /// `t,v_e,v_n,lat_deg,lon_deg` beside `inputs.csv`.
-    Platform,
-    /// `t,speed,lat_deg,lon_deg` beside `imu.csv`.
-    Strapdown,
-}
-
-impl Layout {
-    fn columns(self) -> &'static [&'static str] {
-        match self {
-            Layout::Platform => &MEASUREMENT_COLUMNS,
-            Layout::Strapdown => &SPEED_MEASUREMENT_COLUMNS,
-        }
-    }
-    /// The inputs' file name.
-    pub(super) fn inputs_file(self) -> &'static str {
-        match self {
-            Layout::Platform => INPUTS_FILE,
-            Layout::Strapdown => IMU_FILE,
-        }
-    }
-}
-
 pub(super) fn read_measurements(
     path: &Path,
     inputs: &[InputSample],
-    layout: Layout,
+    files: &dyn FamilyFiles,
 ) -> Result<Vec<Measurement>, DynamicsError> {
-    let columns = layout.columns();
+    let columns = files.measurement_columns();
     let mut table = read_table(path, &columns.join(","))?;
     check_header(&table, columns)?;
     let mut measurements = Vec::new();
@@ -86,17 +61,17 @@ pub(super) fn read_measurements(
         let t = cells.required(0)?;
         let p = [cells.optional(gps[0])?, cells.optional(gps[1])?];
         let position_deg = pair(&cells, p, gps, "GPS")?;
-        let (velocity, speed) = match layout {
-            Layout::Platform => {
+        let (velocity, speed) = match files.odometer() {
+            Odometer::VelocityEastNorth => {
                 let v = [cells.optional(1)?, cells.optional(2)?];
                 (pair(&cells, v, [1, 2], "odometer")?, None)
             }
-            Layout::Strapdown => (None, cells.optional(1)?),
+            Odometer::ForwardSpeed => (None, cells.optional(1)?),
         };
         if velocity.is_none() && speed.is_none() && position_deg.is_none() {
-            let (odometer, all) = match layout {
-                Layout::Platform => ("an odometer pair (v_e,v_n)", "four"),
-                Layout::Strapdown => ("an odometer speed", "three"),
+            let (odometer, all) = match files.odometer() {
+                Odometer::VelocityEastNorth => ("an odometer pair (v_e,v_n)", "four"),
+                Odometer::ForwardSpeed => ("an odometer speed", "three"),
             };
             return Err(cells.error(
                 &columns[1..].join(","),
@@ -153,14 +128,14 @@ pub(super) fn read_measurements(
                 format!(
                     "t = {} is outside the span of {}; expected {t0} <= t <= {t1}",
                     m.t,
-                    layout.inputs_file()
+                    files.inputs_file()
                 ),
             ));
         }
     }
     check_input_rate(
         path,
-        &path.with_file_name(layout.inputs_file()),
+        &path.with_file_name(files.inputs_file()),
         inputs,
         &measurements,
     )?;

@@ -8,9 +8,8 @@
 //! latitude/longitude in degrees, sensor pairs either complete or empty.
 
 use crate::dataset::{
-    Dataset, InitialAttitude, InputSample, Measurement, Provenance, Truth, CONFIG_FILE, IMU_FILE,
-    INPUTS_FILE, INPUT_COLUMNS, MEASUREMENTS_FILE, MEASUREMENT_COLUMNS, SPEED_MEASUREMENT_COLUMNS,
-    TRUTH_FILE,
+    files_of, Dataset, FamilyFiles, InitialAttitude, InputSample, Measurement, Odometer,
+    Provenance, Truth, CONFIG_FILE, INPUTS_FILE, INPUT_COLUMNS, MEASUREMENTS_FILE, TRUTH_FILE,
 };
 use crate::earth::{meridian_radius, prime_vertical_radius};
 use crate::effects::Registry;
@@ -36,11 +35,13 @@ mod units;
 
 use config::*;
 use csv_table::*;
-use imu::*;
 use measurements::*;
 use truth::*;
 use units::*;
 
+pub(super) use config::{known_coefficients, strapdown_coefficients};
+pub(super) use imu::read_imu;
+pub(super) use measurements::read_inputs;
 pub(super) use units::{chord_m, odometer_east_north};
 
 impl Dataset {
@@ -66,43 +67,24 @@ impl Dataset {
         }
         // dataset.toml first: it says which family's files to read.
         let config_path = dir.join(CONFIG_FILE);
-        let (config, registry) = if exists(&config_path)? {
+        let (config, known) = if exists(&config_path)? {
             read_config(&config_path, registry)?
         } else {
-            (ConfigFile::default(), registry.clone())
+            let config = ConfigFile::default();
+            let known = files_of(config.kind()).declare(&mut registry.clone(), &[])?;
+            (config, known)
         };
-        let registry = &registry;
-        const NAV_DIM_STRAPDOWN: usize = crate::strapdown::state::NAV_DIM;
         let kind = config.kind();
-        let (inputs, layout, state_names) = match kind {
-            ModelKind::Platform => {
-                let mut names: Vec<String> = BASE_NAMES.iter().map(|s| s.to_string()).collect();
-                names.extend(known_coefficients(registry));
-                (
-                    read_inputs(&dir.join(INPUTS_FILE))?,
-                    Layout::Platform,
-                    names,
-                )
-            }
-            ModelKind::Strapdown => {
-                let navigation = &crate::strapdown::state::STATE_NAMES[..NAV_DIM_STRAPDOWN];
-                let mut names: Vec<String> = navigation.iter().map(|s| s.to_string()).collect();
-                // The declarations were checked with dataset.toml (read_config).
-                let mut catalogue = crate::strapdown::effects::StrapdownRegistry::catalogue();
-                catalogue.declare(&config.effect)?;
-                names.extend(config::strapdown_coefficients(&catalogue));
-                // A bias instability's truth carries its triad's departures, states and not
-                // coefficients a prior may name (docs/model.md eq. (69)).
-                names.extend(
-                    crate::strapdown::state::GYRO_DEPARTURE_NAMES
-                        .iter()
-                        .chain(&crate::strapdown::state::ACCEL_DEPARTURE_NAMES)
-                        .map(|s| s.to_string()),
-                );
-                (read_imu(&dir.join(IMU_FILE))?, Layout::Strapdown, names)
-            }
-        };
-        let measurements = read_measurements(&dir.join(MEASUREMENTS_FILE), &inputs, layout)?;
+        let files = files_of(kind);
+        let state_names: Vec<String> = files
+            .navigation_names()
+            .iter()
+            .map(|s| s.to_string())
+            .chain(known)
+            .chain(files.other_truth_names().iter().map(|s| s.to_string()))
+            .collect();
+        let inputs = files.read_inputs(&dir.join(files.inputs_file()))?;
+        let measurements = read_measurements(&dir.join(MEASUREMENTS_FILE), &inputs, files)?;
         let truth_path = dir.join(TRUTH_FILE);
         let truth = if exists(&truth_path)? {
             Some(read_truth(

@@ -55,15 +55,22 @@ pub(super) fn read_truth(
     }
     for name in &names {
         if !known.contains(name) {
+            // Examples spread over the family's states and its effects' coefficients.
+            let examples: Vec<&str> = known
+                .iter()
+                .step_by((known.len() / 5).max(1))
+                .take(5)
+                .map(String::as_str)
+                .collect();
             return Err(data_error(
                 path,
                 header.line,
                 name,
                 format!(
                     "`{}` is no state of the base model or of a known effect; expected state \
-                     names such as phi_x, v_x, L, Kg0x, Ka1y or an effect's coefficients \
-                     (misspelt?)",
-                    name
+                     names such as {} or an effect's coefficients (misspelt?)",
+                    name,
+                    examples.join(", ")
                 ),
             ));
         }

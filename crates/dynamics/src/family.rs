@@ -11,8 +11,9 @@
 //! initial sigmas and angle wrapping rely on; the states after them are constants
 //! (coefficients or biases).
 //!
-//! A new family is a folder (its model, sensors, simulator) plus a [`ModelKind`] and one
-//! arm where a study builds its parts (`navkf_study::monte_carlo::family`).
+//! A new family is a folder (its model, sensors, simulator) plus a [`ModelKind`], its
+//! dataset files ([`crate::dataset::FamilyFiles`]) and its study parts (`StudyFamily`, in
+//! `crates/study/src/family/`), each registered by one arm.
 
 use crate::dataset::Measurement;
 pub use crate::model_kind::ModelKind;

@@ -8,6 +8,7 @@
 
 pub mod config;
 pub mod error;
+mod family;
 pub mod guard;
 pub mod merge;
 pub mod monte_carlo;

@@ -1,7 +1,6 @@
 //! Human-readable tables of a summary (terminal and report.md), and `report.md` itself.
 
 use crate::summary::Summary;
-use navkf_dynamics::ModelKind;
 use navkf_report::markdown::{cell, number, Number, Table};
 use navkf_report::provenance::machine;
 use std::fmt::Write as _;
@@ -176,7 +175,7 @@ pub fn consistency(s: &Summary) -> String {
 }
 
 /// `x` to six decimals, without trailing zeros (50 deg/h, not 50.000).
-fn rounded(x: f64) -> f64 {
+pub(crate) fn rounded(x: f64) -> f64 {
     (x * 1e6).round() / 1e6
 }
 
@@ -224,30 +223,7 @@ fn settings(s: &Summary) -> String {
                 c.trajectory.start_lon_deg
             )
         },
-        match c.model.kind {
-            ModelKind::Platform => format!(
-                "truth: effects {}; integration {} Hz, inputs {} Hz, measurements {} Hz; coefficients drawn at {} x their typical sigma",
-                list(&c.truth.effects),
-                c.truth.rate_hz,
-                c.truth.input_rate_hz,
-                c.truth.measurement_rate_hz,
-                c.truth.coefficient_scale
-            ),
-            ModelKind::Strapdown => {
-                let unit = c.model.unit_class();
-                let e = unit.errors();
-                format!(
-                    "truth: a strapdown {} unit (biases {} deg/h and {} mg one sigma, effects {}, drawn at {} x their typical sigma) on the path itself; IMU read at {} Hz, measurements {} Hz",
-                    unit.name(),
-                    rounded(e.gyro_bias.to_degrees() * 3600.0),
-                    rounded(e.accel_bias / (navkf_dynamics::earth::STANDARD_GRAVITY * 1e-3)),
-                    list(&c.truth.effects),
-                    c.truth.coefficient_scale,
-                    c.truth.input_rate_hz,
-                    c.truth.measurement_rate_hz
-                )
-            }
-        },
+        crate::family::of(c.model.kind).truth_line(c, &list(&c.truth.effects)),
         {
             let n = c.truth_noise();
             let nhc = n

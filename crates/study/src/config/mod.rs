@@ -392,8 +392,7 @@ impl StudyConfig {
             ));
         }
         self.noise.validate()?;
-        self.check_declarations()?;
-        model::check_family_keys(self)?;
+        crate::family::of(self.model.kind).check(self)?;
         self.trajectory.validate().map_err(|e| e.to_string())?;
         let f = &self.filter;
         let i = &f.initial;

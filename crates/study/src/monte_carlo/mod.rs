@@ -10,7 +10,6 @@
 
 mod bound;
 mod example;
-mod family;
 mod run;
 mod schedule;
 mod setup;

@@ -2,10 +2,10 @@
 //! simulator with its coefficient priors, every compared filter's [`FilterSpec`] and model,
 //! the stored times and each filter state's initial sigma.
 
-use super::family::{self, FamilyParts};
 use super::{FilterSetup, Study};
 use crate::config::StudyConfig;
 use crate::error::StudyError;
+use crate::family::{self, FamilyParts};
 use navkf_dynamics::rng::{stream, Purpose};
 use navkf_dynamics::state::*;
 use navkf_dynamics::Trajectory;
@@ -49,7 +49,7 @@ impl Study {
             sim,
             filter_model,
             filter_model_in,
-        } = family::parts(&config, trajectory)?;
+        } = family::of(config.model.kind).parts(&config, trajectory)?;
         let mut filters = Vec::new();
         for label in &config.study.filters {
             let spec = config.filter.plan(label).map_err(StudyError::Other)?;

@@ -61,10 +61,8 @@ pub(super) fn swept_axis(key: &str, model: ModelKind) -> (String, f64) {
         }
         None => (words, factor),
     };
-    match model {
-        ModelKind::Platform => (words, factor),
-        ModelKind::Strapdown => (words.replace("azimuth", "heading"), factor),
-    }
+    let heading = crate::family::of(model).heading_word();
+    (words.replace("azimuth", heading), factor)
 }
 
 #[cfg(test)]

@@ -10,9 +10,6 @@
 //! before it is put in place, so that a truth driven non-finite or off the Earth is refused,
 //! not written.
 
-mod platform;
-mod strapdown;
-
 use crate::error::StudyError;
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::declared::EffectDeclaration;
@@ -76,10 +73,7 @@ pub fn simulate(
             )));
         }
     }
-    let ready = match req.model {
-        ModelKind::Platform => platform::prepare(req, names)?,
-        ModelKind::Strapdown => strapdown::prepare(req, names)?,
-    };
+    let ready = crate::family::of(req.model).prepare(req, names)?;
     // Checked before simulating: a refused folder costs nothing.
     let staged = ResultsDir::begin_kind(out, FolderKind::Dataset, &[])?;
     let (mut ds, description) = ready(&dataset_name(out), req.seed, req.run);

@@ -2,8 +2,8 @@
 //! "State equations") with the measurements of docs/model.md, "Measurements"; here its
 //! settings are checked and the simulator built.
 
-use super::{Ready, SettingNames, SimulationRequest};
 use crate::error::StudyError;
+use crate::simulation::{Ready, SettingNames, SimulationRequest};
 use navkf_dynamics::effect_spec::EffectSpec;
 use navkf_dynamics::{
     Attitude, NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TruthConfig,
@@ -11,7 +11,10 @@ use navkf_dynamics::{
 use std::sync::Arc;
 
 /// Checks `req` for the platform and builds its simulator.
-pub(super) fn prepare(req: &SimulationRequest, names: SettingNames) -> Result<Ready, StudyError> {
+pub(in crate::family) fn prepare(
+    req: &SimulationRequest,
+    names: SettingNames,
+) -> Result<Ready, StudyError> {
     let other = StudyError::Other;
     for (key, given) in [
         ("unit", req.unit.is_some()),

@@ -3,8 +3,8 @@
 //! `[initial]` as the unit's own alignment states it, `[noise]` with the constraint's sigma,
 //! `[prior]`) and `truth.csv`.
 
-use super::{Ready, SettingNames, SimulationRequest};
 use crate::error::StudyError;
+use crate::simulation::{Ready, SettingNames, SimulationRequest};
 use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
 use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::model::StrapdownModel;
@@ -22,7 +22,10 @@ const DEFAULT_NHC_M_S: f64 = 0.1;
 const DEFAULT_HEADING_SIGMA: f64 = 0.035;
 
 /// Checks `req` for a strapdown unit and builds its simulator.
-pub(super) fn prepare(req: &SimulationRequest, names: SettingNames) -> Result<Ready, StudyError> {
+pub(in crate::family) fn prepare(
+    req: &SimulationRequest,
+    names: SettingNames,
+) -> Result<Ready, StudyError> {
     let other = StudyError::Other;
     let mut registry = StrapdownRegistry::catalogue();
     registry

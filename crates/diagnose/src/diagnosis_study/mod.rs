@@ -12,12 +12,12 @@
 //! whatever the thread count.
 
 pub mod content;
+mod family;
 pub mod hidden;
 pub mod plots;
 pub mod rates;
 pub mod report;
 pub mod shard;
-pub mod strapdown;
 
 use crate::error::DiagnoseError;
 use crate::{diagnose, Options, Verdict};
@@ -25,7 +25,6 @@ use content::{Class, Hidden, Planned};
 use navkf_dynamics::declared::EffectDeclaration;
 use navkf_dynamics::input_file::{printable, read_text, toml_error, toml_message, TextFile};
 use navkf_dynamics::simulate::{Alignment, InitialTilt};
-use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
 use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::unit_class::UnitClass;
 use navkf_dynamics::{ModelKind, NoiseConfig, Registry, Trajectory, TrajectoryConfig};
@@ -232,9 +231,6 @@ impl StudyModel {
     }
 }
 
-/// Whether one model holds both effects of a pair (the study's family, registry built once).
-type PairFits = Box<dyn Fn([&str; 2]) -> Result<(), DiagnoseError>>;
-
 /// A whole diagnosis study file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -302,13 +298,9 @@ impl DiagnosisStudyConfig {
 
     /// The effects of the study's family: its catalogue's, then those the file declares.
     pub fn effect_names(&self) -> Vec<String> {
-        match self.model.kind {
-            ModelKind::Platform => self.platform_registry().map(|r| r.names()),
-            ModelKind::Strapdown => self
-                .strapdown_registry()
-                .map(|r| r.names().into_iter().map(str::to_string).collect()),
-        }
-        .unwrap_or_default()
+        family::of(self.model.kind)
+            .effect_names(self)
+            .unwrap_or_default()
     }
 
     /// The platform catalogue with the file's `[[effect]]` declared.
@@ -325,45 +317,6 @@ impl DiagnosisStudyConfig {
         Ok(registry)
     }
 
-    /// Refuses declarations that are not of the study's family or not well formed, by key
-    /// (`effect[0].places[1].place: ...`).
-    fn validate_declarations(&self) -> Result<(), String> {
-        let message = |e: DiagnoseError| match e {
-            DiagnoseError::Dynamics(navkf_dynamics::DynamicsError::Config { key, message }) => {
-                format!("{key}: {message}")
-            }
-            other => other.to_string(),
-        };
-        match self.model.kind {
-            ModelKind::Platform => self.platform_registry().map(drop).map_err(message),
-            ModelKind::Strapdown => self.strapdown_registry().map(drop).map_err(message),
-        }
-    }
-
-    /// Refuses what the study's family does not read (by key).
-    fn validate_family(&self) -> Result<(), String> {
-        match self.model.kind {
-            ModelKind::Platform => {
-                if self.model.unit.is_some() {
-                    return Err(
-                        "model.unit: a unit class is a strapdown study's; expected no \
-                                `unit` with kind = \"platform\""
-                            .into(),
-                    );
-                }
-                if self.noise.nhc_m_s.is_some() || self.noise.zupt_m_s.is_some() {
-                    return Err(
-                        "noise.nhc_m_s, noise.zupt_m_s: the constraints are a strapdown \
-                                study's; expected neither with kind = \"platform\""
-                            .into(),
-                    );
-                }
-                Ok(())
-            }
-            ModelKind::Strapdown => strapdown::validate(self),
-        }
-    }
-
     fn validate(&self) -> Result<(), String> {
         if self.study.kind != StudyKind::Diagnosis {
             return Err(
@@ -375,8 +328,8 @@ impl DiagnosisStudyConfig {
         if self.content.is_empty() {
             return Err("content: no [[content]] table; expected at least one".into());
         }
-        self.validate_family()?;
-        self.validate_declarations()?;
+        let family = family::of(self.model.kind);
+        family.validate(self)?;
         let names = self.effect_names();
         let bounds = |key: String, [lo, hi]: [f64; 2]| {
             if lo.is_finite() && hi.is_finite() && lo > 0.0 && hi >= lo {
@@ -421,26 +374,13 @@ impl DiagnosisStudyConfig {
                     ));
                 }
             }
+            if let Some(why) = family.refuses_class(c) {
+                return Err(format!("content[{i}]: {why}"));
+            }
             match c {
                 ContentClass::Outside { sizes, .. }
                 | ContentClass::MisstatedNoise { sizes, .. } => {
                     bounds(format!("content[{i}].sizes"), *sizes)?
-                }
-                ContentClass::MemsNoise { sizes, .. } | ContentClass::Misaligned { sizes, .. }
-                    if self.model.kind != ModelKind::Platform =>
-                {
-                    let _ = sizes;
-                    return Err(format!(
-                        "content[{i}]: a platform class (MEMS noise and misalignment are the \
-                         strapdown family's normal state, which its own classes cover); \
-                         expected it in a study with kind = \"platform\""
-                    ));
-                }
-                ContentClass::WrongUnits { .. } if self.model.kind != ModelKind::Platform => {
-                    return Err(format!(
-                        "content[{i}]: wrong-units is a platform class for now; expected it in \
-                         a study with kind = \"platform\""
-                    ));
                 }
                 ContentClass::MemsNoise { sizes, .. } => {
                     bounds(format!("content[{i}].sizes"), *sizes)?
@@ -496,28 +436,10 @@ impl DiagnosisStudyConfig {
     /// place of the strapdown sensor model), naming both; only pairs with a declared effect
     /// are tried, the catalogue's fitting together by construction.
     fn pairs_fit_one_model(&self, pool: &[String]) -> Result<(), String> {
-        let noise = NoiseConfig::default();
         // The family's registry, built once; a pair fits if a model holds both.
-        let fits: PairFits = match self.model.kind {
-            ModelKind::Platform => {
-                let registry = self.platform_registry().map_err(|e| e.to_string())?;
-                Box::new(move |pair| {
-                    navkf_dynamics::PlatformModel::new(registry.build_all(&pair)?, &noise)?;
-                    Ok(())
-                })
-            }
-            ModelKind::Strapdown => {
-                let registry = self.strapdown_registry().map_err(|e| e.to_string())?;
-                let class = self.model.unit_class();
-                Box::new(move |pair| {
-                    let list =
-                        StrapdownEffectList::parse_entries(&pair, &registry).map_err(|(_, e)| e)?;
-                    navkf_dynamics::strapdown::model::StrapdownModel::base(&noise)
-                        .with_effects(&list, class, 1.0)?;
-                    Ok(())
-                })
-            }
-        };
+        let fits = family::of(self.model.kind)
+            .pair_fits(self)
+            .map_err(|e| e.to_string())?;
         let declared = |n: &String| self.effect.iter().any(|d| &d.name == n);
         for (j, a) in pool.iter().enumerate() {
             for b in pool[j + 1..].iter().filter(|b| declared(a) || declared(b)) {
@@ -709,31 +631,7 @@ pub fn run(
 /// The study family's effects (catalogued and declared) with their typical sizes (the
 /// detection curves' scale).
 pub fn effect_scales(config: &DiagnosisStudyConfig) -> Vec<rates::EffectScale> {
-    match config.model.kind {
-        ModelKind::Platform => config
-            .platform_registry()
-            .map(|r| rates::platform_scales(&r))
-            .unwrap_or_default(),
-        ModelKind::Strapdown => {
-            let Ok(registry) = config.strapdown_registry() else {
-                return Vec::new();
-            };
-            registry
-                .names()
-                .into_iter()
-                .map(|name| {
-                    let (typical, unit) =
-                        strapdown::typical(&registry, name, config.model.unit_class())
-                            .unwrap_or((f64::NAN, String::new()));
-                    rates::EffectScale {
-                        name: name.to_string(),
-                        typical,
-                        unit,
-                    }
-                })
-                .collect()
-        }
-    }
+    family::of(config.model.kind).effect_scales(config)
 }
 
 /// Number of datasets the study makes.

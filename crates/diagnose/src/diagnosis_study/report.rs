@@ -52,13 +52,7 @@ pub fn markdown(
         "{} simulated {:.0} s vehicle tests{} on {} trajectory, seed {}, each diagnosed as a user would (default priors, noise check on, filter `{}`). {} diagnoses stopped with an error.{}\n",
         r.datasets,
         s.config.trajectory.duration_s,
-        match s.config.model.kind {
-            navkf_dynamics::ModelKind::Platform => String::new(),
-            navkf_dynamics::ModelKind::Strapdown => format!(
-                " of a strapdown {} unit",
-                s.config.model.unit_class().name()
-            ),
-        },
+        super::family::of(s.config.model.kind).unit_words(&s.config),
         if s.config.trajectory == navkf_dynamics::TrajectoryConfig::default() {
             "the paper's"
         } else {

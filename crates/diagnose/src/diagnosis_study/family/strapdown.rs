@@ -8,9 +8,13 @@
 //! and a bias instability that multiple of its steady sigma. Sizes stop below the smallest
 //! bound of the effect's coefficients (the simulator refuses a value no instrument has).
 
-use super::hidden::{log_uniform, misstate, sign, Hidden, Planned};
-use super::{DiagnosisSection, DiagnosisStudyConfig, OutsideEffect, TruthSection};
+use super::{declaration_message, EffectDraw, PairFits, StudyFamily};
 use crate::catalogue::strapdown::{stated_level_sigma, STATED_HEADING_SIGMA};
+use crate::diagnosis_study::hidden::{log_uniform, misstate, sign, Hidden, Planned};
+use crate::diagnosis_study::rates::EffectScale;
+use crate::diagnosis_study::{
+    ContentClass, DiagnosisSection, DiagnosisStudyConfig, OutsideEffect, TruthSection,
+};
 use crate::error::DiagnoseError;
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::simulate::Alignment;
@@ -26,11 +30,7 @@ use std::sync::Arc;
 
 /// An effect's typical size for `class` and its unit: its first coefficient's sigma, or a
 /// bias instability's steady sigma.
-pub fn typical(
-    registry: &StrapdownRegistry,
-    name: &str,
-    class: UnitClass,
-) -> Option<(f64, String)> {
+fn typical(registry: &StrapdownRegistry, name: &str, class: UnitClass) -> Option<(f64, String)> {
     let effect = registry.get(name).ok()?;
     if let Some(c) = effect.coefficients.first() {
         return Some((c.sigma_for(class), c.unit.to_string()));
@@ -44,8 +44,100 @@ pub fn typical(
     })
 }
 
+/// The strapdown family.
+pub(super) struct Strapdown;
+
+impl StudyFamily for Strapdown {
+    fn effect_names(&self, config: &DiagnosisStudyConfig) -> Result<Vec<String>, DiagnoseError> {
+        let registry = config.strapdown_registry()?;
+        Ok(registry.names().into_iter().map(str::to_string).collect())
+    }
+
+    fn validate(&self, config: &DiagnosisStudyConfig) -> Result<(), String> {
+        validate(config)?;
+        config
+            .strapdown_registry()
+            .map(drop)
+            .map_err(declaration_message)
+    }
+
+    fn refuses_class(&self, class: &ContentClass) -> Option<&'static str> {
+        match class {
+            ContentClass::MemsNoise { .. } | ContentClass::Misaligned { .. } => Some(
+                "a platform class (MEMS noise and misalignment are the strapdown family's \
+                 normal state, which its own classes cover); expected it in a study with \
+                 kind = \"platform\"",
+            ),
+            ContentClass::WrongUnits { .. } => Some(
+                "wrong-units is a platform class for now; expected it in a study with kind = \
+                 \"platform\"",
+            ),
+            _ => None,
+        }
+    }
+
+    fn pair_fits(&self, config: &DiagnosisStudyConfig) -> Result<PairFits, DiagnoseError> {
+        let registry = config.strapdown_registry()?;
+        let class = config.model.unit_class();
+        let noise = NoiseConfig::default();
+        Ok(Box::new(move |pair| {
+            let list = StrapdownEffectList::parse_entries(&pair, &registry).map_err(|(_, e)| e)?;
+            StrapdownModel::base(&noise).with_effects(&list, class, 1.0)?;
+            Ok(())
+        }))
+    }
+
+    fn effect_scales(&self, config: &DiagnosisStudyConfig) -> Vec<EffectScale> {
+        let Ok(registry) = config.strapdown_registry() else {
+            return Vec::new();
+        };
+        registry
+            .names()
+            .into_iter()
+            .map(|name| {
+                let (typical, unit) = typical(&registry, name, config.model.unit_class())
+                    .unwrap_or((f64::NAN, String::new()));
+                EffectScale {
+                    name: name.to_string(),
+                    typical,
+                    unit,
+                }
+            })
+            .collect()
+    }
+
+    fn effect_draw<'a>(
+        &self,
+        config: &'a DiagnosisStudyConfig,
+    ) -> Result<EffectDraw<'a>, DiagnoseError> {
+        let registry = config.strapdown_registry()?;
+        let class = config.model.unit_class();
+        Ok(Box::new(move |rng, name, range| {
+            draw_effect(rng, &registry, name, range, class)
+        }))
+    }
+
+    /// Gyro, accelerometer, odometer, GPS and the constraints' tolerance.
+    fn noise_sources(&self) -> usize {
+        5
+    }
+
+    fn simulate(
+        &self,
+        config: &DiagnosisStudyConfig,
+        trajectory: &Arc<Trajectory>,
+        p: &Planned,
+    ) -> Result<Dataset, DiagnoseError> {
+        simulate(config, trajectory, p)
+    }
+
+    fn unit_words(&self, config: &DiagnosisStudyConfig) -> String {
+        format!(" of a strapdown {} unit", config.model.unit_class().name())
+    }
+}
+
 /// Refuses, by key, what a strapdown diagnosis study does not read.
-pub fn validate(config: &DiagnosisStudyConfig) -> Result<(), String> {
+fn validate(config: &DiagnosisStudyConfig) -> Result<(), String> {
     let (truth, diagnosis, noise) = (
         TruthSection::default(),
         DiagnosisSection::default(),
@@ -83,7 +175,7 @@ pub fn validate(config: &DiagnosisStudyConfig) -> Result<(), String> {
         );
     }
     for (i, c) in config.content.iter().enumerate() {
-        if let super::ContentClass::Outside { effect, .. } = c {
+        if let ContentClass::Outside { effect, .. } = c {
             if !matches!(effect, OutsideEffect::GpsStep | OutsideEffect::OdometerSlip) {
                 return Err(format!(
                     "content[{i}].effect: {effect:?} is not outside a strapdown catalogue or not \
@@ -99,7 +191,7 @@ pub fn validate(config: &DiagnosisStudyConfig) -> Result<(), String> {
 /// The sigmas the datasets' stated start attitude is drawn with, level and heading:
 /// `[truth.initial_tilt]` when the file gives it, otherwise the tilt the unit's accelerometer
 /// bias leaves after levelling and the catalogue's stated heading sigma (2 deg).
-pub fn start_sigmas(config: &DiagnosisStudyConfig) -> (f64, f64) {
+fn start_sigmas(config: &DiagnosisStudyConfig) -> (f64, f64) {
     let tilt = config.truth.initial_tilt;
     if tilt != TruthSection::default().initial_tilt {
         (tilt.level_rad, tilt.azimuth_rad)
@@ -113,7 +205,7 @@ pub fn start_sigmas(config: &DiagnosisStudyConfig) -> (f64, f64) {
 
 /// Effect `name` at a size drawn from `range` (multiples of its typical size for `class`),
 /// the top of the range held below the smallest bound of its coefficients.
-pub fn draw_effect<R: Rng>(
+fn draw_effect<R: Rng>(
     rng: &mut R,
     registry: &StrapdownRegistry,
     name: &str,
@@ -151,7 +243,7 @@ pub fn draw_effect<R: Rng>(
 }
 
 /// Simulates planned dataset `p` of a strapdown study.
-pub fn simulate(
+fn simulate(
     config: &DiagnosisStudyConfig,
     trajectory: &Arc<Trajectory>,
     p: &Planned,

@@ -32,7 +32,7 @@ use std::path::{Path, PathBuf};
 pub struct Args {
     /// The model family whose catalogue to list: `platform` or `strapdown` (its sizes those of
     /// `--unit`)
-    #[arg(long, default_value = "platform")]
+    #[arg(long, default_value = "platform", value_parser = crate::model_names())]
     model: String,
     /// The strapdown unit's class whose typical sizes to show: navigation, tactical or mems
     /// (MEMS if left out)

@@ -72,6 +72,12 @@ fn attitude_names() -> clap::builder::PossibleValuesParser {
     clap::builder::PossibleValuesParser::new(Attitude::ALL.map(Attitude::name))
 }
 
+/// The model families' names, for `--model` (see [`navkf_dynamics::ModelKind`]).
+fn model_names() -> clap::builder::PossibleValuesParser {
+    use navkf_dynamics::ModelKind;
+    clap::builder::PossibleValuesParser::new(ModelKind::ALL.map(ModelKind::name))
+}
+
 /// Warns on stderr of every figure that could not be drawn (the results stand without it).
 fn warn_undrawn(figures: &[navkf_report::figure::FigureOutcome]) {
     for f in figures {

@@ -47,7 +47,7 @@ pub struct Args {
     truth: bool,
     /// The model family: `platform` (the paper's) or `strapdown` (a unit bolted to the
     /// vehicle; writes imu.csv and the odometer's speed).
-    #[arg(long, default_value = "platform")]
+    #[arg(long, default_value = "platform", value_parser = crate::model_names())]
     model: String,
     /// The strapdown unit's class: `navigation`, `tactical` or `mems` (its bias sizes and
     /// noise densities; docs/model.md, "Simulating a strapdown test").

@@ -100,7 +100,7 @@ fn effects_lists_the_strapdown_catalogue_at_a_units_sizes() {
     assert!(text(&o.stderr).contains("--model strapdown"));
     let o = navkf(["effects", "--model", "gimbal"]);
     assert!(!o.status.success());
-    assert!(text(&o.stderr).contains("platform or strapdown"));
+    assert!(text(&o.stderr).contains("[possible values: platform, strapdown]"));
     let o = navkf(["effects", "--model", "strapdown", "--unit", "consumer"]);
     assert!(!o.status.success());
     assert!(text(&o.stderr).contains("navigation, tactical or mems"));

@@ -11,9 +11,12 @@
 //! initial sigmas and angle wrapping rely on; the states after them are constants
 //! (coefficients or biases).
 //!
-//! A new family is a folder (its model, sensors, simulator) plus a [`ModelKind`], its
-//! dataset files ([`crate::dataset::FamilyFiles`]) and its study parts (`StudyFamily`, in
-//! `crates/study/src/family/`), each registered by one arm.
+//! A new family is a folder (its model, sensors, simulator) plus a [`ModelKind`] (listed in
+//! [`ModelKind::ALL`]) and, each registered by one arm of a match the compiler points to: its
+//! dataset files ([`crate::dataset::FamilyFiles`]), its study parts (`StudyFamily` in
+//! `crates/study/src/family/`), its diagnosis catalogue (`crates/diagnose/src/catalogue/`)
+//! and its diagnosis study (`StudyFamily` in `crates/diagnose/src/diagnosis_study/family/`).
+//! docs/model.md, "The family contract", lists what still names the families directly.
 
 use crate::dataset::Measurement;
 pub use crate::model_kind::ModelKind;

@@ -77,6 +77,14 @@ mod tests {
         }
         assert_eq!(ModelKind::expected(""), "platform or strapdown");
         assert_eq!(ModelKind::expected("\""), "\"platform\" or \"strapdown\"");
+        // A variant left out of ALL: this match needs its arm, and its place must be in ALL.
+        let place = |k: ModelKind| match k {
+            ModelKind::Platform => 0,
+            ModelKind::Strapdown => 1,
+        };
+        for (i, kind) in ModelKind::ALL.into_iter().enumerate() {
+            assert_eq!(place(kind), i, "{kind:?}");
+        }
         let refusal = "gimbal".parse::<ModelKind>().unwrap_err();
         assert_eq!(refusal, "`gimbal`: expected platform or strapdown");
     }

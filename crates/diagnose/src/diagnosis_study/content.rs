@@ -2,10 +2,10 @@
 //!
 //! Each dataset's draws come from its own stream (study seed, dataset index), so dataset `i`
 //! is the same bytes whatever runs beside it. Sizes are drawn log-uniformly between the
-//! class's bounds, given as multiples of the effect's typical size (in sigma); every
-//! coefficient of an effect takes that size times its own typical sigma, with a random sign.
-//! The base coefficients are drawn from their typical sizes and the initial tilt as the
-//! study file says (a gyrocompassed platform by default), as a real platform's would be.
+//! class's bounds, given as multiples of the effect's typical size (in sigma), by the study
+//! family's draw; the family simulates the dataset ([`super::family`]; on the platform every
+//! coefficient of an effect takes that size times its own typical sigma, with a random sign,
+//! and the base coefficients and the initial tilt are drawn as a real platform's would be).
 
 use super::hidden::{log_uniform, sign};
 pub use super::hidden::{misstate, Class, Hidden, Planned, WrongUnit};

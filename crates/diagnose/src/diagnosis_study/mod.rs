@@ -5,11 +5,11 @@
 //! A study file (`studies/diagnosis.toml`, `[study] kind = "diagnosis"`) lists classes of
 //! content in `[[content]]` tables: nothing; each catalogued effect; random pairs of them;
 //! effects outside the catalogue ([`navkf_dynamics::outside`]); a stated noise that is not the
-//! truth's. [`content`] draws and simulates each dataset, [`rates`] turns the outcomes into
-//! the confusion matrix, the false-attribution rates and the detection curves, [`report`]
-//! and [`plots`] write them. Datasets are diagnosed in parallel; every draw comes from the
-//! dataset's own stream and results are kept in index order, so the outcome is the same
-//! whatever the thread count.
+//! truth's. [`content`] plans each dataset and the study's family (`family/`) draws its
+//! effects and simulates it, [`rates`] turns the outcomes into the confusion matrix, the
+//! false-attribution rates and the detection curves, [`report`] and [`plots`] write them.
+//! Datasets are diagnosed in parallel; every draw comes from the dataset's own stream and
+//! results are kept in index order, so the outcome is the same whatever the thread count.
 
 pub mod content;
 mod family;

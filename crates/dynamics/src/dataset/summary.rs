@@ -221,20 +221,17 @@ impl Dataset {
         let mut turning_time = 0.0;
         // Inputs that read the turn rate give it, each sample standing for the interval
         // after it; otherwise the odometer's heading does.
-        let files = super::files_of(self.model);
-        let reads_rate = self
-            .inputs
-            .first()
-            .and_then(|s| files.turn_rate(s))
-            .is_some();
-        for w in self.inputs.windows(2).filter(|_| reads_rate) {
-            let rate = files.turn_rate(&w[0]).unwrap_or(0.0).abs().to_degrees();
-            max_rate = Some(max_rate.map_or(rate, |m| m.max(rate)));
-            if rate > TURN_RATE_DEG_S {
-                turning_time += w[1].t - w[0].t;
+        let rate_of = super::files_of(self.model).turn_rate();
+        if let Some(rate_of) = rate_of {
+            for w in self.inputs.windows(2) {
+                let rate = rate_of(&w[0]).abs().to_degrees();
+                max_rate = Some(max_rate.map_or(rate, |m| m.max(rate)));
+                if rate > TURN_RATE_DEG_S {
+                    turning_time += w[1].t - w[0].t;
+                }
             }
         }
-        for w in odometer.windows(2).filter(|_| !reads_rate) {
+        for w in odometer.windows(2).filter(|_| rate_of.is_none()) {
             let ((t0, v0), (t1, v1)) = (w[0], w[1]);
             let dt = t1 - t0;
             let fast = |v: [f64; 2]| v[0].hypot(v[1]) >= MIN_HEADING_SPEED;

@@ -51,9 +51,9 @@ pub trait FamilyFiles: Sync {
     /// in (its magnitude is the same in any frame).
     fn specific_force(&self, sample: &InputSample) -> [f64; 3];
 
-    /// The vehicle's turn rate that an input sample reads, rad/s, signed; `None` when the
-    /// inputs hold no rate (then `inspect` takes the turns from the odometer's heading).
-    fn turn_rate(&self, sample: &InputSample) -> Option<f64>;
+    /// How to read the vehicle's turn rate (rad/s, signed) off an input sample; `None` when
+    /// the inputs hold no rate (then `inspect` takes the turns from the odometer's heading).
+    fn turn_rate(&self) -> Option<fn(&InputSample) -> f64>;
 
     /// The odometer of `measurements.csv`.
     fn odometer(&self) -> Odometer;
@@ -65,9 +65,9 @@ pub trait FamilyFiles: Sync {
     fn heading_prior_key(&self) -> &'static str;
 
     /// Declares `declared` (`dataset.toml`'s `[[effect]]`) into the family's catalogue
-    /// (`registry` when the family's effects are the platform's, which then keeps them) and
-    /// returns every coefficient name `[prior.coefficients]` and `truth.csv` may use: the
-    /// family's own constants, then its effects'.
+    /// (into `registry`, the platform's effects known so far, when the family's effects are
+    /// the platform's) and returns every coefficient name `[prior.coefficients]` and
+    /// `truth.csv` may use: the family's own constants, then its effects'.
     fn declare(
         &self,
         registry: &mut Registry,
@@ -112,7 +112,7 @@ mod tests {
 
     #[test]
     fn each_family_is_registered_under_its_own_kind_with_consistent_headers() {
-        for kind in [ModelKind::Platform, ModelKind::Strapdown] {
+        for kind in ModelKind::ALL {
             let files = files_of(kind);
             assert_eq!(files.kind(), kind);
             assert_eq!(files.input_columns()[0], "t");

@@ -33,7 +33,7 @@ impl FamilyFiles for PlatformFiles {
     fn specific_force(&self, s: &InputSample) -> [f64; 3] {
         [s.f[0], s.f[1], s.f[2]]
     }
-    fn turn_rate(&self, _: &InputSample) -> Option<f64> {
+    fn turn_rate(&self) -> Option<fn(&InputSample) -> f64> {
         None
     }
     fn odometer(&self) -> Odometer {

@@ -47,8 +47,8 @@ impl FamilyFiles for StrapdownFiles {
         [s.f[3], s.f[4], s.f[5]]
     }
     /// The rate about the unit's up axis (the Earth's rate, 0.004 deg/s, is noise here).
-    fn turn_rate(&self, s: &InputSample) -> Option<f64> {
-        Some(s.f[2])
+    fn turn_rate(&self) -> Option<fn(&InputSample) -> f64> {
+        Some(|s| s.f[2])
     }
     fn odometer(&self) -> Odometer {
         Odometer::ForwardSpeed

@@ -67,8 +67,8 @@ pub(super) fn read_truth(
                 header.line,
                 name,
                 format!(
-                    "`{}` is no state of the base model or of a known effect; expected state \
-                     names such as {} or an effect's coefficients (misspelt?)",
+                    "`{}` is no state of the base model or of a known effect; expected a state \
+                     of the dataset's family or of its effects, such as {} (misspelt?)",
                     name,
                     examples.join(", ")
                 ),

@@ -174,11 +174,6 @@ pub fn consistency(s: &Summary) -> String {
     out
 }
 
-/// `x` to six decimals, without trailing zeros (50 deg/h, not 50.000).
-pub(crate) fn rounded(x: f64) -> f64 {
-    (x * 1e6).round() / 1e6
-}
-
 /// `x` in exponent form, to four significant digits when its shortest form is longer
 /// (`1e-14` stays, `7.615435494667713e-9` is `7.615e-9`).
 fn short_e(x: f64) -> String {

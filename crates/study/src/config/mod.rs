@@ -392,7 +392,8 @@ impl StudyConfig {
             ));
         }
         self.noise.validate()?;
-        crate::family::of(self.model.kind).check(self)?;
+        self.check_declarations()?;
+        model::check_family_keys(self)?;
         self.trajectory.validate().map_err(|e| e.to_string())?;
         let f = &self.filter;
         let i = &f.initial;

@@ -1,11 +1,11 @@
-//! The `[model]` table of a study file: which model family it runs, and the catalogues its
-//! `[[effect]]` declarations join. What each family refuses of the other tables is its own
-//! ([`crate::family`]).
+//! The `[model]` table of a study file: which model family it runs, and the settings of
+//! the other tables that family does not read, refused by name rather than ignored.
 
 use super::StudyConfig;
+use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
 use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::unit_class::UnitClass;
-use navkf_dynamics::{ModelKind, NoiseConfig, Registry};
+use navkf_dynamics::{Attitude, ModelKind, NoiseConfig, Registry};
 use serde::{Deserialize, Serialize};
 
 /// The `[model]` table.
@@ -48,10 +48,21 @@ impl StudyConfig {
         Ok(registry)
     }
 
+    /// Checks the `[[effect]]` declarations against the study's family.
+    pub(super) fn check_declarations(&self) -> Result<(), String> {
+        match self.model.kind {
+            ModelKind::Platform => self.registry().map(drop),
+            ModelKind::Strapdown => self.strapdown_registry().map(drop),
+        }
+    }
+
     /// The noise the truth is simulated with: `[noise]`, with the reading noise's densities
     /// of the unit class in a strapdown study.
     pub fn truth_noise(&self) -> NoiseConfig {
-        crate::family::of(self.model.kind).truth_noise(self)
+        match self.model.kind {
+            ModelKind::Platform => self.noise,
+            ModelKind::Strapdown => self.model.unit_class().errors().noise(self.noise),
+        }
     }
 }
 
@@ -61,4 +72,93 @@ fn declaration_error(e: navkf_dynamics::DynamicsError) -> String {
         navkf_dynamics::DynamicsError::Config { key, message } => format!("{key}: {message}"),
         other => other.to_string(),
     }
+}
+
+/// Checks that `config` sets nothing its family does not read; the message names the key.
+pub(super) fn check_family_keys(config: &StudyConfig) -> Result<(), String> {
+    let defaults = NoiseConfig::default();
+    match config.model.kind {
+        ModelKind::Platform => {
+            if let Some(unit) = config.model.unit {
+                return Err(format!(
+                    "model.unit = \"{}\": the platform family has no unit class; expected \
+                     model.kind = \"strapdown\" or no model.unit",
+                    unit.name()
+                ));
+            }
+            if config.noise.zupt_m_s.is_some() {
+                return Err(
+                    "noise.zupt_m_s: the zero-velocity update belongs to the strapdown family; \
+                     expected model.kind = \"strapdown\" or no noise.zupt_m_s"
+                        .into(),
+                );
+            }
+            if config.noise.nhc_m_s.is_some() {
+                return Err(
+                    "noise.nhc_m_s: the non-holonomic constraint belongs to the \
+                            strapdown family; expected model.kind = \"strapdown\" or no \
+                            noise.nhc_m_s"
+                        .into(),
+                );
+            }
+        }
+        ModelKind::Strapdown => {
+            let refuse =
+                |key: &str, why: &str| Err(format!("{key}: {why} (model.kind = \"strapdown\")"));
+            let registry = config.strapdown_registry()?;
+            for (key, effects) in [
+                ("truth.effects", &config.truth.effects),
+                ("filter.effects", &config.filter.effects),
+            ] {
+                StrapdownEffectList::parse_entries(effects, &registry)
+                    .map_err(|(i, e)| format!("{key}[{i}]: {e} (model.kind = \"strapdown\")"))?;
+            }
+            let attitudes = [
+                ("truth.attitude", config.truth.attitude),
+                ("filter.attitude", config.filter.attitude),
+            ]
+            .into_iter()
+            .chain(
+                config
+                    .filter
+                    .variants
+                    .iter()
+                    .filter_map(|(label, v)| v.attitude.map(|a| (label.as_str(), a))),
+            );
+            for (key, a) in attitudes {
+                if a != Attitude::SmallAngle {
+                    return refuse(
+                        key,
+                        "the attitude equations are the platform's choice; the strapdown \
+                         family's are exact Euler angles (docs/model.md eqs. (53)-(55)), \
+                         expected no attitude key",
+                    );
+                }
+            }
+            if config.truth.initial_tilt.alignment != Default::default() {
+                return refuse(
+                    "truth.initial_tilt.alignment",
+                    "a MEMS unit cannot gyrocompass, and the strapdown start is drawn around \
+                     the true attitude; expected no alignment key",
+                );
+            }
+            if config.truth.rate_hz != super::TruthSection::default().rate_hz {
+                return refuse(
+                    "truth.rate_hz",
+                    "the strapdown truth is the path itself, nothing is integrated to make \
+                     it; expected no truth.rate_hz (truth.input_rate_hz is the IMU's rate)",
+                );
+            }
+            if config.noise.gyro_psd != defaults.gyro_psd
+                || config.noise.accel_psd != defaults.accel_psd
+            {
+                return refuse(
+                    "noise.gyro_psd / noise.accel_psd",
+                    "the reading noise's densities come from model.unit; expected neither \
+                     key (filter.process_noise_scale mis-states them on purpose)",
+                );
+            }
+        }
+    }
+    Ok(())
 }

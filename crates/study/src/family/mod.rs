@@ -1,20 +1,22 @@
 //! What a study needs of a model family beyond [`navkf_dynamics::family`]'s traits: the
-//! checks of a study file's tables that family does not read, the noise its truth is drawn
-//! with, the report's line on its truth, the word for its heading, the parts a Monte Carlo
-//! study runs ([`FamilyParts`]) and the simulator `navkf simulate` writes a dataset with.
+//! parts a Monte Carlo study runs ([`FamilyParts`]), the simulator `navkf simulate` writes a
+//! dataset with, the report's line on its truth and the figures' word for its heading.
 //!
 //! Why a trait: everything after these runs on the families' traits, so a new family's
 //! studies are one folder here (its implementation of [`StudyFamily`]) and one arm of
-//! [`of`], its registration, instead of branches through configuration, Monte Carlo,
-//! simulation, report and figures.
+//! [`of`], its registration, instead of branches through Monte Carlo, simulation, report and
+//! figures. What a study file may say for each family is the file's own business, checked
+//! where it is read (`config/model.rs`), below this module: the configuration never depends
+//! on what is built from it.
 
 mod platform;
 mod strapdown;
 
 use crate::config::StudyConfig;
 use crate::error::StudyError;
-use crate::simulation::{Ready, SettingNames, SimulationRequest};
+use crate::simulation::request::{Ready, SimulationRequest};
 use navkf_dynamics::{Attitude, FamilyModel, ModelKind, NoiseConfig, Trajectory, TruthSimulation};
+use navkf_report::SettingNames;
 use std::sync::Arc;
 
 /// The filters' model in a given attitude form.
@@ -32,13 +34,6 @@ pub(crate) struct FamilyParts {
 
 /// A model family as a study runs it (module documentation).
 pub(crate) trait StudyFamily: Sync {
-    /// Checks the study file's `[[effect]]` declarations against the family's catalogue,
-    /// and that it sets nothing the family does not read; the message names the key.
-    fn check(&self, config: &StudyConfig) -> Result<(), String>;
-
-    /// The noise the truth is simulated with.
-    fn truth_noise(&self, config: &StudyConfig) -> NoiseConfig;
-
     /// The report's line on the truth (`truth: ...`), its effects already listed.
     fn truth_line(&self, config: &StudyConfig, effects: &str) -> String;
 

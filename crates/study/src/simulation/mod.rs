@@ -10,43 +10,15 @@
 //! before it is put in place, so that a truth driven non-finite or off the Earth is refused,
 //! not written.
 
+pub(crate) mod request;
+
 use crate::error::StudyError;
 use navkf_dynamics::dataset::Dataset;
-use navkf_dynamics::declared::EffectDeclaration;
-use navkf_dynamics::model_kind::ModelKind;
-use navkf_dynamics::{Attitude, TrajectoryConfig};
+use navkf_dynamics::TrajectoryConfig;
 pub use navkf_report::SettingNames;
 use navkf_report::{FolderKind, ResultsDir};
+pub use request::SimulationRequest;
 use std::path::Path;
-
-/// What a caller asks `simulate` for; `None` takes the family's default.
-#[derive(Debug, Clone, Default)]
-pub struct SimulationRequest {
-    /// The model family.
-    pub model: ModelKind,
-    /// Seed of the random streams.
-    pub seed: u64,
-    /// Run index within the seed's family of runs.
-    pub run: u64,
-    /// Effects the truth carries (`gyro-fz,odometer-scale=0.002,Ka0x=1e-3`).
-    pub effects: String,
-    /// Effects declared without Rust that `effects` may name (of the request's family).
-    pub declarations: Vec<EffectDeclaration>,
-    /// The test to drive.
-    pub trajectory: TrajectoryConfig,
-    /// The truth's attitude equations (the platform's choice; small-angle when `None`).
-    pub attitude: Option<Attitude>,
-    /// Initial azimuth (platform) or heading (strapdown) error, one sigma, rad.
-    pub azimuth_sigma: Option<f64>,
-    /// Write the truth file.
-    pub truth: bool,
-    /// The strapdown unit's class (`navigation`, `tactical`, `mems`).
-    pub unit: Option<String>,
-    /// The strapdown unit's sample rate, Hz.
-    pub imu_rate_hz: Option<f64>,
-    /// The non-holonomic constraint's sigma stated in dataset.toml, m/s (strapdown).
-    pub nhc_sigma: Option<f64>,
-}
 
 /// What `simulate` wrote: the dataset as navkf reads it back, and a line saying what it holds.
 #[derive(Debug)]
@@ -85,10 +57,6 @@ pub fn simulate(
         description,
     })
 }
-
-/// A simulator with its settings checked, ready to run: given the dataset's name, the seed
-/// and the run, the dataset and a line saying what it holds.
-pub(crate) type Ready = Box<dyn FnOnce(&str, u64, u64) -> (Dataset, String)>;
 
 /// Writes `ds` into the folder `out` as [`simulate`] does (a new folder, an empty one, or a
 /// dataset written before, replaced whole once `ds` reads back; `out` is left as it was

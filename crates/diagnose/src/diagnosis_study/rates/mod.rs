@@ -7,8 +7,7 @@
 //! the time on the fitted curve, and the rate above the limit is counted directly (a curve
 //! that falls again at large sizes, the symptom of a capping prior, shows there).
 
-use super::content::{Class, Hidden};
-use super::hidden::MEMS_NOISE_LABEL;
+use super::hidden::{Class, Hidden, MEMS_NOISE_LABEL};
 use super::Record;
 use crate::Verdict;
 use navkf_dynamics::Registry;

@@ -7,49 +7,20 @@ mod simulation;
 use super::{filter_noise, FamilyParts, StudyFamily};
 use crate::config::StudyConfig;
 use crate::error::StudyError;
-use crate::simulation::{Ready, SettingNames, SimulationRequest};
+use crate::simulation::request::{Ready, SimulationRequest};
 use navkf_dynamics::effect_spec::EffectSpec;
 use navkf_dynamics::prior::typical_sigma;
 use navkf_dynamics::state::NAV_DIM;
 use navkf_dynamics::{
     Attitude, FamilyModel, NoiseConfig, PlatformModel, Registry, Simulator, SystemModel, Trajectory,
 };
+use navkf_report::SettingNames;
 use std::sync::Arc;
 
 /// The platform family.
 pub(super) struct Platform;
 
 impl StudyFamily for Platform {
-    fn check(&self, config: &StudyConfig) -> Result<(), String> {
-        config.registry()?;
-        if let Some(unit) = config.model.unit {
-            return Err(format!(
-                "model.unit = \"{}\": the platform family has no unit class; expected \
-                 model.kind = \"strapdown\" or no model.unit",
-                unit.name()
-            ));
-        }
-        if config.noise.zupt_m_s.is_some() {
-            return Err(
-                "noise.zupt_m_s: the zero-velocity update belongs to the strapdown family; \
-                 expected model.kind = \"strapdown\" or no noise.zupt_m_s"
-                    .into(),
-            );
-        }
-        if config.noise.nhc_m_s.is_some() {
-            return Err(
-                "noise.nhc_m_s: the non-holonomic constraint belongs to the strapdown \
-                 family; expected model.kind = \"strapdown\" or no noise.nhc_m_s"
-                    .into(),
-            );
-        }
-        Ok(())
-    }
-
-    fn truth_noise(&self, config: &StudyConfig) -> NoiseConfig {
-        config.noise
-    }
-
     fn truth_line(&self, c: &StudyConfig, effects: &str) -> String {
         format!(
             "truth: effects {effects}; integration {} Hz, inputs {} Hz, measurements {} Hz; coefficients drawn at {} x their typical sigma",

@@ -3,11 +3,12 @@
 //! settings are checked and the simulator built.
 
 use crate::error::StudyError;
-use crate::simulation::{Ready, SettingNames, SimulationRequest};
+use crate::simulation::request::{Ready, SimulationRequest};
 use navkf_dynamics::effect_spec::EffectSpec;
 use navkf_dynamics::{
     Attitude, NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TruthConfig,
 };
+use navkf_report::SettingNames;
 use std::sync::Arc;
 
 /// Checks `req` for the platform and builds its simulator.

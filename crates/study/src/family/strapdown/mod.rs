@@ -7,85 +7,23 @@ mod simulation;
 use super::{filter_noise, FamilyParts, StudyFamily};
 use crate::config::StudyConfig;
 use crate::error::StudyError;
-use crate::report::rounded;
-use crate::simulation::{Ready, SettingNames, SimulationRequest};
+use crate::simulation::request::{Ready, SimulationRequest};
 use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
 use navkf_dynamics::strapdown::model::StrapdownModel;
 use navkf_dynamics::strapdown::simulate::StrapdownSimulator;
-use navkf_dynamics::{Attitude, FamilyModel, NoiseConfig, Trajectory};
+use navkf_dynamics::{FamilyModel, NoiseConfig, Trajectory};
+use navkf_report::SettingNames;
 use std::sync::Arc;
 
 /// The strapdown family.
 pub(super) struct Strapdown;
 
 impl StudyFamily for Strapdown {
-    fn check(&self, config: &StudyConfig) -> Result<(), String> {
-        let refuse =
-            |key: &str, why: &str| Err(format!("{key}: {why} (model.kind = \"strapdown\")"));
-        let defaults = NoiseConfig::default();
-        let registry = config.strapdown_registry()?;
-        for (key, effects) in [
-            ("truth.effects", &config.truth.effects),
-            ("filter.effects", &config.filter.effects),
-        ] {
-            StrapdownEffectList::parse_entries(effects, &registry)
-                .map_err(|(i, e)| format!("{key}[{i}]: {e} (model.kind = \"strapdown\")"))?;
-        }
-        let attitudes = [
-            ("truth.attitude", config.truth.attitude),
-            ("filter.attitude", config.filter.attitude),
-        ]
-        .into_iter()
-        .chain(
-            config
-                .filter
-                .variants
-                .iter()
-                .filter_map(|(label, v)| v.attitude.map(|a| (label.as_str(), a))),
-        );
-        for (key, a) in attitudes {
-            if a != Attitude::SmallAngle {
-                return refuse(
-                    key,
-                    "the attitude equations are the platform's choice; the strapdown \
-                     family's are exact Euler angles (docs/model.md eqs. (53)-(55)), \
-                     expected no attitude key",
-                );
-            }
-        }
-        if config.truth.initial_tilt.alignment != Default::default() {
-            return refuse(
-                "truth.initial_tilt.alignment",
-                "a MEMS unit cannot gyrocompass, and the strapdown start is drawn around \
-                 the true attitude; expected no alignment key",
-            );
-        }
-        if config.truth.rate_hz != crate::config::TruthSection::default().rate_hz {
-            return refuse(
-                "truth.rate_hz",
-                "the strapdown truth is the path itself, nothing is integrated to make \
-                 it; expected no truth.rate_hz (truth.input_rate_hz is the IMU's rate)",
-            );
-        }
-        if config.noise.gyro_psd != defaults.gyro_psd
-            || config.noise.accel_psd != defaults.accel_psd
-        {
-            return refuse(
-                "noise.gyro_psd / noise.accel_psd",
-                "the reading noise's densities come from model.unit; expected neither \
-                 key (filter.process_noise_scale mis-states them on purpose)",
-            );
-        }
-        Ok(())
-    }
-
-    fn truth_noise(&self, config: &StudyConfig) -> NoiseConfig {
-        config.model.unit_class().errors().noise(config.noise)
-    }
-
     fn truth_line(&self, c: &StudyConfig, effects: &str) -> String {
         let unit = c.model.unit_class();
         let e = unit.errors();
+        // Six decimals, without trailing zeros (50 deg/h, not 50.000).
+        let rounded = |x: f64| (x * 1e6).round() / 1e6;
         format!(
             "truth: a strapdown {} unit (biases {} deg/h and {} mg one sigma, effects {effects}, drawn at {} x their typical sigma) on the path itself; IMU read at {} Hz, measurements {} Hz",
             unit.name(),
@@ -128,7 +66,7 @@ fn parts(config: &StudyConfig, trajectory: Arc<Trajectory>) -> Result<FamilyPart
         accel_bias: unit.accel_bias * scale,
         ..unit
     };
-    let noise = Strapdown.truth_noise(config);
+    let noise = config.truth_noise();
     let registry = config.strapdown_registry().map_err(StudyError::Other)?;
     let list = |key: &str, entries: &[String]| {
         StrapdownEffectList::parse_entries(entries, &registry)

@@ -4,13 +4,14 @@
 //! `[prior]`) and `truth.csv`.
 
 use crate::error::StudyError;
-use crate::simulation::{Ready, SettingNames, SimulationRequest};
+use crate::simulation::request::{Ready, SimulationRequest};
 use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
 use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::model::StrapdownModel;
 use navkf_dynamics::strapdown::simulate::StrapdownSimulator;
 use navkf_dynamics::strapdown::unit_class::UnitClass;
 use navkf_dynamics::{Attitude, NoiseConfig, Trajectory};
+use navkf_report::SettingNames;
 use std::sync::Arc;
 
 /// The IMU rate when none is given, Hz (a vehicle recording's usual 100 Hz).

@@ -179,7 +179,10 @@ impl Dataset {
             let p = &self.prior;
             text.push_str("\n[prior]\n");
             let azimuth = files_of(self.model).heading_prior_key();
-            for (key, value) in [("level_rad", p.level_rad), (azimuth, p.azimuth_rad)] {
+            for (key, value) in [
+                ("level_rad", p.level_rad),
+                (azimuth.as_str(), p.azimuth_rad),
+            ] {
                 if let Some(v) = value {
                     text.push_str(&format!("{key} = {}\n", toml_f64(v)));
                 }

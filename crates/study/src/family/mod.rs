@@ -1,6 +1,6 @@
 //! What a study needs of a model family beyond [`navkf_dynamics::family`]'s traits: the
 //! parts a Monte Carlo study runs ([`FamilyParts`]), the simulator `navkf simulate` writes a
-//! dataset with, the report's line on its truth and the figures' word for its heading.
+//! dataset with, and the report's line on its truth.
 //!
 //! Why a trait: everything after these runs on the families' traits, so a new family's
 //! studies are one folder here (its implementation of [`StudyFamily`]) and one arm of
@@ -36,9 +36,6 @@ pub(crate) struct FamilyParts {
 pub(crate) trait StudyFamily: Sync {
     /// The report's line on the truth (`truth: ...`), its effects already listed.
     fn truth_line(&self, config: &StudyConfig, effects: &str) -> String;
-
-    /// What the family calls the angle the platform calls azimuth, for figures' axes.
-    fn heading_word(&self) -> &'static str;
 
     /// The truth simulator and the filters' model of `config`, on `trajectory`.
     fn parts(

@@ -61,7 +61,7 @@ pub(super) fn swept_axis(key: &str, model: ModelKind) -> (String, f64) {
         }
         None => (words, factor),
     };
-    let heading = crate::family::of(model).heading_word();
+    let heading = navkf_dynamics::dataset::files_of(model).heading_word();
     (words.replace("azimuth", heading), factor)
 }
 

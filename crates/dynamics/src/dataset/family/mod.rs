@@ -61,8 +61,15 @@ pub trait FamilyFiles: Sync {
     /// The header of `measurements.csv`: `t`, the odometer's columns, `lat_deg,lon_deg`.
     fn measurement_columns(&self) -> &'static [&'static str];
 
-    /// The `[prior]` key of the heading's (or azimuth's) sigma.
-    fn heading_prior_key(&self) -> &'static str;
+    /// What the family calls the start's angle about the vertical (`azimuth` on the
+    /// platform, whose tilt is an error; `heading` for a strapdown unit), for keys, tables
+    /// and figure axes.
+    fn heading_word(&self) -> &'static str;
+
+    /// The `[prior]` key of that angle's sigma (`azimuth_rad`, `heading_rad`).
+    fn heading_prior_key(&self) -> String {
+        format!("{}_rad", self.heading_word())
+    }
 
     /// Declares `declared` (`dataset.toml`'s `[[effect]]`) into the family's catalogue
     /// (into `registry`, the platform's effects known so far, when the family's effects are

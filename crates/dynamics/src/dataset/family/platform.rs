@@ -42,8 +42,8 @@ impl FamilyFiles for PlatformFiles {
     fn measurement_columns(&self) -> &'static [&'static str] {
         &MEASUREMENT_COLUMNS
     }
-    fn heading_prior_key(&self) -> &'static str {
-        "azimuth_rad"
+    fn heading_word(&self) -> &'static str {
+        "azimuth"
     }
     fn declare(
         &self,

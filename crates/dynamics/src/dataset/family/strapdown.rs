@@ -56,8 +56,8 @@ impl FamilyFiles for StrapdownFiles {
     fn measurement_columns(&self) -> &'static [&'static str] {
         &SPEED_MEASUREMENT_COLUMNS
     }
-    fn heading_prior_key(&self) -> &'static str {
-        "heading_rad"
+    fn heading_word(&self) -> &'static str {
+        "heading"
     }
     /// The platform `registry` is left as it is: the strapdown effects are another
     /// catalogue's.

@@ -31,10 +31,6 @@ impl StudyFamily for Platform {
         )
     }
 
-    fn heading_word(&self) -> &'static str {
-        "azimuth"
-    }
-
     fn parts(
         &self,
         config: &StudyConfig,

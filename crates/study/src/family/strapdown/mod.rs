@@ -35,10 +35,6 @@ impl StudyFamily for Strapdown {
         )
     }
 
-    fn heading_word(&self) -> &'static str {
-        "heading"
-    }
-
     fn parts(
         &self,
         config: &StudyConfig,

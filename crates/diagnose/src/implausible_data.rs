@@ -24,7 +24,6 @@ use crate::priors;
 use crate::summary::summarize_fit;
 use crate::verdict::Verdict;
 use navkf_dynamics::dataset::{Dataset, Implausibility};
-use std::collections::BTreeMap;
 
 /// The diagnosis of data that cannot be what they claim (module documentation): verdict
 /// [`Verdict::ImplausibleData`], nothing named, no noise fitted, and one pass of the model
@@ -41,13 +40,7 @@ pub fn implausible_diagnosis(
     for e in &opts.with {
         start_priors.open.extend(catalogue.effect(e)?.coefficients);
     }
-    let setup = FitSetup {
-        effects: opts.with.clone(),
-        parameters: BTreeMap::new(),
-        noise: ds.noise,
-        priors: start_priors,
-        restart_coefficients_after: None,
-    };
+    let setup = FitSetup::new(opts.with.clone(), ds.noise, start_priors);
     let model = fit(ds, &setup, catalogue, &opts.filter)?;
     let mut d = Diagnosis {
         dataset: ds.name.clone(),

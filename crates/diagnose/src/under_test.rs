@@ -18,7 +18,6 @@ use crate::options::Options;
 use crate::priors::{self, PriorEntry, Priors};
 use crate::summary::summarize_fit;
 use navkf_dynamics::dataset::Dataset;
-use std::collections::BTreeMap;
 
 /// The model under test, fitted, and where the diagnosis started.
 #[derive(Debug, Clone)]
@@ -47,13 +46,7 @@ pub fn fit_under_test(
     start_lat: f64,
 ) -> Result<UnderTest, DiagnoseError> {
     let (start, prior_entries) = priors::resolve(ds, &opts.prior, start_lat, catalogue);
-    let base = FitSetup {
-        effects: Vec::new(),
-        parameters: BTreeMap::new(),
-        noise: ds.noise,
-        priors: start.clone(),
-        restart_coefficients_after: None,
-    };
+    let base = FitSetup::new(Vec::new(), ds.noise, start.clone());
     let mut under_test = FitSetup {
         effects: opts.with.clone(),
         ..base.clone()

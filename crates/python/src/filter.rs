@@ -20,7 +20,6 @@ use navkf_filters::{FilterKind, FilterSpec, Observation};
 use navkf_report::SettingNames;
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
-use std::collections::BTreeMap;
 
 type Sensors = Box<dyn MeasurementModel<Record = Measurement> + Sync>;
 
@@ -74,13 +73,7 @@ impl Filter {
         let attitude = opts.filter.attitude;
         let (_, start) = navkf_diagnose::catalogue::first_full_measurement(&ds).or_py()?;
         let (priors, _) = navkf_diagnose::priors::resolve(&ds, &opts.prior, start[0], &*catalogue);
-        let setup = FitSetup {
-            effects: opts.with,
-            parameters: BTreeMap::new(),
-            noise: ds.noise,
-            priors,
-            restart_coefficients_after: None,
-        };
+        let setup = FitSetup::new(opts.with, ds.noise, priors);
         let model = catalogue
             .model(&setup.effects, &setup.parameters, &setup.noise, attitude)
             .or_py()?;

@@ -21,7 +21,7 @@
 //! on how wide a prior was chosen or widened. States driven by process noise (the drifts under
 //! `gyro-bias-walk`) are not constants; they stay marginalised.
 
-use super::setup::FitSetup;
+use super::setup::{FitSetup, NavigationState};
 use crate::catalogue::{Catalogue, Channel, MAX_CHANNELS, PINNED_SIGMA};
 use crate::error::DiagnoseError;
 use navkf_dynamics::dataset::Dataset;
@@ -165,10 +165,29 @@ impl Fit {
         let n = self.names.len();
         self.p[i + i * n].max(0.0).sqrt()
     }
+
+    /// The navigation states after the last update, with their covariance: where a pass over
+    /// the rest of the record may resume ([`FitSetup::resume_navigation`]). `None` when the
+    /// pass made no update.
+    pub fn final_navigation(&self) -> Option<NavigationState> {
+        let t = *self.t.last()?;
+        let (n, nav) = (self.names.len(), self.nav_dim);
+        let mut p = vec![0.0; nav * nav];
+        for j in 0..nav {
+            for i in 0..nav {
+                p[i + j * nav] = self.p[i + j * n];
+            }
+        }
+        Some(NavigationState {
+            t,
+            x: self.x[..nav].to_vec(),
+            p,
+        })
+    }
 }
 
-/// Where a fit's filter starts: the first estimate, its covariance (diagonal, column-major)
-/// and the one-sigmas on that diagonal.
+/// Where a fit's filter starts: the first estimate, its covariance (column-major; diagonal
+/// unless the navigation states resume a former pass) and the one-sigmas on its diagonal.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Initial {
     /// Time of the initial state, s.
@@ -179,7 +198,8 @@ pub struct Initial {
 }
 
 /// The start of a filter on `ds` for `setup`'s `model` (built by `catalogue`): the navigation
-/// states from the family's start at the first full measurement, the coefficients at zero;
+/// states from the family's start at the first full measurement (or where
+/// [`FitSetup::resume_navigation`] says, with its covariance), the coefficients at zero;
 /// their sigmas the start's, the pinned coefficients' [`PINNED_SIGMA`] times their typical
 /// size, and the others the setup's priors or their typical size.
 pub fn initial(
@@ -190,15 +210,35 @@ pub fn initial(
 ) -> Result<Initial, DiagnoseError> {
     let n = model.dim();
     let nav = catalogue.nav_dim();
-    let tilt = [setup.priors.level_rad, setup.priors.azimuth_rad];
-    let start = catalogue.start(ds, &setup.noise, tilt)?;
+    let start = match &setup.resume_navigation {
+        Some(resume) => resume.clone(),
+        None => {
+            let tilt = [setup.priors.level_rad, setup.priors.azimuth_rad];
+            let start = catalogue.start(ds, &setup.noise, tilt)?;
+            let mut p = vec![0.0; nav * nav];
+            for (i, s) in start.sigma.iter().enumerate() {
+                p[i + i * nav] = s * s;
+            }
+            NavigationState {
+                t: start.t,
+                x: start.x,
+                p,
+            }
+        }
+    };
+    if start.x.len() != nav || start.p.len() != nav * nav {
+        return Err(DiagnoseError::Data(format!(
+            "a resumed navigation state has {} states, the family {nav}",
+            start.x.len()
+        )));
+    }
     let mut x = vec![0.0; n];
     x[..nav].copy_from_slice(&start.x);
     let names = model.state_names();
     let sigma: Vec<f64> = (0..n)
         .map(|i| {
             if i < nav {
-                start.sigma[i]
+                start.p[i + i * nav].max(0.0).sqrt()
             } else if catalogue.pinned().contains(&names[i].as_str()) {
                 PINNED_SIGMA * model.typical_sigma(i)
             } else {
@@ -214,6 +254,11 @@ pub fn initial(
     let mut p = vec![0.0; n * n];
     for i in 0..n {
         p[i + i * n] = sigma[i] * sigma[i];
+    }
+    for i in 0..nav {
+        for j in 0..nav {
+            p[i + j * n] = start.p[i + j * nav];
+        }
     }
     Ok(Initial {
         t: start.t,

@@ -26,9 +26,39 @@ pub struct FitSetup {
     /// ([`crate::stand_ins::constancy`]). No restart when no measurement comes after it.
     /// `None` in every other pass.
     pub restart_coefficients_after: Option<f64>,
+    /// When set, the filter starts from this navigation state instead of the family's start
+    /// at the dataset's first fix: the second half of a noise term's constancy test
+    /// ([`crate::stand_ins::density_constancy`]) resumes where the first half's fit ended.
+    /// `None` in every other pass.
+    pub resume_navigation: Option<NavigationState>,
+}
+
+/// The navigation states of a filter at one time: where a later pass may resume
+/// ([`FitSetup::resume_navigation`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct NavigationState {
+    /// Time of the state, s.
+    pub t: f64,
+    /// The navigation states' estimate (the first states of every model of the family).
+    pub x: Vec<f64>,
+    /// Their covariance, column-major (`x.len()` squared).
+    pub p: Vec<f64>,
 }
 
 impl FitSetup {
+    /// The model of `effects` at the noise levels `noise` from the priors `priors`: no
+    /// effect parameter, no restart, the family's own start.
+    pub fn new(effects: Vec<String>, noise: NoiseConfig, priors: Priors) -> FitSetup {
+        FitSetup {
+            effects,
+            parameters: BTreeMap::new(),
+            noise,
+            priors,
+            restart_coefficients_after: None,
+            resume_navigation: None,
+        }
+    }
+
     /// The same setup at the noise levels `noise`, its coefficients' priors back where they
     /// started: a model refitted at levels a noise check found.
     pub fn at_noise(&self, noise: NoiseConfig) -> FitSetup {

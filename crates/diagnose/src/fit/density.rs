@@ -30,43 +30,31 @@ pub fn fit_density(
     catalogue: &dyn Catalogue,
     filter: &FilterSpec,
 ) -> Result<DensityFit, DiagnoseError> {
-    // (decade, profile log-likelihood, fit)
-    let at = |decade: f64| -> Result<(f64, f64, Fit), DiagnoseError> {
-        let setup = model
-            .setup
-            .with_effect(name, Some(typical * 10f64.powf(decade)));
-        let f = fit(ds, &setup, catalogue, filter)?;
-        let v = if f.failure.is_some() {
-            f64::NEG_INFINITY
-        } else {
-            f.profile_loglik(&marginal_states(model, &f))
-        };
-        Ok((decade, v, f))
+    let at = |decade: f64| {
+        density_loglik(
+            ds,
+            model,
+            name,
+            typical * 10f64.powf(decade),
+            catalogue,
+            filter,
+        )
     };
-    let grid: Vec<f64> = (DENSITY_DECADES.0..=DENSITY_DECADES.1)
-        .step_by(DENSITY_STEP as usize)
-        .map(f64::from)
-        .collect();
+    let grid = density_grid();
     let mut tried = grid
         .par_iter()
-        .map(|&d| at(d))
+        .map(|&d| at(d).map(|(v, f)| (d, v, f)))
         .collect::<Result<Vec<_>, _>>()?;
-    let best = (0..tried.len())
-        .max_by(|&a, &b| tried[a].1.total_cmp(&tried[b].1))
-        .unwrap_or(0);
+    let values: Vec<f64> = tried.iter().map(|t| t.1).collect();
+    let best = best_on_grid(&values);
     let mut log10_se = None;
-    if best > 0 && best + 1 < tried.len() {
-        // A parabola through the best grid point and its neighbours (in decades): its
-        // vertex is the next try, its curvature the resolution.
-        let h = f64::from(DENSITY_STEP);
-        let (l, c, r) = (tried[best - 1].1, tried[best].1, tried[best + 1].1);
-        let curvature = (l - 2.0 * c + r) / (h * h);
-        if curvature < 0.0 && l.is_finite() && r.is_finite() {
-            log10_se = Some(1.0 / (-curvature).sqrt());
-            let offset = ((r - l) / (2.0 * h) / -curvature).clamp(-h, h);
-            tried.push(at(grid[best] + offset)?);
-        }
+    if let Some((offset, se)) = parabola_vertex(&values, best) {
+        log10_se = Some(se);
+        let d = grid[best] + offset;
+        let (v, f) = at(d)?;
+        tried.push((d, v, f));
     }
+    let profile = tried.iter().map(|t| (t.0, t.1)).collect();
     let (decade, _, fit) = tried
         .into_iter()
         .max_by(|a, b| a.1.total_cmp(&b.1))
@@ -76,7 +64,64 @@ pub fn fit_density(
         density: typical * 10f64.powf(decade),
         log10_se,
         at_lower_edge: best == 0,
+        profile,
     })
+}
+
+/// The profile log-likelihood of `model` with the noise-only term `name` added at `density`
+/// (the coefficients at their estimates, the noise-driven states marginal), and the fit;
+/// minus infinity when the filter fails.
+pub fn density_loglik(
+    ds: &Dataset,
+    model: &Fit,
+    name: &str,
+    density: f64,
+    catalogue: &dyn Catalogue,
+    filter: &FilterSpec,
+) -> Result<(f64, Fit), DiagnoseError> {
+    let setup = model.setup.with_effect(name, Some(density));
+    let f = fit(ds, &setup, catalogue, filter)?;
+    let v = if f.failure.is_some() {
+        f64::NEG_INFINITY
+    } else {
+        f.profile_loglik(&marginal_states(model, &f))
+    };
+    Ok((v, f))
+}
+
+/// The decades, relative to a term's typical density, that [`fit_density`] tries first.
+pub fn density_grid() -> Vec<f64> {
+    (DENSITY_DECADES.0..=DENSITY_DECADES.1)
+        .step_by(DENSITY_STEP as usize)
+        .map(f64::from)
+        .collect()
+}
+
+/// Index of the largest of `values` (log-likelihoods on [`density_grid`]); the last of equal
+/// largest ones.
+pub fn best_on_grid(values: &[f64]) -> usize {
+    (0..values.len())
+        .max_by(|&a, &b| values[a].total_cmp(&values[b]))
+        .unwrap_or(0)
+}
+
+/// The vertex of the parabola through the grid point `best` of `values` (log-likelihoods on
+/// [`density_grid`]) and its neighbours: its offset from that point and the standard error its
+/// curvature gives, both in decades. `None` at the grid's edge, or where the likelihood is
+/// not curved down there.
+pub fn parabola_vertex(values: &[f64], best: usize) -> Option<(f64, f64)> {
+    if best == 0 || best + 1 >= values.len() {
+        return None;
+    }
+    let h = f64::from(DENSITY_STEP);
+    let (l, c, r) = (values[best - 1], values[best], values[best + 1]);
+    let curvature = (l - 2.0 * c + r) / (h * h);
+    if curvature < 0.0 && l.is_finite() && r.is_finite() {
+        let offset = ((r - l) / (2.0 * h) / -curvature).clamp(-h, h);
+        Some((offset, 1.0 / (-curvature).sqrt()))
+    } else {
+        None
+    }
 }
 
 /// A noise-only term's density fitted by maximum likelihood.
@@ -92,4 +137,7 @@ pub struct DensityFit {
     /// Whether the maximum is at the grid's smallest density: the data want none of it (the
     /// density is then at most the one given).
     pub at_lower_edge: bool,
+    /// Every density tried, as (decades from the typical density, profile log-likelihood):
+    /// [`density_grid`]'s in its order, then the refinement's, if any.
+    pub profile: Vec<(f64, f64)>,
 }

@@ -259,35 +259,74 @@ pub fn density_constancy(
     if (a.at_lower_edge && b.at_lower_edge) || b.fit.failure.is_some() {
         return Ok(None);
     }
-    // The best common density: the best of the two profiles' sum on the shared grid, and
-    // the vertex of its parabola, tried in both halves.
+    // The best common density: the best sum of the two profiles on their shared grid, the
+    // vertex of its parabola, and each half's own best, each tried in both halves.
     let grid = density_grid();
     let sum: Vec<f64> = (0..grid.len())
-        .map(|k| a.profile[k].1 + b.profile[k].1)
+        .map(|k| {
+            debug_assert!(a.profile[k].0 == grid[k] && b.profile[k].0 == grid[k]);
+            a.profile[k].1 + b.profile[k].1
+        })
         .collect();
     let best = best_on_grid(&sum);
-    let mut common = sum[best];
+    let mut common_decades = vec![best_decade(&a), best_decade(&b)];
     if let Some((offset, _)) = parabola_vertex(&sum, best) {
-        let density = typical * 10f64.powf(grid[best] + offset);
-        let (la, lb) = rayon::join(
-            || density_loglik(&first, &first_base, name, density, catalogue, filter),
-            || density_loglik(&second, &second_base, name, density, catalogue, filter),
-        );
-        common = common.max(la?.0 + lb?.0);
+        common_decades.push(grid[best] + offset);
     }
-    let separate = |d: &DensityFit| {
-        d.profile
+    let halves = [(&first, &first_base, &a), (&second, &second_base, &b)];
+    let jobs: Vec<_> = common_decades
+        .iter()
+        .flat_map(|&d| halves.iter().map(move |&h| (d, h)))
+        .collect();
+    // Each common density's log-likelihood in the first half and in the second, in turn.
+    let tried = jobs
+        .par_iter()
+        .map(|&(decade, (half, base, fitted))| {
+            match fitted.profile.iter().find(|p| p.0 == decade) {
+                Some(p) => Ok(p.1),
+                None => {
+                    let density = typical * 10f64.powf(decade);
+                    density_loglik(half, base, name, density, catalogue, filter).map(|(v, _)| v)
+                }
+            }
+        })
+        .collect::<Result<Vec<f64>, DiagnoseError>>()?;
+    // The likelihood with one density: only where both halves' filters ran.
+    let both = |la: f64, lb: f64| (la.is_finite() && lb.is_finite()).then_some(la + lb);
+    let common = (0..grid.len())
+        .filter_map(|k| both(a.profile[k].1, b.profile[k].1))
+        .chain(tried.chunks(2).filter_map(|l| both(l[0], l[1])))
+        .fold(f64::NEG_INFINITY, f64::max);
+    // With one for each half: each half's best of everything it was tried at, so that the
+    // ratio is not negative however coarsely the grid found the maxima.
+    let own = |fitted: &DensityFit, half: usize| {
+        fitted
+            .profile
             .iter()
             .map(|p| p.1)
+            .chain(tried.iter().skip(half).step_by(2).copied())
+            .filter(|v| v.is_finite())
             .fold(f64::NEG_INFINITY, f64::max)
     };
-    let stat = (2.0 * (separate(&a) + separate(&b) - common)).max(0.0);
+    let stat = 2.0 * (own(&a, 0) + own(&b, 1) - common);
+    if !stat.is_finite() {
+        return Ok(None);
+    }
     let p_value = navkf_report::stats::chi2_sf(stat, 1.0);
     Ok(Some(Constancy {
-        coefficients: vec![("log10 density".into(), stat, 1, p_value)],
+        coefficients: vec![("density (likelihood ratio)".into(), stat, 1, p_value)],
         p_value,
         constant: p_value >= CONSTANCY_ALPHA,
     }))
+}
+
+/// The decade (from the typical density) of the best density `fitted` tried.
+fn best_decade(fitted: &DensityFit) -> f64 {
+    fitted
+        .profile
+        .iter()
+        .max_by(|x, y| x.1.total_cmp(&y.1))
+        .map_or(0.0, |p| p.0)
 }
 
 /// The dataset cut in two at the middle of its measurements (each half keeps every input, so

@@ -373,9 +373,10 @@ fn a_drive_without_initial_starts_from_its_alignment_and_says_so() {
 /// the first half of a drive cannot see an accelerometer bias wander, the test compared the
 /// second half with the grid's smallest density as if that were an estimate (p = 7e-180).
 /// The second half now resumes where the first half's fit ended, and the halves are compared
-/// by the likelihood ratio of one density against two. Measured over 58 such drives
-/// (docs/strapdown.md), 1 true instability fails at the test's level. A resume from the
-/// family's own start is the plain pass, bit for bit.
+/// by the likelihood ratio of one density against one each (`stand_ins::density_constancy`
+/// gives what this measured over 58 drives). Then the resume's mechanics: from the family's
+/// own start it is the plain pass, bit for bit; from the end of a pass it carries the
+/// navigation states and their covariance, and nothing else.
 #[test]
 fn the_noise_terms_constancy_test_keeps_a_true_instability() {
     use navkf_diagnose::catalogue::Catalogue;
@@ -401,14 +402,15 @@ fn the_noise_terms_constancy_test_keeps_a_true_instability() {
         let c = density_constancy(&ds, &fits.model.setup, effect, &catalogue, &opts.filter)
             .unwrap()
             .unwrap();
-        assert!(c.constant && c.p_value > 0.01, "{hidden} run {run}: {c:?}");
+        let stat = c.coefficients[0].1;
+        assert!(stat.is_finite() && stat >= 0.0, "{hidden} run {run}: {c:?}");
+        assert!(c.p_value > 0.01, "{hidden} run {run}: {c:?}");
     }
 
     let ds = drive("sigma_bg=2e-4", 20261130, 2);
     let opts = opts_with("gyro-bias-instability");
     let (_, fits) = diagnose(&ds, &catalogue, &opts).unwrap();
     let setup = &fits.model.setup;
-    // The resume's mechanics: from the family's own start, the plain pass.
     let plain = fit(&ds, setup, &catalogue, &opts.filter).unwrap();
     let model = catalogue
         .model(
@@ -418,14 +420,36 @@ fn the_noise_terms_constancy_test_keeps_a_true_instability() {
             opts.filter.attitude,
         )
         .unwrap();
-    let start = initial(&ds, setup, &catalogue, &*model).unwrap();
     let nav = catalogue.nav_dim();
+    let tilt = [setup.priors.level_rad, setup.priors.azimuth_rad];
+    let family_start = catalogue.start(&ds, &setup.noise, tilt).unwrap();
+    let start = initial(&ds, setup, &catalogue, &*model).unwrap();
     let n = start.x.len();
+    assert_eq!(start.t, family_start.t);
+    assert_eq!(start.x[..nav], family_start.x[..]);
+    assert_eq!(start.sigma[..nav], family_start.sigma[..]);
+    for i in 0..n {
+        for j in 0..n {
+            let expected = if i == j {
+                start.sigma[i] * start.sigma[i]
+            } else {
+                0.0
+            };
+            assert_eq!(start.p[i + j * n], expected, "({i}, {j})");
+        }
+    }
     let own_start = NavigationState {
-        t: start.t,
-        x: start.x[..nav].to_vec(),
+        t: family_start.t,
+        x: family_start.x.clone(),
         p: (0..nav * nav)
-            .map(|k| start.p[k % nav + (k / nav) * n])
+            .map(|k| {
+                let (i, j) = (k % nav, k / nav);
+                if i == j {
+                    family_start.sigma[i] * family_start.sigma[i]
+                } else {
+                    0.0
+                }
+            })
             .collect(),
     };
     let resumed = FitSetup {
@@ -437,9 +461,14 @@ fn the_noise_terms_constancy_test_keeps_a_true_instability() {
     assert_eq!(again.p, plain.p);
     assert_eq!(again.loglik, plain.loglik);
 
-    // From the end of a pass, the navigation states and their covariance carry over; the
-    // rest start from their priors.
     let end = plain.final_navigation().unwrap();
+    assert_eq!(end.t, *plain.t.last().unwrap());
+    assert_eq!(end.x[..], plain.x[..nav]);
+    for j in 0..nav {
+        for i in 0..nav {
+            assert_eq!(end.p[i + j * nav], plain.p[i + j * n]);
+        }
+    }
     let later = FitSetup {
         resume_navigation: Some(end.clone()),
         ..setup.clone()
@@ -447,9 +476,14 @@ fn the_noise_terms_constancy_test_keeps_a_true_instability() {
     let from_end = initial(&ds, &later, &catalogue, &*model).unwrap();
     assert_eq!(from_end.t, end.t);
     assert_eq!(from_end.x[..nav], end.x[..]);
-    for j in 0..nav {
-        for i in 0..nav {
-            assert_eq!(from_end.p[i + j * n], end.p[i + j * nav]);
+    for j in 0..n {
+        for i in 0..n {
+            let expected = match (i < nav, j < nav) {
+                (true, true) => end.p[i + j * nav],
+                (false, false) => start.p[i + j * n],
+                _ => 0.0,
+            };
+            assert_eq!(from_end.p[i + j * n], expected, "({i}, {j})");
         }
     }
     assert_eq!(from_end.x[nav..], start.x[nav..]);

@@ -247,10 +247,11 @@ impl Catalogue for StrapdownCatalogue {
         let ([roll, pitch, heading0], _) = self.initial(ds)?;
         // The heading at the start: the initial one turned by what the z gyro read less the
         // Earth's rate about the vertical (a level unit's psi' = -(w_z - wie sinL)), its
-        // sigma grown by the gyro bias over that time. A fit of the record's second half (the
-        // noise-term stand-in test's, crate::stand_ins::density_constancy) starts twenty
-        // minutes in: without the growth its heading, 17 deg off on a MEMS unit's 50 deg/h,
-        // was claimed to 2 deg. (The coefficients' test restarts them mid-pass instead.)
+        // sigma grown by the gyro bias over that time: a record whose first full fix comes
+        // minutes after its first reading would otherwise claim its heading to the
+        // alignment's sigma (a MEMS unit's 50 deg/h turns it 17 deg in twenty minutes). The
+        // stand-in tests never start a filter mid-record here: they restart coefficients
+        // mid-pass, or resume a second half from the first half's navigation state.
         let first = ds.inputs.first().map_or(m0.t, |s| s.t);
         let up_rate = WIE * p0[0].sin();
         let mut turned = 0.0;

@@ -168,8 +168,11 @@ impl Fit {
 
     /// The navigation states after the last update, with their covariance: where a pass over
     /// the rest of the record may resume ([`FitSetup::resume_navigation`]). `None` when the
-    /// pass made no update.
+    /// pass made no update or its filter failed (its state is then not the last update's).
     pub fn final_navigation(&self) -> Option<NavigationState> {
+        if self.failure.is_some() {
+            return None;
+        }
         let t = *self.t.last()?;
         let (n, nav) = (self.names.len(), self.nav_dim);
         let mut p = vec![0.0; nav * nav];
@@ -216,7 +219,7 @@ pub fn initial(
             let tilt = [setup.priors.level_rad, setup.priors.azimuth_rad];
             let start = catalogue.start(ds, &setup.noise, tilt)?;
             let mut p = vec![0.0; nav * nav];
-            for (i, s) in start.sigma.iter().enumerate() {
+            for (i, s) in start.sigma.iter().enumerate().take(nav) {
                 p[i + i * nav] = s * s;
             }
             NavigationState {
@@ -228,8 +231,10 @@ pub fn initial(
     };
     if start.x.len() != nav || start.p.len() != nav * nav {
         return Err(DiagnoseError::Data(format!(
-            "a resumed navigation state has {} states, the family {nav}",
-            start.x.len()
+            "a filter's start has {} navigation states and a covariance of {} entries; the \
+             family has {nav} states",
+            start.x.len(),
+            start.p.len()
         )));
     }
     let mut x = vec![0.0; n];

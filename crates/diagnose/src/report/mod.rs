@@ -242,7 +242,7 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
                     "-",
                     "-",
                     "-",
-                    "not testable (too little information)",
+                    "not testable (too little information, or a half could not be fitted)",
                 ]),
                 Some(c) => {
                     for (name, stat, dof, p) in &c.coefficients {
@@ -261,7 +261,7 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
         }
         let _ = write!(
             out,
-            "\n## Are the named coefficients constants?\n\nThe final model refitted on each half of the record; each coefficient's two estimates compared (chi-square, one degree of freedom; the effect fails below p = {:.0e}, Bonferroni over its coefficients):\n\n{}",
+            "\n## Are the named coefficients constants?\n\nThe final model refitted on each half of the record, the second half resuming where the first ended; each coefficient's two estimates compared, and a noise term's density by the likelihood ratio of one density for the whole record against one for each half (chi-square, one degree of freedom; the effect fails below p = {:.0e}, Bonferroni over its coefficients):\n\n{}",
             CONSTANCY_ALPHA,
             constancy.render()
         );

@@ -1,7 +1,8 @@
 //! A dataset's files as columns: each CSV column a numpy array under its header's name
 //! (`docs/data-format.md`), an empty cell a NaN.
 
-use navkf_dynamics::dataset::{files_of, Dataset, Odometer};
+use navkf_dynamics::dataset::{files_of, Dataset, Odometer, MEASUREMENTS_FILE};
+use navkf_dynamics::ModelKind;
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -72,4 +73,30 @@ pub fn truth<'py>(py: Python<'py>, ds: &Dataset) -> PyResult<Option<Bound<'py, P
         d.set_item(name, PyArray1::from_vec(py, col))?;
     }
     Ok(Some(d))
+}
+
+/// Every model family's files, in `ModelKind::ALL`'s order: its name, whether it is the
+/// default (which `dataset.toml` need not name), and the inputs and measurements files with
+/// their columns. The package's `from_arrays` writes a dataset from them, so it holds no list
+/// of families or columns of its own.
+#[pyfunction]
+pub fn families(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
+    ModelKind::ALL
+        .iter()
+        .map(|&kind| {
+            let files = files_of(kind);
+            let d = PyDict::new(py);
+            d.set_item("name", kind.name())?;
+            d.set_item("default", kind == ModelKind::default())?;
+            d.set_item(
+                "inputs",
+                (files.inputs_file(), files.input_columns().to_vec()),
+            )?;
+            d.set_item(
+                "measurements",
+                (MEASUREMENTS_FILE, files.measurement_columns().to_vec()),
+            )?;
+            Ok(d)
+        })
+        .collect()
 }

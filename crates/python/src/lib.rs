@@ -11,7 +11,7 @@
 use pyo3::prelude::*;
 
 mod background;
-mod columns;
+pub mod columns;
 mod dataset;
 mod diagnose;
 mod errors;
@@ -31,6 +31,7 @@ fn _navkf(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(diagnose::diagnose, m)?)?;
     m.add_function(wrap_pyfunction!(instruction_set::instruction_set, m)?)?;
     m.add_function(wrap_pyfunction!(instruction_set::ignored_simd_setting, m)?)?;
+    m.add_function(wrap_pyfunction!(columns::families, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

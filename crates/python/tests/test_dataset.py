@@ -105,6 +105,11 @@ def test_bad_arrays_are_named_with_their_row(pair):
         navkf.Dataset.from_arrays({**pair.inputs, "f_u": pair.inputs["f_u"][:-1]}, pair.measurements)
     with pytest.raises(navkf.NavkfError, match="not an array of numbers"):
         navkf.Dataset.from_arrays({**pair.inputs, "f_u": ["a"] * len(pair.inputs["t"])}, pair.measurements)
+    # The families and their columns come from the native module's registration.
+    with pytest.raises(navkf.NavkfError, match=r"model 'gimbal': expected 'platform' or 'strapdown'"):
+        navkf.Dataset.from_arrays(pair.inputs, pair.measurements, model="gimbal")
+    with pytest.raises(navkf.NavkfError, match=r"imu: columns .*expected exactly \['t', 'w_x'"):
+        navkf.Dataset.from_arrays(pair.inputs, pair.measurements, model="strapdown")
 
 
 def test_a_strapdown_dataset_from_arrays_states_its_family(tmp_path):

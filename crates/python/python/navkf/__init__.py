@@ -264,16 +264,17 @@ def diagnose(
     return result
 
 
-_COLUMNS = {
-    "platform": (
-        ("inputs.csv", ["t", "f_e", "f_n", "f_u"]),
-        ("measurements.csv", ["t", "v_e", "v_n", "lat_deg", "lon_deg"]),
-    ),
-    "strapdown": (
-        ("imu.csv", ["t", "w_x", "w_y", "w_z", "f_x", "f_y", "f_z"]),
-        ("measurements.csv", ["t", "speed", "lat_deg", "lon_deg"]),
-    ),
-}
+# Each model family's files and their columns, as the reader expects them (the native
+# module's registration of the families; the first listed for a refusal).
+_FAMILIES = _navkf.families()
+_COLUMNS = {f["name"]: (f["inputs"], f["measurements"]) for f in _FAMILIES}
+_DEFAULT_MODEL = next(f["name"] for f in _FAMILIES if f["default"])
+
+
+def _expected_models() -> str:
+    """``'platform' or 'strapdown'``: the families' names, as a refusal lists them."""
+    names = [repr(n) for n in _COLUMNS]
+    return names[-1] if len(names) == 1 else ", ".join(names[:-1]) + " or " + names[-1]
 
 
 def _cell(v: float) -> str:
@@ -322,7 +323,7 @@ def _from_arrays(
     import re
 
     if model not in _COLUMNS:
-        raise NavkfError(f"model {model!r}: expected 'platform' or 'strapdown'")
+        raise NavkfError(f"model {model!r}: expected {_expected_models()}")
     with tempfile.TemporaryDirectory(prefix="navkf-") as tmp:
         folder = os.path.join(tmp, name)
         os.mkdir(folder)
@@ -332,8 +333,8 @@ def _from_arrays(
         if truth is not None:
             _write_columns(folder, "truth.csv", truth, ["t"] + [k for k in truth if k != "t"])
         text = config or ""
-        if model == "strapdown" and "[model]" not in text:
-            text = '[model]\nkind = "strapdown"\n\n' + text
+        if model != _DEFAULT_MODEL and "[model]" not in text:
+            text = f'[model]\nkind = "{model}"\n\n' + text
         if text:
             with open(os.path.join(folder, "dataset.toml"), "w", encoding="utf-8") as f:
                 f.write(text)

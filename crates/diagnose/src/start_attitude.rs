@@ -5,6 +5,7 @@
 //! has no `[initial]` must be able to see what the filters were told, and from which seconds
 //! of the record, before trusting a verdict that rests on it.
 
+use crate::error::DiagnoseError;
 use navkf_dynamics::dataset::Dataset;
 use serde::{Deserialize, Serialize};
 
@@ -47,16 +48,26 @@ impl StartAttitude {
     /// The start attitude of `ds`: its `[initial]`, or its alignment from the data; `None`
     /// when it has neither (the diagnosis then stops with the alignment's reason).
     pub fn of(ds: &Dataset) -> Option<StartAttitude> {
+        Self::try_of(ds).ok()
+    }
+
+    /// [`StartAttitude::of`], with the reason when `ds` has neither.
+    pub fn try_of(ds: &Dataset) -> Result<StartAttitude, DiagnoseError> {
         if let Some(a) = ds.initial {
-            return Some(StartAttitude {
+            return Ok(StartAttitude {
                 roll_deg: a.roll_deg,
                 pitch_deg: a.pitch_deg,
                 heading_deg: a.heading_deg,
                 source: AttitudeSource::Stated,
             });
         }
-        let al = ds.align_from_data().ok()?;
-        Some(StartAttitude {
+        let al = ds.align_from_data().map_err(|e| {
+            DiagnoseError::Data(format!(
+                "{}: dataset.toml has no [initial] attitude and the data give none: {e}",
+                ds.name
+            ))
+        })?;
+        Ok(StartAttitude {
             roll_deg: al.attitude.roll_deg,
             pitch_deg: al.attitude.pitch_deg,
             heading_deg: al.attitude.heading_deg,
@@ -68,6 +79,15 @@ impl StartAttitude {
                 heading_sigma_rad: al.heading_sigma,
             },
         })
+    }
+
+    /// Roll, pitch and heading, rad.
+    pub fn angles_rad(&self) -> [f64; 3] {
+        [
+            self.roll_deg.to_radians(),
+            self.pitch_deg.to_radians(),
+            self.heading_deg.to_radians(),
+        ]
     }
 
     /// Whether it was aligned from the data.

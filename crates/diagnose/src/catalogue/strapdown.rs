@@ -10,6 +10,7 @@
 
 use super::{first_full_measurement, Catalogue, Channel, ChannelKind, EffectInfo, Start};
 use crate::error::DiagnoseError;
+use crate::start_attitude::{AttitudeSource, StartAttitude};
 use navkf_dynamics::dataset::{Dataset, Measurement};
 use navkf_dynamics::earth::WIE;
 use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
@@ -102,33 +103,21 @@ impl StrapdownCatalogue {
         if let Some(a) = self.aligned {
             return Ok(a);
         }
-        let level_default = stated_level_sigma(self.class);
-        if let Some(a) = ds.initial {
-            let level = ds.prior.level_rad.unwrap_or(level_default);
-            let heading = ds.prior.azimuth_rad.unwrap_or(STATED_HEADING_SIGMA);
-            return Ok((
-                [
-                    a.roll_deg.to_radians(),
-                    a.pitch_deg.to_radians(),
-                    a.heading_deg.to_radians(),
-                ],
-                [level, heading],
-            ));
-        }
-        let a = ds.align_from_data().map_err(|e| {
-            DiagnoseError::Data(format!(
-                "{}: dataset.toml has no [initial] attitude and the data give none: {e}",
-                ds.name
-            ))
-        })?;
-        Ok((
-            [
-                a.attitude.roll_deg.to_radians(),
-                a.attitude.pitch_deg.to_radians(),
-                a.attitude.heading_deg.to_radians(),
+        let start = StartAttitude::try_of(ds)?;
+        let sigmas = match start.source {
+            AttitudeSource::Stated => [
+                ds.prior
+                    .level_rad
+                    .unwrap_or_else(|| stated_level_sigma(self.class)),
+                ds.prior.azimuth_rad.unwrap_or(STATED_HEADING_SIGMA),
             ],
-            [a.level_sigma, a.heading_sigma],
-        ))
+            AttitudeSource::Aligned {
+                level_sigma_rad,
+                heading_sigma_rad,
+                ..
+            } => [level_sigma_rad, heading_sigma_rad],
+        };
+        Ok((start.angles_rad(), sigmas))
     }
 }
 
@@ -205,8 +194,8 @@ impl Catalogue for StrapdownCatalogue {
     fn tilt_names(&self) -> [&'static str; 2] {
         ["level_rad", "heading_rad"]
     }
-    fn start_attitude(&self, ds: &Dataset) -> Option<crate::start_attitude::StartAttitude> {
-        crate::start_attitude::StartAttitude::of(ds)
+    fn start_attitude(&self, ds: &Dataset) -> Option<StartAttitude> {
+        StartAttitude::of(ds)
     }
     fn default_tilt(&self, ds: &Dataset, _start_lat: f64) -> [f64; 2] {
         let level = stated_level_sigma(self.class);

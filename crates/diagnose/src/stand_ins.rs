@@ -272,7 +272,7 @@ pub fn density_constancy(
         })
         .collect();
     let best = best_on_grid(&sum);
-    let mut common_decades = vec![best_decade(&a), best_decade(&b)];
+    let mut common_decades = vec![a.decade, b.decade];
     if let Some((offset, _)) = parabola_vertex(&sum, best) {
         common_decades.push(grid[best] + offset);
     }
@@ -321,15 +321,6 @@ pub fn density_constancy(
         p_value,
         constant: p_value >= CONSTANCY_ALPHA,
     }))
-}
-
-/// The decade (from the typical density) of the best density `fitted` tried.
-fn best_decade(fitted: &DensityFit) -> f64 {
-    fitted
-        .profile
-        .iter()
-        .max_by(|x, y| x.1.total_cmp(&y.1))
-        .map_or(0.0, |p| p.0)
 }
 
 /// The dataset cut in two at the middle of its measurements (each half keeps every input, so

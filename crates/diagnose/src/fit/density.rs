@@ -3,8 +3,8 @@
 //! A term that adds no coefficient, only process noise (`gyro-bias-walk`,
 //! docs/model.md eq. (44)), has one parameter, its density, which the filter cannot estimate
 //! as a state. So it is fitted around the filter: one pass per density on a grid of decades
-//! around the typical one, the best refined by a parabola through it and its neighbours, whose
-//! curvature also gives the resolution ([`DensityFit::log10_se`]). Each pass's likelihood is
+//! around the typical one, the best refined by the vertex of a parabola through it and its
+//! neighbours ([`parabola_vertex`]). Each pass's likelihood is
 //! taken at the coefficients' estimates with the noise-driven states marginal
 //! ([`super::pass::marginal_states`]), as every comparison of the diagnosis is.
 
@@ -47,9 +47,7 @@ pub fn fit_density(
         .collect::<Result<Vec<_>, _>>()?;
     let values: Vec<f64> = tried.iter().map(|t| t.1).collect();
     let best = best_on_grid(&values);
-    let mut log10_se = None;
-    if let Some((offset, se)) = parabola_vertex(&values, best) {
-        log10_se = Some(se);
+    if let Some((offset, _)) = parabola_vertex(&values, best) {
         let d = grid[best] + offset;
         let (v, f) = at(d)?;
         tried.push((d, v, f));
@@ -62,7 +60,7 @@ pub fn fit_density(
     Ok(DensityFit {
         fit,
         density: typical * 10f64.powf(decade),
-        log10_se,
+        decade,
         at_lower_edge: best == 0,
         profile,
     })
@@ -131,9 +129,8 @@ pub struct DensityFit {
     pub fit: Fit,
     /// The density.
     pub density: f64,
-    /// Standard error of its decimal logarithm, from the likelihood's curvature; `None`
-    /// when the maximum is at the edge of the grid or the likelihood is flat there.
-    pub log10_se: Option<f64>,
+    /// The density in decades from the typical one.
+    pub decade: f64,
     /// Whether the maximum is at the grid's smallest density: the data want none of it (the
     /// density is then at most the one given).
     pub at_lower_edge: bool,

@@ -50,6 +50,16 @@ pub trait SystemModel: Send + Sync {
     fn meas_dim(&self) -> usize;
     /// Writes the noise-free measurement `h(x)`.
     fn measure(&self, x: &[f64], z: &mut [f64]);
+    /// Writes `h` of `count = points.len() / dim()` states stored one after another into
+    /// `z`, `meas_dim()` values each (a UKF's sigma points). The default calls
+    /// [`SystemModel::measure`] point by point; a model may override it with a batched
+    /// evaluation that gives the same bits.
+    fn measure_points(&self, points: &[f64], z: &mut [f64]) {
+        let (n, nz) = (self.dim(), self.meas_dim());
+        for (x, z) in points.chunks_exact(n).zip(z.chunks_exact_mut(nz)) {
+            self.measure(x, z);
+        }
+    }
     /// Writes the Jacobian of `h`, row-major `meas_dim() x dim()`.
     fn measurement_jacobian(&self, x: &[f64], h: &mut [f64]);
     /// Whether `h` is linear (then its Jacobian is constant and exact).

@@ -244,12 +244,8 @@ impl<M: SystemModel + ?Sized> SquareRootUkf<M> {
         let sp = self.sp;
         let count = sp.count();
         self.draw_points();
-        for i in 0..count {
-            self.model.measure(
-                &self.points[i * n..(i + 1) * n],
-                &mut self.z_pts[i * nz..(i + 1) * nz],
-            );
-        }
+        self.model
+            .measure_points(&self.points[..count * n], &mut self.z_pts[..count * nz]);
         weighted_mean(
             ColMajor::new(&self.z_pts, nz, count),
             (0..count).map(|i| sp.wm(i)),

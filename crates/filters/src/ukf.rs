@@ -326,12 +326,8 @@ impl<M: SystemModel + ?Sized> Ukf<M> {
         let n = self.est.n;
         let nz = self.model.meas_dim();
         let k = self.gain.report.channels.len();
-        for i in 0..count {
-            self.model.measure(
-                &self.points[i * n..(i + 1) * n],
-                &mut self.z_pts[i * nz..(i + 1) * nz],
-            );
-        }
+        self.model
+            .measure_points(&self.points[..count * n], &mut self.z_pts[..count * nz]);
         if v_aug {
             // V directions are the last nv of the augmented directions.
             let first = n + self.nw;

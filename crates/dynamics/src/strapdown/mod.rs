@@ -25,6 +25,7 @@
 
 pub mod attitude;
 pub mod batch;
+pub mod batch_measurement;
 pub mod effect_list;
 pub mod effect_rates;
 pub mod effects;

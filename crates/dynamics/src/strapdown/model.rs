@@ -266,6 +266,9 @@ impl SystemModel for StrapdownModel {
     fn measure(&self, x: &[f64], z: &mut [f64]) {
         measurement_with(&self.layout, x, z);
     }
+    fn measure_points(&self, points: &[f64], z: &mut [f64]) {
+        super::batch_measurement::measure_blocks(&self.layout, self.dim(), points, z);
+    }
     fn measurement_jacobian(&self, x: &[f64], h: &mut [f64]) {
         if !self.plain() {
             return tangent::measurement_jacobian(&self.layout, x, h);

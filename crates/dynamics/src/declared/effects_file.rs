@@ -9,6 +9,7 @@
 //! file's name, not as a bare key.
 
 use super::{read_declarations, EffectDeclaration};
+use crate::dataset::files_of;
 use crate::dataset::Dataset;
 use crate::error::DynamicsError;
 use crate::model_kind::ModelKind;
@@ -26,24 +27,28 @@ pub struct DeclaredFile {
 
 impl DeclaredFile {
     /// Reads `path` and checks its declarations against the catalogue of their family: the
-    /// strapdown one when any declaration states `places`, the platform one otherwise (a file
-    /// mixing both is refused by the strapdown check, at the key of the first platform term).
+    /// first other than the default whose terms a declaration states (the strapdown's
+    /// `places`; [`crate::dataset::FamilyFiles::states_own_terms`]), the default family's otherwise. A file
+    /// mixing two families' terms is refused by the check of the one found, at the key of
+    /// the first term of the other.
     pub fn read(path: &Path) -> Result<DeclaredFile, DynamicsError> {
         let declarations = read_declarations(path)?;
-        let family = if declarations.iter().any(|d| !d.places.is_empty()) {
-            ModelKind::Strapdown
-        } else {
-            ModelKind::Platform
+        let states = |kind: ModelKind| {
+            let files = files_of(kind);
+            declarations.iter().any(|d| files.states_own_terms(d))
         };
+        let family = ModelKind::ALL
+            .into_iter()
+            .find(|&kind| kind != ModelKind::default() && states(kind))
+            .unwrap_or_default();
         let file = DeclaredFile {
             path: path.to_path_buf(),
             family,
             declarations,
         };
-        match family {
-            ModelKind::Platform => drop(file.platform_registry()?),
-            ModelKind::Strapdown => drop(file.strapdown_registry()?),
-        }
+        files_of(family)
+            .declare(&mut Registry::catalogue(), &file.declarations)
+            .map_err(|e| file.locate(e))?;
         Ok(file)
     }
 

@@ -101,6 +101,10 @@ pub trait FamilyFiles: Sync {
     /// family's (`` `places` ``).
     fn declaration_terms(&self) -> &'static str;
 
+    /// Whether `declaration` states the terms of this family ([`FamilyFiles::declaration_terms`]):
+    /// what tells an effects file's family ([`crate::declared::DeclaredFile`]).
+    fn states_own_terms(&self, declaration: &EffectDeclaration) -> bool;
+
     /// Values of `dataset` that parse, yet look written in the wrong unit, axes or form.
     fn warnings(&self, dataset: &Dataset) -> Vec<DataWarning>;
 }

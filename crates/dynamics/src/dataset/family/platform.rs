@@ -68,6 +68,9 @@ impl FamilyFiles for PlatformFiles {
     fn declaration_terms(&self) -> &'static str {
         "`rates` and `measurement` terms"
     }
+    fn states_own_terms(&self, declaration: &EffectDeclaration) -> bool {
+        !declaration.rates.is_empty() || !declaration.measurement.is_empty()
+    }
     fn warnings(&self, dataset: &Dataset) -> Vec<DataWarning> {
         dataset.platform_warnings()
     }

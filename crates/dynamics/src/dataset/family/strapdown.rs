@@ -85,6 +85,9 @@ impl FamilyFiles for StrapdownFiles {
     fn declaration_terms(&self) -> &'static str {
         "`places`"
     }
+    fn states_own_terms(&self, declaration: &EffectDeclaration) -> bool {
+        !declaration.places.is_empty()
+    }
     fn warnings(&self, dataset: &Dataset) -> Vec<DataWarning> {
         dataset.strapdown_warnings()
     }

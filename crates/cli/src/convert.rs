@@ -53,7 +53,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         ds.measurements.len()
     );
     let summary = ds.summary();
-    println!("{summary}");
+    say!("{summary}");
     for w in ds.warnings() {
         eprintln!("warning: {w}");
     }

@@ -166,7 +166,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         d.rounds.len(),
         out.display()
     );
-    println!(
+    say!(
         "verdict: {}{}",
         d.verdict,
         if !d.effects.is_empty() {
@@ -178,10 +178,10 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         }
     );
     for f in &d.findings {
-        println!("- {f}");
+        say!("- {f}");
     }
     for (k, r) in d.rounds.iter().enumerate() {
-        println!(
+        say!(
             "\nround {} ({}): model {}",
             k + 1,
             match r.kind {
@@ -202,12 +202,15 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
             .max()
             .unwrap_or(0)
             .max("candidate".len());
-        println!(
+        say!(
             "{:<width$} {:>12} {:>10} {:>9}  outcome",
-            "candidate", "dLL", "BIC gain", "removed"
+            "candidate",
+            "dLL",
+            "BIC gain",
+            "removed"
         );
         for c in &r.candidates {
-            println!(
+            say!(
                 "{:<width$} {:>12.1} {:>10.1} {:>8.0}%  {}",
                 c.effect,
                 c.delta_loglik,

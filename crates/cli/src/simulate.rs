@@ -95,6 +95,6 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
     };
     let written = simulate(&request, &a.out, SettingNames::CommandLine)?;
     eprintln!("wrote {} ({})", a.out.display(), written.description);
-    println!("{}", written.dataset.summary());
+    say!("{}", written.dataset.summary());
     Ok(())
 }

@@ -49,6 +49,32 @@ fn a_pair_table_with_a_bad_effect_or_size_is_refused_by_key() {
     assert!(e.contains("colour"), "{e}");
 }
 
+/// A count no machine could diagnose is refused by key before anything is planned, however
+/// large (a per-effect count times the catalogue once overflowed).
+#[test]
+fn a_count_beyond_a_million_datasets_is_refused_by_key() {
+    for (class, count) in [
+        ("single", "1000000000000000000"),
+        ("single", "200000"),
+        ("nothing", "2000000"),
+    ] {
+        let e = parse(&format!(
+            "[[content]]\nkind = \"{class}\"\ncount = {count}\n"
+        ))
+        .unwrap_err();
+        assert!(
+            e.contains("content[0].count") && e.contains("at most 1000000"),
+            "{e}"
+        );
+    }
+    let e = parse(
+        "[[content]]\nkind = \"nothing\"\ncount = 600000\n\n[[content]]\nkind = \"nothing\"\ncount = 600000\n",
+    )
+    .unwrap_err();
+    assert!(e.contains("content[1].count"), "{e}");
+    assert!(parse("[[content]]\nkind = \"nothing\"\ncount = 1000000\n").is_ok());
+}
+
 #[test]
 fn a_restricted_pair_table_draws_only_its_effects_within_its_sizes() {
     let cfg = parse(

@@ -191,8 +191,10 @@ impl ContentClass {
     /// Number of datasets it makes, in a family of `catalogued` effects.
     pub fn count(&self, catalogued: usize) -> usize {
         match self {
-            ContentClass::Single { count, effects } if effects.is_empty() => count * catalogued,
-            ContentClass::Single { count, effects } => count * effects.len(),
+            ContentClass::Single { count, effects } if effects.is_empty() => {
+                count.saturating_mul(catalogued)
+            }
+            ContentClass::Single { count, effects } => count.saturating_mul(effects.len()),
             ContentClass::Nothing { count }
             | ContentClass::Pair { count, .. }
             | ContentClass::Outside { count, .. }
@@ -352,9 +354,18 @@ impl DiagnosisStudyConfig {
             catalogued(format!("sizes.{name}"), name)?;
             bounds(format!("sizes.{name}"), *r)?;
         }
+        let mut total = 0usize;
         for (i, c) in self.content.iter().enumerate() {
-            if c.count(names.len()) == 0 {
+            let count = c.count(names.len());
+            if count == 0 {
                 return Err(format!("content[{i}].count = 0: expected at least one"));
+            }
+            total = total.saturating_add(count);
+            if total > MAX_DATASETS {
+                return Err(format!(
+                    "content[{i}].count: the study would make {total} datasets by this class; \
+                     expected at most {MAX_DATASETS} in all (a diagnosis takes seconds each)"
+                ));
             }
             // The outside drag is the `drag` effect of navkf_dynamics::outside: a declaration
             // of it would make it catalogued, not outside.
@@ -637,5 +648,12 @@ pub fn effect_scales(config: &DiagnosisStudyConfig) -> Vec<rates::EffectScale> {
 /// Number of datasets the study makes.
 pub fn dataset_count(config: &DiagnosisStudyConfig) -> usize {
     let catalogued = config.effect_names().len();
-    config.content.iter().map(|c| c.count(catalogued)).sum()
+    config
+        .content
+        .iter()
+        .fold(0, |n: usize, c| n.saturating_add(c.count(catalogued)))
 }
+
+/// Most datasets a diagnosis study may make: a million diagnoses take weeks on one machine,
+/// and every dataset is planned before the first runs.
+pub const MAX_DATASETS: usize = 1_000_000;

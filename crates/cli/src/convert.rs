@@ -52,6 +52,9 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         ds.inputs.len(),
         ds.measurements.len()
     );
+    if let Some(note) = ds.provenance.as_ref().and_then(|p| p.note.as_ref()) {
+        eprintln!("note: {note}");
+    }
     let summary = ds.summary();
     say!("{summary}");
     for w in ds.warnings() {

@@ -216,8 +216,51 @@ fn a_kitti_oxts_folder_is_converted_and_read_back() {
         "{toml}"
     );
     assert!(toml.contains("not a wheel odometer"), "{toml}");
+    assert!(text(&o.stderr).contains("note: converted from KITTI"));
     let o = navkf([std::ffi::OsStr::new("inspect"), out.as_os_str()]);
     assert!(o.status.success(), "{}", text(&o.stderr));
+    // A period longer than the drive is refused by its option, not by an empty file.
+    let o = navkf([
+        std::ffi::OsStr::new("convert"),
+        std::ffi::OsStr::new("kitti"),
+        oxts.as_os_str(),
+        std::ffi::OsStr::new("--out"),
+        dir.join("too-rare").as_os_str(),
+        std::ffi::OsStr::new("--every"),
+        std::ffi::OsStr::new("10"),
+    ]);
+    let err = text(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("--every") && err.contains("shorter than the drive"),
+        "{err}"
+    );
+    // Frames without a positive position accuracy: the GPS sigma is the default, and the
+    // dataset says so.
+    for k in 0..=40 {
+        let frame = oxts.join("data").join(format!("{k:010}.txt"));
+        let mut v: Vec<String> = std::fs::read_to_string(&frame)
+            .unwrap()
+            .split_whitespace()
+            .map(str::to_string)
+            .collect();
+        v[23] = "0".into();
+        std::fs::write(&frame, v.join(" ")).unwrap();
+    }
+    let no_accuracy = dir.join("no-accuracy");
+    let o = navkf([
+        std::ffi::OsStr::new("convert"),
+        std::ffi::OsStr::new("kitti"),
+        oxts.as_os_str(),
+        std::ffi::OsStr::new("--out"),
+        no_accuracy.as_os_str(),
+    ]);
+    let err = text(&o.stderr);
+    assert!(
+        o.status.success() && err.contains("navkf's default"),
+        "{err}"
+    );
+    let toml = std::fs::read_to_string(no_accuracy.join("dataset.toml")).unwrap();
+    assert!(toml.contains("no frame giving a positive posacc"), "{toml}");
 }
 
 #[test]

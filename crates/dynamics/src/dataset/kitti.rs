@@ -78,6 +78,10 @@ fn stamp_seconds(s: &str) -> Result<(i64, f64), String> {
     if d.len() != 3 || hms.len() != 3 || !(1..=12).contains(&d[1]) || !(1..=31).contains(&d[2]) {
         return Err(format!("`{s}`: {expected}"));
     }
+    // A year any recording can have (the days since 1970 of a wild one overflow).
+    if !(1900..=9999).contains(&d[0]) {
+        return Err(format!("`{s}`: year {}: expected 1900 to 9999", d[0]));
+    }
     let (h, m): (i64, i64) = match (hms[0].parse(), hms[1].parse()) {
         (Ok(h), Ok(m)) if (0..24).contains(&h) && (0..60).contains(&m) => (h, m),
         _ => return Err(format!("`{s}`: {expected}")),
@@ -200,12 +204,28 @@ pub fn read_kitti(dir: &Path, name: &str, every_s: f64) -> Result<Dataset, Dynam
         });
         next = ((tk / every_s).floor() + 1.0) * every_s;
     }
+    if measurements.is_empty() {
+        let last = t.last().map_or(0.0, |l| l.0);
+        return Err(DynamicsError::Config {
+            key: "--every".into(),
+            message: format!(
+                "{every_s} s: no measurement, the drive lasting {last:.3} s; expected a period \
+                 shorter than the drive"
+            ),
+        });
+    }
     let mut posacc: Vec<f64> = (0..frames.len())
         .map(|k| f(k, "posacc"))
         .filter(|v| v.is_finite() && *v > 0.0)
         .collect();
     posacc.sort_by(f64::total_cmp);
-    let gps_m = posacc.get(posacc.len() / 2).copied().unwrap_or(3.0);
+    let (gps_m, gps_words) = match posacc.get(posacc.len() / 2) {
+        Some(&median) => (median, "gps_m is the median posacc"),
+        None => (
+            NoiseConfig::default().gps_m,
+            "gps_m is navkf's default, no frame giving a positive posacc",
+        ),
+    };
     Ok(Dataset {
         name: name.to_string(),
         inputs,
@@ -224,7 +244,7 @@ pub fn read_kitti(dir: &Path, name: &str, every_s: f64) -> Result<Dataset, Dynam
             note: Some(format!(
                 "converted from KITTI raw OXTS ({}): speed is the RT3003's own forward \
                  velocity (vf), not a wheel odometer, and the positions its GNSS/INS solution; \
-                 gps_m is the median posacc; the rest are navkf's defaults",
+                 {gps_words}; the rest are navkf's defaults",
                 dir.display()
             )),
         }),
@@ -286,5 +306,8 @@ mod tests {
         assert_eq!(stamp_seconds("1970-01-01 00:00:01.0"), Ok((1, 0.0)));
         assert!(stamp_seconds("2011-13-01 00:00:00.0").is_err());
         assert!(stamp_seconds("13:02:25.964389445").is_err());
+        // A year whose seconds since 1970 overflowed.
+        let e = stamp_seconds("99999999999999-01-01 00:00:00.0").unwrap_err();
+        assert!(e.contains("expected 1900 to 9999"), "{e}");
     }
 }

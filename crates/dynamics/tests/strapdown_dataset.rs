@@ -199,6 +199,47 @@ fn bad_strapdown_files_are_refused_where_they_are_wrong() {
     }
 }
 
+/// The implausibility checks read a strapdown dataset's own files and columns: its
+/// odometer's `speed` (in mm/s went unseen when only an East-North velocity was read), and
+/// `imu.csv` for a gap or a unit off the ground (named `inputs.csv` and `f_e,f_n,f_u`).
+#[test]
+fn implausible_strapdown_data_are_named_in_the_strapdown_files() {
+    use navkf_dynamics::dataset::Implausibility;
+    let clean = simulated();
+    let mut mm = clean.clone();
+    mm.measurements
+        .iter_mut()
+        .filter_map(|m| m.speed.as_mut())
+        .for_each(|v| *v *= 1000.0);
+    let found = mm.implausibilities();
+    assert!(
+        matches!(found[..], [Implausibility::OdometerTooFast { .. }]),
+        "{found:?}"
+    );
+    let text = found[0].to_string();
+    assert!(
+        text.starts_with("measurements.csv: columns `speed`"),
+        "{text}"
+    );
+    let mut gap = clean.clone();
+    gap.inputs.retain(|i| !(100.0..=110.0).contains(&i.t));
+    let mut falling = clean.clone();
+    falling
+        .inputs
+        .iter_mut()
+        .filter(|i| (100.0..=110.0).contains(&i.t))
+        .for_each(|i| i.f[3..].fill(0.0));
+    for (ds, start) in [
+        (gap, "imu.csv: column"),
+        (falling, "imu.csv: columns `f_x,f_y,f_z`"),
+    ] {
+        let found = ds.implausibilities();
+        assert_eq!(found.len(), 1, "{found:?}");
+        let text = found[0].to_string();
+        assert!(text.starts_with(start), "{text}");
+    }
+}
+
 #[test]
 fn readings_in_the_wrong_unit_axes_or_form_are_warned_of_and_clean_ones_are_not() {
     let clean = simulated();

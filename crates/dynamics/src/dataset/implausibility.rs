@@ -2,11 +2,13 @@
 //! check of [`super::implausible`] (where its bounds and their reasons are), each with where it
 //! is (file, columns, times, values) and the words that say it.
 
+use super::family::files_of;
 use super::limits::{
     FALL_FRACTION, GNSS_FLOOR_M, OVERLOAD_G, POLE_DISTANCE_M, SCATTER_SIGMAS, SPEED_MARGIN,
     SUSTAINED_S,
 };
-use super::{CONFIG_FILE, INPUTS_FILE, MEASUREMENTS_FILE};
+use super::{CONFIG_FILE, MEASUREMENTS_FILE};
+use crate::model_kind::ModelKind;
 use crate::sensor_classes::ROAD_SPEED_MAX;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -41,6 +43,9 @@ pub enum Implausibility {
         limit_s: f64,
         /// How many gaps.
         count: usize,
+        /// The dataset's family (its file of inputs and columns).
+        #[serde(default)]
+        family: ModelKind,
     },
     /// Consecutive GPS fixes farther apart than the vehicle could move; the first such jump.
     PositionJump {
@@ -75,6 +80,9 @@ pub enum Implausibility {
         gravity: f64,
         /// How many such spans.
         count: usize,
+        /// The dataset's family (its file of inputs and columns).
+        #[serde(default)]
+        family: ModelKind,
     },
     /// The odometer reads faster than any road vehicle.
     OdometerTooFast {
@@ -88,6 +96,9 @@ pub enum Implausibility {
         limit_m_s: f64,
         /// How many such readings.
         count: usize,
+        /// The dataset's family (its file of inputs and columns).
+        #[serde(default)]
+        family: ModelKind,
     },
     /// A stated `[noise]` level that no real sensor has.
     NoiseBeyondSensors {
@@ -121,7 +132,9 @@ impl Implausibility {
     /// The file it is in.
     pub fn file(&self) -> &'static str {
         match self {
-            Implausibility::InputGap { .. } | Implausibility::OffGround { .. } => INPUTS_FILE,
+            Implausibility::InputGap { family, .. } | Implausibility::OffGround { family, .. } => {
+                files_of(*family).inputs_file()
+            }
             Implausibility::NoiseBeyondSensors { .. } => CONFIG_FILE,
             _ => MEASUREMENTS_FILE,
         }
@@ -130,10 +143,17 @@ impl Implausibility {
     pub fn column(&self) -> String {
         match self {
             Implausibility::InputGap { .. } => "t".into(),
-            Implausibility::OffGround { .. } => "f_e,f_n,f_u".into(),
+            Implausibility::OffGround { family, .. } => {
+                let columns = files_of(*family).input_columns();
+                let force = columns.iter().filter(|c| c.starts_with("f_"));
+                force.copied().collect::<Vec<_>>().join(",")
+            }
             Implausibility::PositionJump { .. } => "lat_deg,lon_deg".into(),
             Implausibility::NearPole { .. } => "lat_deg".into(),
-            Implausibility::OdometerTooFast { .. } => "v_e,v_n".into(),
+            Implausibility::OdometerTooFast { family, .. } => {
+                let columns = files_of(*family).measurement_columns();
+                columns[1..columns.len() - 2].join(",")
+            }
             Implausibility::NoiseBeyondSensors { key, .. } => format!("noise.{key}"),
         }
     }
@@ -175,6 +195,7 @@ impl fmt::Display for Implausibility {
                 end_s,
                 limit_s,
                 count,
+                ..
             } => write!(
                 f,
                 "{file}: column `{column}`: no input from t = {} s to t = {} s ({} s, longer \
@@ -239,6 +260,7 @@ impl fmt::Display for Implausibility {
                 force,
                 gravity,
                 count,
+                ..
             } => write!(
                 f,
                 "{file}: columns `{column}`: from t = {} s to t = {} s the specific force is {} \
@@ -266,6 +288,7 @@ impl fmt::Display for Implausibility {
                 speed_m_s,
                 limit_m_s,
                 count,
+                ..
             } => write!(
                 f,
                 "{file}: columns `{column}`: the odometer reads up to {} m/s, faster than any \

@@ -98,6 +98,21 @@ impl Dataset {
             .collect()
     }
 
+    /// The odometer's speed, m/s, unsigned: the East-North velocity's magnitude, or the
+    /// forward speed of a strapdown dataset.
+    fn odometer_speed(&self) -> Vec<(f64, f64)> {
+        self.measurements
+            .iter()
+            .filter_map(|m| {
+                let speed = m
+                    .velocity
+                    .map(|v| v[0].hypot(v[1]))
+                    .or(m.speed.map(f64::abs));
+                speed.map(|s| (m.t, s))
+            })
+            .collect()
+    }
+
     /// The filter period: the measurements' median interval (1 s with a single row).
     fn filter_period(&self) -> f64 {
         median_interval(self.measurements.iter().map(|m| m.t)).unwrap_or(1.0)
@@ -140,6 +155,7 @@ impl Dataset {
             end_s,
             limit_s: limit,
             count,
+            family: self.model,
         })
     }
 
@@ -193,6 +209,7 @@ impl Dataset {
             force,
             gravity,
             count,
+            family: self.model,
         })
     }
 
@@ -205,6 +222,7 @@ impl Dataset {
             speed_m_s: fast.iter().map(|x| x.1).fold(0.0, f64::max),
             limit_m_s: ROAD_SPEED_MAX,
             count: fast.len(),
+            family: self.model,
         })
     }
 
@@ -226,9 +244,8 @@ impl Dataset {
             let ((ta, a), (tb, b)) = (fixes[i - 1], fixes[i]);
             Some(distance_m(a, b) / (tb - ta))
         };
-        self.odometer()
+        self.odometer_speed()
             .into_iter()
-            .map(|(t, v)| (t, v[0].hypot(v[1])))
             .filter(|&(t, s)| {
                 !(s <= ROAD_SPEED_MAX) && !gps_speed(t).is_some_and(|g| g * SPEED_MARGIN >= s)
             })

@@ -218,10 +218,7 @@ impl EffectDeclaration {
             if base_names.contains(&c.name.as_str()) {
                 return err(
                     key("name"),
-                    format!(
-                        "`{}` is a state of the base model; expected a new name",
-                        c.name
-                    ),
+                    format!("`{}` is a state of the model; expected a new name", c.name),
                 );
             }
             if let Some(owner) = owner_of(&c.name) {

@@ -31,7 +31,7 @@
 use super::declaration::EffectDeclaration;
 use super::intern;
 use crate::strapdown::effects::{Coefficient, Place, Places, Slot, StrapdownEffect};
-use crate::strapdown::state::STATE_NAMES;
+use crate::strapdown::state::{ACCEL_DEPARTURE_NAMES, GYRO_DEPARTURE_NAMES, STATE_NAMES};
 use std::sync::{Arc, Mutex};
 
 /// The places a declaration may name, as docs/model.md writes them (axes `x`, `y`, `z`:
@@ -100,7 +100,15 @@ impl EffectDeclaration {
         effects: &[String],
         owner_of: impl Fn(&str) -> Option<String>,
     ) -> Result<StrapdownEffect, (String, String)> {
-        self.check_name_and_coefficients(effects, owner_of, &STATE_NAMES)?;
+        // The base states and a bias instability's departures (docs/model.md eq. (69)): a
+        // coefficient of the same name would be a second state answering to it.
+        let reserved: Vec<&str> = STATE_NAMES
+            .iter()
+            .chain(&GYRO_DEPARTURE_NAMES)
+            .chain(&ACCEL_DEPARTURE_NAMES)
+            .copied()
+            .collect();
+        self.check_name_and_coefficients(effects, owner_of, &reserved)?;
         if !self.rates.is_empty() || !self.measurement.is_empty() {
             let key = if self.rates.is_empty() {
                 "measurement"
@@ -256,6 +264,26 @@ mod tests {
             "",
         ] {
             assert_eq!(parse_place(bad), None, "{bad}");
+        }
+    }
+
+    /// A coefficient named as a base state or a bias instability's departure is refused at
+    /// its key: beside `gyro-bias-instability` the model would hold two states `dbgx`.
+    #[test]
+    fn a_coefficient_named_as_a_state_is_refused() {
+        for name in ["heading", "bax", "dbgx", "dbaz"] {
+            let text = format!(
+                "[[effect]]\nname = \"mine\"\n\
+                 coefficients = [{{ name = \"{name}\", unit = \"1\", sigma = 1e-3 }}]\n\
+                 places = [{{ coefficient = \"{name}\", place = \"kod\" }}]\n"
+            );
+            let mut registry = crate::strapdown::effects::StrapdownRegistry::catalogue();
+            let decl = crate::declared::parse_declarations(&text).unwrap();
+            let e = registry.declare(&decl).unwrap_err().to_string();
+            assert!(
+                e.contains("coefficients[0].name") && e.contains("is a state of the model"),
+                "{name}: {e}"
+            );
         }
     }
 }

@@ -477,6 +477,59 @@ fn the_data_align_the_unit_within_the_sigmas_they_state() {
     );
 }
 
+/// The level comes from the readings of the odometer's standstill, not from every reading
+/// before it moves: readings before the odometer's first (a unit carried to the car, 20 s
+/// tilted by 0.3 rad) leave the level as it was; the heading, carried back to the first
+/// reading, is another by what the gyro turned in between (nothing here).
+#[test]
+fn readings_before_the_odometer_starts_are_not_taken_for_a_standstill() {
+    use navkf_dynamics::segments::SegmentSpec::*;
+    let drive = vec![
+        Hold { duration_s: 30.0 },
+        Speed {
+            to: 8.0,
+            accel: 1.0,
+            climb_m: 0.0,
+        },
+        Cruise {
+            duration_s: Some(100.0),
+            distance_m: None,
+            climb_m: 0.0,
+        },
+    ];
+    let ds = unaligned(drive, 3);
+    let still = ds.align_from_data().unwrap();
+    let first_odometer = ds
+        .measurements
+        .iter()
+        .find(|m| m.speed.is_some())
+        .unwrap()
+        .t;
+    assert_eq!(still.level_from, [first_odometer, 30.0]);
+    let mut carried = ds.clone();
+    let t0 = ds.inputs[0].t;
+    let g = navkf_dynamics::earth::STANDARD_GRAVITY;
+    let before: Vec<_> = (1..=1000)
+        .rev()
+        .map(|k| {
+            let mut s = ds.inputs[0];
+            s.t = t0 - 0.02 * k as f64;
+            s.f = [0.0, 0.0, 0.0, 0.0, g * 0.3f64.sin(), g * 0.3f64.cos()];
+            s
+        })
+        .collect();
+    carried.inputs.splice(0..0, before);
+    let a = carried.align_from_data().unwrap();
+    assert_eq!(
+        (a.attitude.roll_deg, a.attitude.pitch_deg, a.level_from),
+        (
+            still.attitude.roll_deg,
+            still.attitude.pitch_deg,
+            still.level_from
+        )
+    );
+}
+
 #[test]
 fn without_a_standstill_or_a_straight_track_the_alignment_says_what_is_missing() {
     use navkf_dynamics::segments::SegmentSpec::*;

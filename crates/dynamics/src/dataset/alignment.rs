@@ -5,7 +5,8 @@
 //! **Level.** At rest the unit feels gravity only: `f = g [sin theta, sin phi cos theta,
 //! cos phi cos theta]` in forward-left-up axes (docs/model.md eq. (49) applied to `[0, 0, g]`),
 //! so `phi = atan2(f_y, f_z)` and `theta = atan2(f_x, hypot(f_y, f_z))` from the mean force
-//! over the standstill. An accelerometer bias `b` tilts that answer by `b / g`, which no
+//! over the standstill: the readings from the odometer's first reading to its last leading
+//! zero (readings before the odometer starts are of a unit whose motion nothing records). An accelerometer bias `b` tilts that answer by `b / g`, which no
 //! averaging removes: the level's sigma is the stated `[prior] level_rad`, or a MEMS unit's
 //! 5 mg over g when the dataset states none.
 //!
@@ -17,7 +18,7 @@
 //! that bearing minus what the gyro turned in between (`psi' = -w_z` for a level unit), and
 //! its sigma grows by the gyro bias over that time (the stated or MEMS-class bias).
 
-use super::{Dataset, InitialAttitude};
+use super::{Dataset, InitialAttitude, InputSample};
 use crate::earth::{meridian_radius, prime_vertical_radius};
 use crate::strapdown::unit_class::UnitClass;
 
@@ -77,22 +78,24 @@ impl Dataset {
     pub fn align_from_data(&self) -> Result<DataAlignment, NoAlignment> {
         let mems = UnitClass::Mems.errors();
         let g = crate::earth::STANDARD_GRAVITY;
-        // The first standstill: the odometer's leading run of exact zeros.
-        let t_first = self.inputs.first().map_or(0.0, |s| s.t);
-        let still_end = self
+        // The first standstill: the odometer's leading run of exact zeros, from its first
+        // reading (readings before it are of a unit whose motion nothing records).
+        let mut zeros = self
             .measurements
             .iter()
             .filter(|m| m.speed.is_some())
             .take_while(|m| m.speed == Some(0.0))
-            .last()
-            .map(|m| m.t)
-            .ok_or(NoAlignment::NoStandstill)?;
-        if still_end - t_first < MIN_STANDSTILL_S {
+            .map(|m| m.t);
+        let t_first = self.inputs.first().map_or(0.0, |s| s.t);
+        let still_start = zeros.next().ok_or(NoAlignment::NoStandstill)?;
+        let still_end = zeros.last().unwrap_or(still_start);
+        if still_end - still_start < MIN_STANDSTILL_S {
             return Err(NoAlignment::NoStandstill);
         }
         let mut sum = [0.0; 3];
         let mut count = 0.0;
-        for s in self.inputs.iter().filter(|s| s.t <= still_end) {
+        let still = |s: &&InputSample| (still_start..=still_end).contains(&s.t);
+        for s in self.inputs.iter().filter(still) {
             let f = self.specific_force(s);
             for (a, v) in sum.iter_mut().zip(f) {
                 *a += v;
@@ -167,7 +170,7 @@ impl Dataset {
                     },
                     level_sigma,
                     heading_sigma,
-                    level_from: [t_first, still_end],
+                    level_from: [still_start, still_end],
                     heading_from: [ta, tb],
                 });
             }

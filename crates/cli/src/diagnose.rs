@@ -30,15 +30,18 @@ pub struct Args {
     #[arg(long, default_value_t = 300.0)]
     window: f64,
     /// Initial level error, one sigma, rad (over dataset.toml's [prior] level_rad; default:
-    /// the accelerometer bias over gravity, 5e-5).
+    /// the accelerometer bias over gravity, 5e-5 on the platform; a strapdown unit's
+    /// [initial] or alignment from the data states its own).
     #[arg(long, value_name = "RAD")]
     level_sigma: Option<f64>,
-    /// Initial azimuth error, one sigma, rad (over [prior] azimuth_rad; default: what
-    /// gyrocompassing leaves, drift / (wie cos L), 1.9e-3 at 45.8 deg).
+    /// Initial azimuth (platform) or heading (strapdown) error, one sigma, rad (over [prior]
+    /// azimuth_rad or heading_rad; default on the platform: what gyrocompassing leaves,
+    /// drift / (wie cos L), 1.9e-3 at 45.8 deg; on a strapdown unit: 2 deg after a stated
+    /// [initial], or the alignment's own sigma).
     #[arg(long, value_name = "RAD")]
     azimuth_sigma: Option<f64>,
-    /// Coefficient priors, one sigma each, comma-separated `NAME=SIGMA` (`Kg0x=1e-6,kod=0.01`),
-    /// over [prior.coefficients].
+    /// Coefficient priors, one sigma each, comma-separated `NAME=SIGMA` (`Kg0x=1e-6,kod=0.01`
+    /// on the platform, `bgx=2e-4` on a strapdown unit), over [prior.coefficients].
     #[arg(long, value_name = "LIST", default_value = "")]
     prior: String,
     /// `fit`: check the stated noise and fit the levels that are off; `stated`: take the
@@ -73,7 +76,7 @@ fn parse_priors(list: &str) -> Result<BTreeMap<String, f64>, String> {
     for item in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let Some((name, value)) = item.split_once('=') else {
             return Err(format!(
-                "--prior `{item}`: expected NAME=SIGMA, e.g. Kg0x=1e-6"
+                "--prior `{item}`: expected NAME=SIGMA, e.g. Kg0x=1e-6 or bgx=2e-4"
             ));
         };
         let v: f64 = value.trim().parse().map_err(|_| {

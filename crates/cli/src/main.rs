@@ -58,7 +58,8 @@ enum Command {
     Convert(convert::Args),
     /// Validate a dataset folder and print a summary of it.
     Inspect {
-        /// The dataset folder (inputs.csv, measurements.csv, optional dataset.toml, truth.csv).
+        /// The dataset folder (inputs.csv or a strapdown unit's imu.csv, measurements.csv,
+        /// optional dataset.toml, truth.csv).
         dir: PathBuf,
         /// Print the summary as JSON instead of text.
         #[arg(long)]

@@ -39,7 +39,9 @@ pub struct Args {
     /// The truth's attitude equations: `small-angle` (the paper's) or `exact` (Euler angles).
     #[arg(long, default_value = "small-angle", value_parser = crate::attitude_names())]
     attitude: String,
-    /// Initial azimuth error of the platform, one sigma, rad (default: 1 arcmin).
+    /// Initial azimuth error of the platform, one sigma, rad (default: 1 arcmin); with
+    /// `--model strapdown`, the heading's sigma stated in dataset.toml's [prior] heading_rad
+    /// (default: 0.035, 2 deg).
     #[arg(long, value_name = "RAD")]
     azimuth_sigma: Option<f64>,
     /// Write the truth file (truth.csv); on by default.

@@ -110,10 +110,11 @@ impl DiagnoseRequest {
             coefficients: self.priors.clone(),
         };
         let known = coefficient_names(&*catalogue);
-        prior.validate(&known).map_err(|(key, message)| {
+        let heading_key = navkf_dynamics::dataset::files_of(ds.model).heading_prior_key();
+        prior.validate(&known, ds.model).map_err(|(key, message)| {
             let setting = match key.as_str() {
                 "prior.level_rad" => names.of("level_sigma"),
-                "prior.azimuth_rad" => names.of("azimuth_sigma"),
+                k if k == format!("prior.{heading_key}") => names.of("azimuth_sigma"),
                 k => format!(
                     "{} {}",
                     names.of("prior"),
@@ -166,7 +167,11 @@ impl DiagnoseRequest {
         }
         for (key, stated, given) in [
             ("level_rad", ds.prior.level_rad, self.level_sigma),
-            ("azimuth_rad", ds.prior.azimuth_rad, self.azimuth_sigma),
+            (
+                heading_key.as_str(),
+                ds.prior.azimuth_rad,
+                self.azimuth_sigma,
+            ),
         ] {
             if let (Some(v), None) = (stated, given) {
                 check_tilt(&format!("{CONFIG_FILE} [prior] {key} ="), v)?;

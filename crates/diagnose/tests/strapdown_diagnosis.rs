@@ -489,3 +489,33 @@ fn the_noise_terms_constancy_test_keeps_a_true_instability() {
     assert_eq!(from_end.x[nav..], start.x[nav..]);
     assert_eq!(from_end.sigma[nav..], start.sigma[nav..]);
 }
+
+/// A request's refusals name the strapdown family's own keys: the dataset's heading prior is
+/// `[prior] heading_rad` (the platform's `azimuth_rad` was named, a key the file has not).
+#[test]
+fn a_bad_heading_prior_is_refused_under_its_own_key() {
+    use navkf_diagnose::request::DiagnoseRequest;
+    use navkf_report::SettingNames;
+    let mut ds = drive("", 1, 0);
+    ds.prior.azimuth_rad = Some(4.0);
+    let e = DiagnoseRequest::default()
+        .check(&ds, SettingNames::CommandLine)
+        .err()
+        .expect("a heading sigma beyond pi is refused")
+        .to_string();
+    assert!(e.contains("[prior] heading_rad = 4"), "{e}");
+    ds.prior.azimuth_rad = Some(0.1);
+    let request = DiagnoseRequest {
+        priors: [("heading".to_string(), 0.1)].into(),
+        ..DiagnoseRequest::default()
+    };
+    let e = request
+        .check(&ds, SettingNames::CommandLine)
+        .err()
+        .expect("a navigation state among the coefficients is refused")
+        .to_string();
+    assert!(
+        e.contains("a navigation state") && e.contains("level_rad / heading_rad"),
+        "{e}"
+    );
+}

@@ -8,6 +8,7 @@ use dataset_files::*;
 use navkf_dynamics::dataset::{Dataset, Doubt};
 use navkf_dynamics::strapdown::model::StrapdownModel;
 use navkf_dynamics::strapdown::simulate::StrapdownSimulator;
+use navkf_dynamics::strapdown::state::STATE_NAMES;
 use navkf_dynamics::strapdown::unit_class::UnitClass;
 use navkf_dynamics::{ModelKind, NoiseConfig, Trajectory, TrajectoryConfig};
 use std::collections::BTreeMap;
@@ -114,7 +115,7 @@ fn increments_are_read_as_mean_rates_at_the_middle_of_their_interval() {
 fn bad_strapdown_files_are_refused_where_they_are_wrong() {
     let imu = "t,w_x,w_y,w_z,f_x,f_y,f_z\n0,0,0,0,0,0,9.8\n0.5,0,0,0,0,0,9.8\n1,0,0,0,0,0,9.8\n1.5,0,0,0,0,0,9.8\n";
     type Case<'a> = (&'a str, Vec<(&'a str, String)>, &'a [&'a str]);
-    let cases: [Case; 7] = [
+    let cases: [Case; 9] = [
         (
             "empty-imu-cell",
             vec![(
@@ -162,6 +163,27 @@ fn bad_strapdown_files_are_refused_where_they_are_wrong() {
                 "goes back by 1 s",
                 "restarted",
             ],
+        ),
+        (
+            // The family's own key, on its own line (the platform's word was named).
+            "heading-prior-zero",
+            vec![(
+                "dataset.toml",
+                format!("{CONFIG}\n[prior]\nheading_rad = 0\n"),
+            )],
+            &["dataset.toml:9:", "prior.heading_rad", "finite and > 0"],
+        ),
+        (
+            "truth-outside-imu",
+            vec![(
+                "truth.csv",
+                format!(
+                    "t,{}\n7,{}\n",
+                    STATE_NAMES[..7].join(","),
+                    ["0"; 7].join(",")
+                ),
+            )],
+            &["truth.csv:2:", "outside the span of imu.csv"],
         ),
         (
             "platform-initial",

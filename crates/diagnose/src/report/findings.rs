@@ -23,13 +23,17 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
     }
     let mut out = Vec::new();
     if !d.noise_stated {
-        out.push(
+        out.push(format!(
             "dataset.toml states no noise (it is absent, or has no [noise] table): the noise \
-             called \"stated\" below is navkf's default for a navigation-grade platform \
+             called \"stated\" below is navkf's default for a navigation-grade {} \
              (docs/data-format.md), not a statement of yours. Give your sensors' levels in a \
-             [noise] table, or read the noise check as a fit of the levels from the data."
-                .to_string(),
-        );
+             [noise] table, or read the noise check as a fit of the levels from the data.",
+            if d.family.is_platform() {
+                "platform"
+            } else {
+                "unit's sensors"
+            }
+        ));
     }
     // A misalignment of degrees breaks the small-angle model before anything else: first.
     let large: Vec<String> = beyond_small_angle(&d.priors, d.attitude, d.family)
@@ -286,14 +290,19 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
             format!(
                 "The prior of {} was widened from {:.2e} to {:.2e}, the widest the diagnosis \
                  allows it ({} times where it started), and the data may pull it further \
-                 (estimate {:.3e}). If it is a base coefficient, the platform may be of a \
+                 (estimate {:.3e}). If it is a base coefficient, the {} may be of a \
                  coarser class than the priors describe: state its priors \
                  ([prior.coefficients] in dataset.toml, or --prior) and diagnose again.",
                 w.name,
                 w.from,
                 w.to,
                 (w.to / w.from).round(),
-                w.implied_estimate
+                w.implied_estimate,
+                if d.family.is_platform() {
+                    "platform"
+                } else {
+                    "unit"
+                }
             )
         } else {
             format!(
@@ -360,9 +369,14 @@ fn why_nothing_named(d: &Diagnosis) -> Option<String> {
                     "No catalogued effect can be named: {} has decisive evidence but cannot be \
                      told apart from coefficients already in the model on this trajectory \
                      (see below), so the data cannot say whether it or those coefficients carry \
-                     the misfit. A trajectory that separates them (for `gyro-fz`, one with \
-                     varying vertical specific force) would.",
-                    confounded.join(", ")
+                     the misfit. A trajectory that separates them would ({}).",
+                    confounded.join(", "),
+                    if d.family.is_platform() {
+                        "for `gyro-fz`, one with varying vertical specific force"
+                    } else {
+                        "docs/strapdown.md, \"What this test cannot reveal\", names the \
+                         manoeuvres"
+                    }
                 )
             })
         })

@@ -9,7 +9,8 @@
 
 use crate::dataset::{
     files_of, Dataset, FamilyFiles, InitialAttitude, InputSample, Measurement, Odometer,
-    Provenance, Truth, CONFIG_FILE, INPUTS_FILE, INPUT_COLUMNS, MEASUREMENTS_FILE, TRUTH_FILE,
+    Provenance, Truth, CONFIG_FILE, IMU_FILE, INPUTS_FILE, INPUT_COLUMNS, MEASUREMENTS_FILE,
+    TRUTH_FILE,
 };
 use crate::earth::{meridian_radius, prime_vertical_radius};
 use crate::effects::Registry;
@@ -60,8 +61,8 @@ impl Dataset {
             return Err(DynamicsError::File {
                 path: dir.to_path_buf(),
                 message: format!(
-                    "not a folder; expected a dataset folder holding {INPUTS_FILE} and \
-                     {MEASUREMENTS_FILE}"
+                    "not a folder; expected a dataset folder holding {INPUTS_FILE} (or \
+                     {IMU_FILE}, a strapdown unit's) and {MEASUREMENTS_FILE}"
                 ),
             });
         }
@@ -91,6 +92,7 @@ impl Dataset {
                 &truth_path,
                 &state_names,
                 &inputs,
+                files.inputs_file(),
                 &measurements,
             )?)
         } else {

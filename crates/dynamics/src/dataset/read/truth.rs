@@ -9,6 +9,7 @@ pub(super) fn read_truth(
     path: &Path,
     known: &[String],
     inputs: &[InputSample],
+    inputs_file: &str,
     measurements: &[Measurement],
 ) -> Result<Truth, DynamicsError> {
     let mut table = read_table(path, "t,<state names>")?;
@@ -99,7 +100,7 @@ pub(super) fn read_truth(
             return Err(cells.error(
                 "t",
                 format!(
-                    "t = {time} is outside the span of {INPUTS_FILE}; expected {t0} <= t <= {t1}"
+                    "t = {time} is outside the span of {inputs_file}; expected {t0} <= t <= {t1}"
                 ),
             ));
         }

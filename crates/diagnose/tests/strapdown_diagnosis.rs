@@ -498,22 +498,20 @@ fn a_bad_heading_prior_is_refused_under_its_own_key() {
     use navkf_report::SettingNames;
     let mut ds = drive("", 1, 0);
     ds.prior.azimuth_rad = Some(4.0);
-    let e = DiagnoseRequest::default()
-        .check(&ds, SettingNames::CommandLine)
-        .err()
-        .expect("a heading sigma beyond pi is refused")
-        .to_string();
+    let Err(e) = DiagnoseRequest::default().check(&ds, SettingNames::CommandLine) else {
+        panic!("a heading sigma beyond pi is refused");
+    };
+    let e = e.to_string();
     assert!(e.contains("[prior] heading_rad = 4"), "{e}");
     ds.prior.azimuth_rad = Some(0.1);
     let request = DiagnoseRequest {
         priors: [("heading".to_string(), 0.1)].into(),
         ..DiagnoseRequest::default()
     };
-    let e = request
-        .check(&ds, SettingNames::CommandLine)
-        .err()
-        .expect("a navigation state among the coefficients is refused")
-        .to_string();
+    let Err(e) = request.check(&ds, SettingNames::CommandLine) else {
+        panic!("a navigation state among the coefficients is refused");
+    };
+    let e = e.to_string();
     assert!(
         e.contains("a navigation state") && e.contains("level_rad / heading_rad"),
         "{e}"

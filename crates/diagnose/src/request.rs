@@ -110,19 +110,22 @@ impl DiagnoseRequest {
             coefficients: self.priors.clone(),
         };
         let known = coefficient_names(&*catalogue);
-        let heading_key = navkf_dynamics::dataset::files_of(ds.model).heading_prior_key();
-        prior.validate(&known, ds.model).map_err(|(key, message)| {
-            let setting = match key.as_str() {
-                "prior.level_rad" => names.of("level_sigma"),
-                k if k == format!("prior.{heading_key}") => names.of("azimuth_sigma"),
-                k => format!(
-                    "{} {}",
-                    names.of("prior"),
-                    k.trim_start_matches("prior.coefficients.")
-                ),
-            };
-            DiagnoseError::Data(format!("{setting}: {message}"))
-        })?;
+        let files = navkf_dynamics::dataset::files_of(ds.model);
+        let heading_key = files.heading_prior_key();
+        prior
+            .validate(&known, &heading_key, files.navigation_names())
+            .map_err(|(key, message)| {
+                let setting = match key.as_str() {
+                    "prior.level_rad" => names.of("level_sigma"),
+                    k if k == format!("prior.{heading_key}") => names.of("azimuth_sigma"),
+                    k => format!(
+                        "{} {}",
+                        names.of("prior"),
+                        k.trim_start_matches("prior.coefficients.")
+                    ),
+                };
+                DiagnoseError::Data(format!("{setting}: {message}"))
+            })?;
         let strapdown = !ds.model.is_platform();
         let attitude = self.attitude.unwrap_or(Attitude::SmallAngle);
         if strapdown && attitude != Attitude::SmallAngle {

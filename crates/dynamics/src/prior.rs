@@ -24,7 +24,6 @@
 //! beyond (`navkf_diagnose`), so a wrong default costs time, not a wrong answer.
 
 use crate::earth::WIE;
-use crate::model_kind::ModelKind;
 use crate::state::*;
 use crate::PlatformModel;
 use serde::{Deserialize, Serialize};
@@ -93,16 +92,19 @@ impl PlatformPrior {
         self.level_rad.is_none() && self.azimuth_rad.is_none() && self.coefficients.is_empty()
     }
 
-    /// Checks every value (finite, > 0) and every coefficient name against `known`, the
-    /// coefficients of a dataset of `family`; the error names the key as `prior.<key>` (the
-    /// family's own word for the heading's, `prior.heading_rad` on a strapdown unit) or
-    /// `prior.coefficients.<name>`.
-    pub fn validate(&self, known: &[String], family: ModelKind) -> Result<(), (String, String)> {
-        let files = crate::dataset::files_of(family);
-        let heading_key = files.heading_prior_key();
+    /// Checks every value (finite, > 0) and every coefficient name against `known`; the error
+    /// names the key as `prior.<key>` or `prior.coefficients.<name>`. `heading_key` is the
+    /// family's key of the heading's sigma (`azimuth_rad`, `heading_rad`) and `navigation`
+    /// its navigation states, which no coefficient may be (the dataset's `FamilyFiles`).
+    pub fn validate(
+        &self,
+        known: &[String],
+        heading_key: &str,
+        navigation: &[&str],
+    ) -> Result<(), (String, String)> {
         for (key, v) in [
             ("level_rad", self.level_rad),
-            (heading_key.as_str(), self.azimuth_rad),
+            (heading_key, self.azimuth_rad),
         ] {
             if let Some(v) = v {
                 if !(v.is_finite() && v > 0.0) {
@@ -116,7 +118,7 @@ impl PlatformPrior {
         for (name, v) in &self.coefficients {
             let key = format!("prior.coefficients.{name}");
             if !known.iter().any(|k| k == name) {
-                let hint = if files.navigation_names().contains(&name.as_str()) {
+                let hint = if navigation.contains(&name.as_str()) {
                     format!(
                         " (a navigation state: its prior is level_rad / {heading_key} or comes \
                          from the first measurement)"

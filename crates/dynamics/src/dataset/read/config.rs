@@ -157,7 +157,11 @@ pub(super) fn read_config(
             });
         }
     }
-    if let Err((key, message)) = config.prior.validate(&known, config.kind()) {
+    if let Err((key, message)) =
+        config
+            .prior
+            .validate(&known, &files.heading_prior_key(), files.navigation_names())
+    {
         // `prior.level_rad` sits in [prior]; `prior.coefficients.X` in [prior.coefficients].
         let (table, name) = key.rsplit_once('.').unwrap_or(("prior", &key));
         return Err(match key_line(&text, table, name) {

@@ -115,7 +115,7 @@ fn increments_are_read_as_mean_rates_at_the_middle_of_their_interval() {
 fn bad_strapdown_files_are_refused_where_they_are_wrong() {
     let imu = "t,w_x,w_y,w_z,f_x,f_y,f_z\n0,0,0,0,0,0,9.8\n0.5,0,0,0,0,0,9.8\n1,0,0,0,0,0,9.8\n1.5,0,0,0,0,0,9.8\n";
     type Case<'a> = (&'a str, Vec<(&'a str, String)>, &'a [&'a str]);
-    let cases: [Case; 9] = [
+    let cases: [Case; 10] = [
         (
             "empty-imu-cell",
             vec![(
@@ -172,6 +172,15 @@ fn bad_strapdown_files_are_refused_where_they_are_wrong() {
                 format!("{CONFIG}\n[prior]\nheading_rad = 0\n"),
             )],
             &["dataset.toml:9:", "prior.heading_rad", "finite and > 0"],
+        ),
+        (
+            // The platform's word, which a strapdown file may use too: named as written.
+            "azimuth-prior-zero",
+            vec![(
+                "dataset.toml",
+                format!("{CONFIG}\n[prior]\nazimuth_rad = 0\n"),
+            )],
+            &["dataset.toml:9:", "prior.azimuth_rad", "finite and > 0"],
         ),
         (
             "truth-outside-imu",
@@ -240,7 +249,7 @@ fn implausible_strapdown_data_are_named_in_the_strapdown_files() {
     );
     let text = found[0].to_string();
     assert!(
-        text.starts_with("measurements.csv: columns `speed`"),
+        text.starts_with("measurements.csv: column `speed`"),
         "{text}"
     );
     let mut gap = clean.clone();
@@ -550,6 +559,12 @@ fn readings_before_the_odometer_starts_are_not_taken_for_a_standstill() {
             still.level_from
         )
     );
+    // No reading inside the standstill: no level (not a NaN one).
+    let mut gap = ds.clone();
+    gap.inputs
+        .retain(|i| !(first_odometer..=30.0).contains(&i.t));
+    let e = gap.align_from_data().unwrap_err();
+    assert!(e.to_string().contains("no standstill"), "{e}");
 }
 
 #[test]

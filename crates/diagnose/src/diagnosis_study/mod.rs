@@ -363,8 +363,9 @@ impl DiagnosisStudyConfig {
             total = total.saturating_add(count);
             if total > MAX_DATASETS {
                 return Err(format!(
-                    "content[{i}].count: the study would make {total} datasets by this class; \
-                     expected at most {MAX_DATASETS} in all (a diagnosis takes seconds each)"
+                    "content[{i}].count: with this class the study makes more than \
+                     {MAX_DATASETS} datasets; expected at most {MAX_DATASETS} in all (a \
+                     diagnosis takes seconds each)"
                 ));
             }
             // The outside drag is the `drag` effect of navkf_dynamics::outside: a declaration

@@ -369,13 +369,14 @@ fn why_nothing_named(d: &Diagnosis) -> Option<String> {
                     "No catalogued effect can be named: {} has decisive evidence but cannot be \
                      told apart from coefficients already in the model on this trajectory \
                      (see below), so the data cannot say whether it or those coefficients carry \
-                     the misfit. A trajectory that separates them would ({}).",
+                     the misfit. {}",
                     confounded.join(", "),
                     if d.family.is_platform() {
-                        "for `gyro-fz`, one with varying vertical specific force"
+                        "A trajectory that separates them (for `gyro-fz`, one with varying \
+                         vertical specific force) would."
                     } else {
-                        "docs/strapdown.md, \"What this test cannot reveal\", names the \
-                         manoeuvres"
+                        "A trajectory that separates them would (docs/strapdown.md, \"What \
+                         this test cannot reveal\", names the manoeuvres)."
                     }
                 )
             })

@@ -102,6 +102,10 @@ impl Dataset {
             }
             count += 1.0;
         }
+        // No reading inside the standstill (a gap in imu.csv across it): nothing to level from.
+        if count == 0.0 {
+            return Err(NoAlignment::NoStandstill);
+        }
         let f = sum.map(|v| v / count);
         let roll = f[1].atan2(f[2]);
         let pitch = f[0].atan2(f[1].hypot(f[2]));

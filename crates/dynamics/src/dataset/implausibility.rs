@@ -43,8 +43,8 @@ pub enum Implausibility {
         limit_s: f64,
         /// How many gaps.
         count: usize,
-        /// The dataset's family (its file of inputs and columns).
-        #[serde(default)]
+        /// The dataset's family (its file of inputs and columns); the platform unwritten.
+        #[serde(default, skip_serializing_if = "ModelKind::is_platform")]
         family: ModelKind,
     },
     /// Consecutive GPS fixes farther apart than the vehicle could move; the first such jump.
@@ -80,8 +80,8 @@ pub enum Implausibility {
         gravity: f64,
         /// How many such spans.
         count: usize,
-        /// The dataset's family (its file of inputs and columns).
-        #[serde(default)]
+        /// The dataset's family (its file of inputs and columns); the platform unwritten.
+        #[serde(default, skip_serializing_if = "ModelKind::is_platform")]
         family: ModelKind,
     },
     /// The odometer reads faster than any road vehicle.
@@ -96,8 +96,8 @@ pub enum Implausibility {
         limit_m_s: f64,
         /// How many such readings.
         count: usize,
-        /// The dataset's family (its file of inputs and columns).
-        #[serde(default)]
+        /// The dataset's family (its file of inputs and columns); the platform unwritten.
+        #[serde(default, skip_serializing_if = "ModelKind::is_platform")]
         family: ModelKind,
     },
     /// A stated `[noise]` level that no real sensor has.
@@ -291,10 +291,15 @@ impl fmt::Display for Implausibility {
                 ..
             } => write!(
                 f,
-                "{file}: columns `{column}`: the odometer reads up to {} m/s, faster than any \
+                "{file}: {}`{column}`: the odometer reads up to {} m/s, faster than any \
                  road vehicle (at most {} m/s; the fastest production car reached 136 m/s), \
                  from t = {} s to t = {} s ({count} readings): a stuck or wrongly scaled \
                  odometer (in mm/s? km/h?)",
+                if column.contains(',') {
+                    "columns "
+                } else {
+                    "column "
+                },
                 g4(*speed_m_s),
                 g4(*limit_m_s),
                 g4(*start_s),

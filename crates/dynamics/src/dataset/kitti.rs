@@ -20,7 +20,8 @@
 //! **What is not what it seems.** KITTI has no wheel odometer: the speed written is `vf`, the
 //! RT3003's own forward velocity, and the positions are its own GNSS/INS solution, so both
 //! carry the unit's filter, not independent sensors; `dataset.toml`'s `[simulation]` note
-//! says so. The GPS sigma is the recording's median `posacc`; the odometer's noise takes
+//! says so. The GPS sigma is the recording's median `posacc` (navkf's default when no frame
+//! gives a positive one, and the note says so); the odometer's noise takes
 //! the defaults, and the non-holonomic constraint 0.1 m/s (a car on a road).
 //!
 //! Measurements are taken once every `every_s` seconds (the filter period): the first frame

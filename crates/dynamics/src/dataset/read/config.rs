@@ -163,9 +163,18 @@ pub(super) fn read_config(
             .validate(&known, &files.heading_prior_key(), files.navigation_names())
     {
         // `prior.level_rad` sits in [prior]; `prior.coefficients.X` in [prior.coefficients].
+        // The heading's sigma may be written under either family's word (a serde alias):
+        // the error names the one the file has.
         let (table, name) = key.rsplit_once('.').unwrap_or(("prior", &key));
-        return Err(match key_line(&text, table, name) {
-            Some(line) => data_error(path, line, &key, message),
+        let spellings: &[&str] = match name {
+            "azimuth_rad" | "heading_rad" => &["azimuth_rad", "heading_rad"],
+            _ => &[],
+        };
+        let written = std::iter::once(name)
+            .chain(spellings.iter().copied())
+            .find_map(|n| key_line(&text, table, n).map(|line| (line, n)));
+        return Err(match written {
+            Some((line, n)) => data_error(path, line, &format!("{table}.{n}"), message),
             None => DynamicsError::File {
                 path: path.to_path_buf(),
                 message: printable(&format!("{key}: {message}")),

@@ -98,18 +98,11 @@ impl Dataset {
             .collect()
     }
 
-    /// The odometer's speed, m/s, unsigned: the East-North velocity's magnitude, or the
-    /// forward speed of a strapdown dataset.
-    fn odometer_speed(&self) -> Vec<(f64, f64)> {
+    /// The odometer's speeds with their times ([`super::Measurement::odometer_speed`]).
+    fn odometer_speeds(&self) -> Vec<(f64, f64)> {
         self.measurements
             .iter()
-            .filter_map(|m| {
-                let speed = m
-                    .velocity
-                    .map(|v| v[0].hypot(v[1]))
-                    .or(m.speed.map(f64::abs));
-                speed.map(|s| (m.t, s))
-            })
+            .filter_map(|m| m.odometer_speed().map(|s| (m.t, s)))
             .collect()
     }
 
@@ -244,7 +237,7 @@ impl Dataset {
             let ((ta, a), (tb, b)) = (fixes[i - 1], fixes[i]);
             Some(distance_m(a, b) / (tb - ta))
         };
-        self.odometer_speed()
+        self.odometer_speeds()
             .into_iter()
             .filter(|&(t, s)| {
                 !(s <= ROAD_SPEED_MAX) && !gps_speed(t).is_some_and(|g| g * SPEED_MARGIN >= s)

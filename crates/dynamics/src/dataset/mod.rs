@@ -108,6 +108,14 @@ pub struct Measurement {
 }
 
 impl Measurement {
+    /// The odometer's speed, m/s, unsigned: the East-North velocity's magnitude (platform) or
+    /// the forward speed (strapdown); `None` without an odometer reading.
+    pub fn odometer_speed(&self) -> Option<f64> {
+        self.velocity
+            .map(|v| v[0].hypot(v[1]))
+            .or(self.speed.map(f64::abs))
+    }
+
     /// GPS position in radians.
     pub fn gps_rad(&self) -> Option<[f64; 2]> {
         self.position_deg

@@ -101,6 +101,27 @@ impl BlockRates for EffectRates<'_> {
     }
 }
 
+/// Points `first..first + LANES` of `points` (`n <= N` values each) as one [`Lanes`] value per
+/// state, and how many of the lanes are points: lanes past the last point repeat it (their
+/// results are dropped), states past `n` are zero.
+#[inline(always)]
+pub(super) fn gather<const N: usize>(
+    points: &[f64],
+    n: usize,
+    first: usize,
+) -> (usize, [Lanes; N]) {
+    let lanes = LANES.min(points.len() / n - first);
+    let point = |l: usize| first + l.min(lanes - 1);
+    let x = std::array::from_fn(|i| {
+        if i < n {
+            Lanes::from_fn(|l| points[point(l) * n + i])
+        } else {
+            Lanes::default()
+        }
+    });
+    (lanes, x)
+}
+
 /// One block of [`LANES`] points in flight: its states (`dim <= N` used), the noise held over
 /// the window on the `D` dynamic states, and the RK4 stage derivatives.
 struct Block<const N: usize, const D: usize> {
@@ -123,16 +144,8 @@ impl<const N: usize, const D: usize> Block<N, D> {
         noise: Option<&[f64]>,
         channels: &[NoiseChannel],
     ) -> Self {
-        let count = points.len() / n;
-        let lanes = LANES.min(count - first);
+        let (lanes, x) = gather(points, n, first);
         let point = |l: usize| first + l.min(lanes - 1);
-        let x = std::array::from_fn(|i| {
-            if i < n {
-                Lanes::from_fn(|l| points[point(l) * n + i])
-            } else {
-                Lanes::default()
-            }
-        });
         let nw = channels.len();
         let mut drive = [Lanes::default(); D];
         let mut driven = [false; D];

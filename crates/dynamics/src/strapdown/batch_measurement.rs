@@ -11,6 +11,7 @@
 //! latency aside, whose three reciprocals a batch takes with one division,
 //! [`crate::real::Real::reciprocals`]: the last bits there).
 
+use super::batch::gather;
 use super::errors::{measurement_with, ErrorLayout, MAX_DIM};
 use super::measurement::MEAS_DIM;
 use crate::dispatch;
@@ -28,13 +29,7 @@ fn measure_lanes(layout: &ErrorLayout, n: usize, points: &[f64], z: &mut [f64]) 
     let count = points.len() / n;
     debug_assert!(n <= MAX_DIM && z.len() >= count * MEAS_DIM);
     for first in (0..count).step_by(LANES) {
-        let lanes = LANES.min(count - first);
-        // Lanes past the last point repeat it; their results are dropped.
-        let point = |l: usize| first + l.min(lanes - 1);
-        let mut x = [Lanes::default(); MAX_DIM];
-        for (i, xi) in x[..n].iter_mut().enumerate() {
-            *xi = Lanes::from_fn(|l| points[point(l) * n + i]);
-        }
+        let (lanes, x) = gather::<MAX_DIM>(points, n, first);
         let mut zl = [Lanes::default(); MEAS_DIM];
         measurement_with(layout, &x[..n], &mut zl);
         for (l, zp) in z[first * MEAS_DIM..]

@@ -163,15 +163,16 @@ pub(super) fn read_config(
             .validate(&known, &files.heading_prior_key(), files.navigation_names())
     {
         // `prior.level_rad` sits in [prior]; `prior.coefficients.X` in [prior.coefficients].
-        // The heading's sigma may be written under either family's word (a serde alias):
-        // the error names the one the file has.
+        // The heading's sigma may be written under any family's word (a serde alias): the
+        // error names the one the file has.
         let (table, name) = key.rsplit_once('.').unwrap_or(("prior", &key));
-        let spellings: &[&str] = match name {
-            "azimuth_rad" | "heading_rad" => &["azimuth_rad", "heading_rad"],
-            _ => &[],
-        };
+        let heading_keys = ModelKind::ALL.map(|k| files_of(k).heading_prior_key());
+        let spellings = heading_keys
+            .iter()
+            .filter(|_| heading_keys.iter().any(|h| h == name))
+            .map(String::as_str);
         let written = std::iter::once(name)
-            .chain(spellings.iter().copied())
+            .chain(spellings)
             .find_map(|n| key_line(&text, table, n).map(|line| (line, n)));
         return Err(match written {
             Some((line, n)) => data_error(path, line, &format!("{table}.{n}"), message),

@@ -250,6 +250,7 @@ pub fn corrected_reading<T: Real>(
 /// `-A^-1 e_i f_j` for `E_a[i][j]`; `dw = -B^-1 e_i` for `bg_i`, `-B^-1 e_i w_j` for
 /// `E_g[i][j]`, `-B^-1 e_i f_i` for `g_i`, and `-B^-1 G df` through `f`; each times the
 /// place's factor. A departure's columns are its bias's.
+#[inline(always)]
 pub fn corrected_reading_partials(
     layout: &ErrorLayout,
     imu: &ImuReading,

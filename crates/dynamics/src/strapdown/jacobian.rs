@@ -42,6 +42,9 @@ fn mul_v(c: &M3, a: [f64; 3]) -> [f64; 3] {
 }
 
 /// Writes `d(nav_rates)/dx` at `x` under `imu` into `jac` (`NAV_DIM x BASE_DIM`, row-major).
+/// Inlined into [`super::tangent::rate_jacobian`], and so into both copies of
+/// [`crate::dispatch!`].
+#[inline(always)]
 pub fn nav_rate_jacobian_analytic(x: &[f64], imu: &ImuReading, jac: &mut [f64]) {
     let trig = angle_trig([x[ROLL], x[PITCH], x[HEADING]]);
     let lat = crate::trig::sin_cos_angle(x[LAT]);

@@ -75,7 +75,9 @@ pub fn rate_jacobian_dual(
 /// coefficients only through the corrected reading `(w, f)`, so the base model's written-out
 /// Jacobian at that reading gives the navigation columns and `d(rates)/d(w, f)` (minus its
 /// bias columns), and [`corrected_reading_partials`] the small `d(w, f)/dx`.
-/// [`rate_jacobian_dual`] is the same matrix on dual numbers throughout.
+/// [`rate_jacobian_dual`] is the same matrix on dual numbers throughout. Inlined, with what it
+/// calls, into both copies of [`crate::dispatch!`] (the EKF's tangent of a model with effects).
+#[inline(always)]
 pub fn rate_jacobian(
     layout: &ErrorLayout,
     dynamic: usize,
@@ -98,17 +100,23 @@ pub fn rate_jacobian(
         jac[r * stride..r * stride + NAV_DIM]
             .copy_from_slice(&base[r * BASE_DIM..r * BASE_DIM + NAV_DIM]);
     }
-    corrected_reading_partials(layout, imu, x, |col, dw, df| {
-        for r in 0..NAV_DIM {
-            let b = &base[r * BASE_DIM..(r + 1) * BASE_DIM];
-            jac[r * stride + col] -= b[BG_X] * dw[0]
-                + b[BG_X + 1] * dw[1]
-                + b[BG_X + 2] * dw[2]
-                + b[BA_X] * df[0]
-                + b[BA_X + 1] * df[1]
-                + b[BA_X + 2] * df[2];
-        }
-    });
+    corrected_reading_partials(
+        layout,
+        imu,
+        x,
+        #[inline(always)]
+        |col, dw, df| {
+            for r in 0..NAV_DIM {
+                let b = &base[r * BASE_DIM..(r + 1) * BASE_DIM];
+                jac[r * stride + col] -= b[BG_X] * dw[0]
+                    + b[BG_X + 1] * dw[1]
+                    + b[BG_X + 2] * dw[2]
+                    + b[BA_X] * df[0]
+                    + b[BA_X + 1] * df[1]
+                    + b[BA_X + 2] * df[2];
+            }
+        },
+    );
     if dynamic > NAV_DIM {
         for w in layout.wanders() {
             for i in w.first..w.first + 3 {

@@ -186,6 +186,10 @@ fn summary_reports_span_rates_gaps_speed_turns_and_extent() {
     assert!(close(t.turning_time, 10.0, 1e-12), "{t:?}");
     assert!(close(t.turning_fraction, 10.0 / 59.9, 1e-12));
     assert_eq!(t.max_horizontal_force, Some(0.3));
+    assert!(
+        s.to_string().contains("horizontal specific force max"),
+        "{s}"
+    );
 
     let e = s.extent.unwrap();
     assert_eq!((e.lat_min, e.lat_max), (45.0, 45.0 + 1e-4 * 59.0));

@@ -83,12 +83,15 @@ pub struct SpeedProfile {
     pub still_fraction: f64,
 }
 
-/// Manoeuvres: horizontal specific force from the inputs, heading rate from the odometer.
+/// Manoeuvres: the specific force along the inputs' first two axes (horizontal on the
+/// platform, the unit's x-y plane for strapdown), the turn rate from the inputs' rate about
+/// the vertical where they hold one and otherwise from the odometer's heading.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct TurnProfile {
-    /// Largest horizontal specific force `|(f_e, f_n)|`, m/s^2 (`None` without inputs).
+    /// Largest specific force along the first two axes (`|(f_e, f_n)|` on the platform,
+    /// `|(f_x, f_y)|` for strapdown), m/s^2 (`None` without inputs).
     pub max_horizontal_force: Option<f64>,
-    /// RMS horizontal specific force over the input samples, m/s^2.
+    /// RMS of that force over the input samples, m/s^2.
     pub rms_horizontal_force: Option<f64>,
     /// Largest |heading rate| between consecutive odometer readings, deg/s (`None` when no
     /// two consecutive readings are both at or above [`MIN_HEADING_SPEED`]).
@@ -97,6 +100,9 @@ pub struct TurnProfile {
     pub turning_time: f64,
     /// `turning_time` as a fraction of the span.
     pub turning_fraction: f64,
+    /// What the force's two axes are, in words ([`super::family::FamilyFiles::planar_force_words`]).
+    #[serde(skip)]
+    pub force_words: &'static str,
 }
 
 /// Where the GPS fixes lie.
@@ -257,6 +263,7 @@ impl Dataset {
             } else {
                 0.0
             },
+            force_words: super::files_of(self.model).planar_force_words(),
         }
     }
 }
@@ -483,7 +490,8 @@ impl fmt::Display for DatasetSummary {
         match (t.max_horizontal_force, t.rms_horizontal_force) {
             (Some(max), Some(rms)) => writeln!(
                 f,
-                "; horizontal specific force max {} m/s^2, rms {} m/s^2",
+                "; {} max {} m/s^2, rms {} m/s^2",
+                t.force_words,
                 num(max),
                 num(rms)
             )?,

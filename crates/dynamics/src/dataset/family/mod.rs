@@ -51,6 +51,12 @@ pub trait FamilyFiles: Sync {
     /// in (its magnitude is the same in any frame).
     fn specific_force(&self, sample: &InputSample) -> [f64; 3];
 
+    /// What the first two axes of [`FamilyFiles::specific_force`] hold, in `inspect`'s
+    /// manoeuvre line: the horizontal specific force where the inputs are in the navigation
+    /// frame; for a strapdown unit the force in its own x-y plane, horizontal only while the
+    /// unit is level.
+    fn planar_force_words(&self) -> &'static str;
+
     /// How to read the vehicle's turn rate (rad/s, signed) off an input sample; `None` when
     /// the inputs hold no rate (then `inspect` takes the turns from the odometer's heading).
     fn turn_rate(&self) -> Option<fn(&InputSample) -> f64>;

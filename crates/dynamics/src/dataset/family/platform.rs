@@ -33,6 +33,9 @@ impl FamilyFiles for PlatformFiles {
     fn specific_force(&self, s: &InputSample) -> [f64; 3] {
         [s.f[0], s.f[1], s.f[2]]
     }
+    fn planar_force_words(&self) -> &'static str {
+        "horizontal specific force"
+    }
     fn turn_rate(&self) -> Option<fn(&InputSample) -> f64> {
         None
     }

@@ -46,6 +46,9 @@ impl FamilyFiles for StrapdownFiles {
     fn specific_force(&self, s: &InputSample) -> [f64; 3] {
         [s.f[3], s.f[4], s.f[5]]
     }
+    fn planar_force_words(&self) -> &'static str {
+        "specific force in the unit's x-y plane"
+    }
     /// The rate about the unit's up axis (the Earth's rate, 0.004 deg/s, is noise here).
     fn turn_rate(&self) -> Option<fn(&InputSample) -> f64> {
         Some(|s| s.f[2])

@@ -271,6 +271,40 @@ fn implausible_strapdown_data_are_named_in_the_strapdown_files() {
     }
 }
 
+/// A GPS jump is held against the strapdown odometer's own speed, not against the fastest
+/// road vehicle's: 250 m in one second is caught on this drive, under 20 m/s (it passed as a
+/// vehicle at 150 m/s, with "no odometer", when only an East-North velocity was read).
+#[test]
+fn a_gps_jump_is_held_against_the_strapdown_odometers_speed() {
+    use navkf_dynamics::dataset::Implausibility;
+    let clean = simulated();
+    let mut jumped = clean.clone();
+    let north_250_m = 250.0 / 111_000.0;
+    jumped
+        .measurements
+        .iter_mut()
+        .filter(|m| m.t >= 300.0)
+        .filter_map(|m| m.position_deg.as_mut())
+        .for_each(|p| p[0] += north_250_m);
+    let found = jumped.implausibilities();
+    let [Implausibility::PositionJump {
+        speed_m_s: Some(speed),
+        from_s,
+        count: 1,
+        ..
+    }] = found[..]
+    else {
+        panic!("{found:?}");
+    };
+    assert!(speed < 20.0, "{speed}");
+    assert!((298.0..300.0).contains(&from_s), "{from_s}");
+    assert!(
+        !found[0].to_string().contains("no odometer"),
+        "{}",
+        found[0]
+    );
+}
+
 #[test]
 fn readings_in_the_wrong_unit_axes_or_form_are_warned_of_and_clean_ones_are_not() {
     let clean = simulated();
@@ -279,6 +313,12 @@ fn readings_in_the_wrong_unit_axes_or_form_are_warned_of_and_clean_ones_are_not(
     let s = clean.summary();
     assert!(s.speed.unwrap().max > 10.0, "{s}");
     assert!(s.turn.max_turn_rate_deg_s.unwrap() > 3.0, "{s}");
+    // The unit's own axes, not the navigation frame's: horizontal only while it is level.
+    assert!(
+        s.to_string()
+            .contains("specific force in the unit's x-y plane max"),
+        "{s}"
+    );
     let with = |edit: &dyn Fn(&mut [f64; 6]), ds: &Dataset| {
         let mut ds = ds.clone();
         for i in &mut ds.inputs {

@@ -15,9 +15,11 @@
 //!   looks like noise or an effect.
 //! - **Position jumps** ([`Implausibility::PositionJump`]): consecutive GPS fixes farther
 //!   apart than the vehicle could move: [`SPEED_MARGIN`] times the odometer's fastest reading
-//!   around the interval (an odometer 100 % slow, five times the worst scale error a tyre
-//!   allows) times the time between the fixes, plus [`SCATTER_SIGMAS`] times the GPS's own
-//!   fix-to-fix scatter (measured from the data, so a mis-stated `gps_m` does not move it),
+//!   around the interval (its velocity's magnitude on the platform, its speed for strapdown;
+//!   an odometer 100 % slow, five times the worst scale error a tyre allows) times the time
+//!   between the fixes, plus [`SCATTER_SIGMAS`] times the GPS's own fix-to-fix scatter
+//!   (measured from the data where the odometer gives a displacement, so a mis-stated
+//!   `gps_m` does not move it; the stated sigma for a strapdown odometer's speed),
 //!   and at least [`GNSS_FLOOR_M`]. Without an odometer the speed is
 //!   [`ROAD_SPEED_MAX`]. A jump whose far fix lands back on its neighbour once its latitude's
 //!   or longitude's sign is flipped, its columns swapped or its longitude turned by half a
@@ -248,10 +250,12 @@ impl Dataset {
     fn position_jump(&self) -> Option<Implausibility> {
         let fixes = self.fixes();
         let odometer = self.odometer();
+        let speeds = self.odometer_speeds();
         let period = self.filter_period();
         // The GPS's own fix-to-fix scatter, per axis: the median distance between its
         // displacement and the odometer's over the same interval (a Rayleigh median), or the
-        // stated sigma when no interval has both.
+        // stated sigma when no interval has both (a strapdown odometer reads a speed, not a
+        // displacement).
         let residuals: Vec<f64> = fixes
             .windows(2)
             .filter_map(|w| {
@@ -270,12 +274,9 @@ impl Dataset {
         let mut count = 0;
         for w in fixes.windows(2) {
             let ((ta, a), (tb, b)) = (w[0], w[1]);
-            let lo = odometer.partition_point(|(t, _)| *t < ta - period);
-            let hi = odometer.partition_point(|(t, _)| *t <= tb + period);
-            let speed = odometer[lo..hi]
-                .iter()
-                .map(|(_, v)| v[0].hypot(v[1]))
-                .reduce(f64::max);
+            let lo = speeds.partition_point(|(t, _)| *t < ta - period);
+            let hi = speeds.partition_point(|(t, _)| *t <= tb + period);
+            let speed = speeds[lo..hi].iter().map(|(_, s)| *s).reduce(f64::max);
             let allowed =
                 SPEED_MARGIN * speed.unwrap_or(ROAD_SPEED_MAX) * (tb - ta) + noise_allowance;
             let distance = distance_m(a, b);

@@ -7,8 +7,9 @@
 //! so `phi = atan2(f_y, f_z)` and `theta = atan2(f_x, hypot(f_y, f_z))` from the mean force
 //! over the standstill: the readings from the odometer's first reading to its last leading
 //! zero (readings before the odometer starts are of a unit whose motion nothing records).
-//! An accelerometer bias `b` tilts that answer by `b / g`, which no averaging removes: the level's sigma is the stated `[prior] level_rad`, or a MEMS unit's
-//! 5 mg over g when the dataset states none.
+//! An accelerometer bias `b` tilts that answer by `b / g`, which no averaging removes: the
+//! level's sigma is the stated `[prior] level_rad`, or a MEMS unit's 5 mg over g when the
+//! dataset states none.
 //!
 //! **Heading.** A MEMS unit cannot find North by itself (its gyro bias hides the Earth's
 //! rate), so the heading comes from the vehicle's track: the bearing of the GPS chord from

@@ -167,12 +167,13 @@ pub(super) fn read_config(
         // error names the one the file has.
         let (table, name) = key.rsplit_once('.').unwrap_or(("prior", &key));
         let heading_keys = ModelKind::ALL.map(|k| files_of(k).heading_prior_key());
-        let spellings = heading_keys
-            .iter()
-            .filter(|_| heading_keys.iter().any(|h| h == name))
-            .map(String::as_str);
+        let spellings: &[String] = if heading_keys.iter().any(|h| h == name) {
+            &heading_keys
+        } else {
+            &[]
+        };
         let written = std::iter::once(name)
-            .chain(spellings)
+            .chain(spellings.iter().map(String::as_str))
             .find_map(|n| key_line(&text, table, n).map(|line| (line, n)));
         return Err(match written {
             Some((line, n)) => data_error(path, line, &format!("{table}.{n}"), message),

@@ -127,6 +127,9 @@ fn extent(vals: impl Iterator<Item = f64>, scale: Scale) -> Option<(f64, f64)> {
         })
 }
 
+/// How far past its end a log axis reaches, relative ([`axis_range`]).
+const EDGE: f64 = 1e-9;
+
 /// Pads an extent into an axis range that plotters can draw: never empty, never a zero
 /// width; a log range spans at least one decade.
 fn axis_range((lo, hi): (f64, f64), scale: Scale, pad: bool) -> (f64, f64) {
@@ -161,7 +164,10 @@ fn axis_range((lo, hi): (f64, f64), scale: Scale, pad: bool) -> (f64, f64) {
             if pad {
                 (lo / 1.15, hi * 1.15)
             } else {
-                (lo, hi)
+                // A power of ten at an end would be lost to rounding: plotters finds the
+                // first labelled one as 10^ceil(ln lo / ln 10), -0.9999999999999998 for
+                // lo = 0.1, and the last by multiplying up to 10.000000000000002 > 10.
+                (lo * (1.0 - EDGE), hi * (1.0 + EDGE))
             }
         }
     }
@@ -441,4 +447,32 @@ fn draw_content<DB: DrawingBackend, CT: CoordTranslate<From = (f64, f64)>>(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use plotters::coord::combinators::LogCoord;
+    use plotters::coord::ranged1d::Ranged;
+
+    /// The powers of ten plotters labels on a log axis drawn over `extent`.
+    fn labelled_decades(extent: (f64, f64)) -> Vec<f64> {
+        let (lo, hi) = axis_range(extent, Scale::Log, false);
+        LogCoord::from((lo..hi).log_scale())
+            .key_points(6)
+            .into_iter()
+            .filter(|v: &f64| (v.log10() - v.log10().round()).abs() < 1e-9)
+            .collect()
+    }
+
+    #[test]
+    fn a_log_axis_labels_a_power_of_ten_at_either_end() {
+        // One decade inside (1), the axis reaching for 0.1 or 10: both ends must be labelled.
+        // Before the range reached past its ends, 0.1 and 10 were lost to rounding and the
+        // detection figures' size axes read "1" alone.
+        assert_eq!(labelled_decades((0.1, 8.0)).len(), 2);
+        assert_eq!(labelled_decades((0.2, 9.0)).len(), 2);
+        assert_eq!(labelled_decades((0.1, 10.0)).len(), 3);
+        assert_eq!(labelled_decades((1e-3, 1e3)).len(), 7);
+    }
 }

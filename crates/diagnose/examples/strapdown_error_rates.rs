@@ -259,16 +259,17 @@ fn main() {
                 "round: model {:?}, NIS {:.3}, named {:?}",
                 r.model, r.nis.mean, r.named
             );
-            for c in r.candidates.iter().take(6) {
+            for c in r.candidates.iter().take(12) {
                 let coefficients: Vec<String> = c
                     .coefficients
                     .iter()
                     .map(|k| format!("{} {:.2e}+-{:.1e}", k.name, k.estimate, k.sigma))
                     .collect();
                 println!(
-                    "  {:24} bic {:8.1} k {} excess {:5.2} {:?} {}",
+                    "  {:24} bic {:8.1} (informed {:8.1}) k {} excess {:5.2} {:?} {}",
                     c.effect,
                     c.bic_gain,
+                    navkf_diagnose::naming::effective_bic(c),
                     c.parameters,
                     c.excess_removed,
                     c.outcome,

@@ -35,7 +35,8 @@
 //! is decisive on that informed count, even where the plain BIC, charging it for every
 //! coefficient, leaves it undecided: on the stop-and-go drive 3 small gyro misalignments and
 //! 1 accelerometer misalignment were named `odometer-misalignment`, `explained`, until it
-//! did; in that study's other 20 drives that name a structured effect nothing changed.
+//! did; in that study's other 20 drives that name or withdraw a structured effect nothing
+//! changed.
 
 use crate::candidates::beside_noise::gain_beside_refitted_noise;
 use crate::candidates::evidence::{

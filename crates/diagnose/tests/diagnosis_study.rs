@@ -282,3 +282,47 @@ fn a_declared_drag_beside_an_outside_drag_is_refused() {
         Some("drag")
     );
 }
+
+/// A true gyro bias walk, alone or beside another effect, survives the test that its density
+/// is the same in both halves of the record: the second half resumes the drifts where the
+/// first half's fit left them (`stand_ins::density_constancy`). Restarted from their priors,
+/// these walks of 74-92 times the typical density were withdrawn as stand-ins, each with
+/// `does not follow the model`: the second half spent density catching up with drifts the
+/// walk had moved far outside their prior by the middle. The datasets are the committed
+/// study's (a single walk, and walks beside an odometer scale and a torquer scale).
+#[test]
+fn a_true_walk_is_not_withdrawn_for_the_drift_it_has_already_made() {
+    use navkf_diagnose::diagnosis_study::run;
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../studies/diagnosis.toml");
+    let config = DiagnosisStudyConfig::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
+    for (index, beside) in [
+        (471, None),
+        (820, Some("odometer-scale")),
+        (843, Some("torquer-scale")),
+    ] {
+        let record = run(&config, Some(index..index + 1), &|_| {})
+            .unwrap()
+            .remove(0);
+        let hidden: Vec<&str> = record
+            .hidden
+            .iter()
+            .filter_map(|h| match h {
+                Hidden::Effect { name, multiple, .. } => {
+                    assert!(*multiple > 50.0 || Some(name.as_str()) == beside, "{h:?}");
+                    Some(name.as_str())
+                }
+                _ => None,
+            })
+            .collect();
+        assert!(hidden.contains(&"gyro-bias-walk"), "{index}: {record:?}");
+        assert_eq!(
+            hidden.len(),
+            1 + beside.is_some() as usize,
+            "{index}: {record:?}"
+        );
+        assert!(
+            record.named.iter().any(|n| n == "gyro-bias-walk") && record.withdrawn.is_empty(),
+            "{index}: {record:?}"
+        );
+    }
+}

@@ -376,12 +376,13 @@ fn a_drive_without_initial_starts_from_its_alignment_and_says_so() {
 /// by the likelihood ratio of one density against one each (`stand_ins::density_constancy`
 /// gives what this measured over 58 drives). Then the resume's mechanics: from the family's
 /// own start it is the plain pass, bit for bit; from the end of a pass it carries the
-/// navigation states and their covariance, and nothing else.
+/// navigation states and their covariance, and nothing else, unless asked to carry the
+/// wandering states too (the instability's departures), which it then places by name.
 #[test]
 fn the_noise_terms_constancy_test_keeps_a_true_instability() {
     use navkf_diagnose::catalogue::Catalogue;
     use navkf_diagnose::fit::pass::initial;
-    use navkf_diagnose::fit::setup::NavigationState;
+    use navkf_diagnose::fit::setup::ResumePoint;
     use navkf_diagnose::fit::{fit, FitSetup};
     use navkf_diagnose::stand_ins::density_constancy;
     let catalogue = StrapdownCatalogue::default();
@@ -438,8 +439,9 @@ fn the_noise_terms_constancy_test_keeps_a_true_instability() {
             assert_eq!(start.p[i + j * n], expected, "({i}, {j})");
         }
     }
-    let own_start = NavigationState {
+    let own_start = ResumePoint {
         t: family_start.t,
+        names: model.state_names()[..nav].to_vec(),
         x: family_start.x.clone(),
         p: (0..nav * nav)
             .map(|k| {
@@ -453,7 +455,7 @@ fn the_noise_terms_constancy_test_keeps_a_true_instability() {
             .collect(),
     };
     let resumed = FitSetup {
-        resume_navigation: Some(own_start),
+        resume: Some(own_start),
         ..setup.clone()
     };
     let again = fit(&ds, &resumed, &catalogue, &opts.filter).unwrap();
@@ -461,7 +463,7 @@ fn the_noise_terms_constancy_test_keeps_a_true_instability() {
     assert_eq!(again.p, plain.p);
     assert_eq!(again.loglik, plain.loglik);
 
-    let end = plain.final_navigation().unwrap();
+    let end = plain.resume_point(false).unwrap();
     assert_eq!(end.t, *plain.t.last().unwrap());
     assert_eq!(end.x[..], plain.x[..nav]);
     for j in 0..nav {
@@ -470,7 +472,7 @@ fn the_noise_terms_constancy_test_keeps_a_true_instability() {
         }
     }
     let later = FitSetup {
-        resume_navigation: Some(end.clone()),
+        resume: Some(end.clone()),
         ..setup.clone()
     };
     let from_end = initial(&ds, &later, &catalogue, &*model).unwrap();
@@ -488,6 +490,58 @@ fn the_noise_terms_constancy_test_keeps_a_true_instability() {
     }
     assert_eq!(from_end.x[nav..], start.x[nav..]);
     assert_eq!(from_end.sigma[nav..], start.sigma[nav..]);
+
+    // With the wandering states: the instability's departures resume too, with their
+    // covariance with everything resumed; a model without the instability passes them over.
+    let wandering = plain.resume_point(true).unwrap();
+    let noisy: Vec<String> = (nav..n)
+        .filter(|&i| plain.noisy[i])
+        .map(|i| plain.names[i].clone())
+        .collect();
+    assert!(!noisy.is_empty());
+    assert_eq!(wandering.names[..nav], end.names[..]);
+    assert_eq!(wandering.names[nav..], noisy[..]);
+    let m = wandering.names.len();
+    let at = |name: &String| plain.names.iter().position(|s| s == name).unwrap();
+    let from_wandering = initial(
+        &ds,
+        &FitSetup {
+            resume: Some(wandering.clone()),
+            ..setup.clone()
+        },
+        &catalogue,
+        &*model,
+    )
+    .unwrap();
+    for (a, name_a) in wandering.names.iter().enumerate() {
+        assert_eq!(wandering.x[a], plain.x[at(name_a)]);
+        assert_eq!(
+            from_wandering.x[at(name_a)],
+            plain.x[at(name_a)],
+            "{name_a}"
+        );
+        for (b, name_b) in wandering.names.iter().enumerate() {
+            let (i, j) = (at(name_a), at(name_b));
+            assert_eq!(wandering.p[a + b * m], plain.p[i + j * n]);
+            assert_eq!(
+                from_wandering.p[i + j * n],
+                plain.p[i + j * n],
+                "{name_a} {name_b}"
+            );
+        }
+    }
+    let without = FitSetup {
+        effects: vec![],
+        parameters: Default::default(),
+        resume: Some(wandering),
+        ..setup.clone()
+    };
+    let bare = catalogue
+        .model(&[], &Default::default(), &setup.noise, opts.filter.attitude)
+        .unwrap();
+    let from_bare = initial(&ds, &without, &catalogue, &*bare).unwrap();
+    assert_eq!(from_bare.x[..nav], end.x[..]);
+    assert_eq!(from_bare.x.len(), bare.dim());
 }
 
 /// A request's refusals name the strapdown family's own keys: the dataset's heading prior is

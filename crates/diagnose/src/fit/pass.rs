@@ -21,7 +21,7 @@
 //! on how wide a prior was chosen or widened. States driven by process noise (the drifts under
 //! `gyro-bias-walk`) are not constants; they stay marginalised.
 
-use super::setup::{FitSetup, NavigationState};
+use super::setup::{FitSetup, ResumePoint};
 use crate::catalogue::{Catalogue, Channel, MAX_CHANNELS, PINNED_SIGMA};
 use crate::error::DiagnoseError;
 use navkf_dynamics::dataset::Dataset;
@@ -166,24 +166,29 @@ impl Fit {
         self.p[i + i * n].max(0.0).sqrt()
     }
 
-    /// The navigation states after the last update, with their covariance: where a pass over
-    /// the rest of the record may resume ([`FitSetup::resume_navigation`]). `None` when the
-    /// pass made no update or its filter failed (its state is then not the last update's).
-    pub fn final_navigation(&self) -> Option<NavigationState> {
+    /// The states after the last update, with their covariance: where a pass over the rest
+    /// of the record may resume ([`FitSetup::resume`]). The navigation states, and with
+    /// `wandering` also the coefficients driven by process noise (the drifts under
+    /// `gyro-bias-walk`, a bias instability's departures): a walk has moved those away from
+    /// their prior, and a pass that starts them there again must first catch up. `None` when
+    /// the pass made no update or its filter failed (its state is then not the last update's).
+    pub fn resume_point(&self, wandering: bool) -> Option<ResumePoint> {
         if self.failure.is_some() {
             return None;
         }
         let t = *self.t.last()?;
-        let (n, nav) = (self.names.len(), self.nav_dim);
-        let mut p = vec![0.0; nav * nav];
-        for j in 0..nav {
-            for i in 0..nav {
-                p[i + j * nav] = self.p[i + j * n];
-            }
-        }
-        Some(NavigationState {
+        let n = self.names.len();
+        let kept: Vec<usize> = (0..n)
+            .filter(|&i| i < self.nav_dim || (wandering && self.noisy[i] && !self.pinned[i]))
+            .collect();
+        let p = kept
+            .iter()
+            .flat_map(|&j| kept.iter().map(move |&i| self.p[i + j * n]))
+            .collect();
+        Some(ResumePoint {
             t,
-            x: self.x[..nav].to_vec(),
+            names: kept.iter().map(|&i| self.names[i].clone()).collect(),
+            x: kept.iter().map(|&i| self.x[i]).collect(),
             p,
         })
     }
@@ -201,10 +206,11 @@ pub struct Initial {
 }
 
 /// The start of a filter on `ds` for `setup`'s `model` (built by `catalogue`): the navigation
-/// states from the family's start at the first full measurement (or where
-/// [`FitSetup::resume_navigation`] says, with its covariance), the coefficients at zero;
+/// states from the family's start at the first full measurement, the coefficients at zero;
 /// their sigmas the start's, the pinned coefficients' [`PINNED_SIGMA`] times their typical
-/// size, and the others the setup's priors or their typical size.
+/// size, and the others the setup's priors or their typical size. Where [`FitSetup::resume`]
+/// says, the states it holds (found by name; those the model lacks are passed over) start
+/// from its estimate and covariance instead.
 pub fn initial(
     ds: &Dataset,
     setup: &FitSetup,
@@ -213,7 +219,8 @@ pub fn initial(
 ) -> Result<Initial, DiagnoseError> {
     let n = model.dim();
     let nav = catalogue.nav_dim();
-    let start = match &setup.resume_navigation {
+    let names = model.state_names();
+    let start = match &setup.resume {
         Some(resume) => resume.clone(),
         None => {
             let tilt = [setup.priors.level_rad, setup.priors.azimuth_rad];
@@ -222,28 +229,38 @@ pub fn initial(
             for (i, s) in start.sigma.iter().enumerate().take(nav) {
                 p[i + i * nav] = s * s;
             }
-            NavigationState {
+            ResumePoint {
                 t: start.t,
+                names: names[..nav].to_vec(),
                 x: start.x,
                 p,
             }
         }
     };
-    if start.x.len() != nav || start.p.len() != nav * nav {
+    let m = start.names.len();
+    if start.x.len() != m || start.p.len() != m * m || m < nav || start.names[..nav] != names[..nav]
+    {
         return Err(DiagnoseError::Data(format!(
-            "a filter's start has {} navigation states and a covariance of {} entries; the \
-             family has {nav} states",
+            "a filter's start holds the states {:?} ({} estimates, a covariance of {} \
+             entries); expected the family's {nav} navigation states {:?} first",
+            start.names,
             start.x.len(),
-            start.p.len()
+            start.p.len(),
+            &names[..nav]
         )));
     }
+    // Where each of the start's states sits in the model.
+    let placed: Vec<(usize, usize)> = start
+        .names
+        .iter()
+        .enumerate()
+        .filter_map(|(a, name)| names.iter().position(|s| s == name).map(|i| (a, i)))
+        .collect();
     let mut x = vec![0.0; n];
-    x[..nav].copy_from_slice(&start.x);
-    let names = model.state_names();
-    let sigma: Vec<f64> = (0..n)
+    let mut sigma: Vec<f64> = (0..n)
         .map(|i| {
             if i < nav {
-                start.p[i + i * nav].max(0.0).sqrt()
+                0.0
             } else if catalogue.pinned().contains(&names[i].as_str()) {
                 PINNED_SIGMA * model.typical_sigma(i)
             } else {
@@ -256,13 +273,17 @@ pub fn initial(
             }
         })
         .collect();
+    for &(a, i) in &placed {
+        x[i] = start.x[a];
+        sigma[i] = start.p[a + a * m].max(0.0).sqrt();
+    }
     let mut p = vec![0.0; n * n];
     for i in 0..n {
         p[i + i * n] = sigma[i] * sigma[i];
     }
-    for i in 0..nav {
-        for j in 0..nav {
-            p[i + j * n] = start.p[i + j * nav];
+    for &(a, i) in &placed {
+        for &(b, j) in &placed {
+            p[i + j * n] = start.p[a + b * m];
         }
     }
     Ok(Initial {

@@ -26,20 +26,24 @@ pub struct FitSetup {
     /// ([`crate::stand_ins::constancy`]). No restart when no measurement comes after it.
     /// `None` in every other pass.
     pub restart_coefficients_after: Option<f64>,
-    /// When set, the filter starts from this navigation state instead of the family's start
-    /// at the dataset's first fix: the second half of a noise term's constancy test
+    /// When set, the filter starts from these states instead of the family's start at the
+    /// dataset's first fix: the second half of a noise term's constancy test
     /// ([`crate::stand_ins::density_constancy`]) resumes where the first half's fit ended.
     /// `None` in every other pass.
-    pub resume_navigation: Option<NavigationState>,
+    pub resume: Option<ResumePoint>,
 }
 
-/// The navigation states of a filter at one time: where a later pass may resume
-/// ([`FitSetup::resume_navigation`]).
+/// Some states of a filter at one time, with their covariance: where a later pass may
+/// resume ([`FitSetup::resume`]). The navigation states always, in the family's order; after
+/// them any coefficient that wanders (one driven by process noise), found again by name in
+/// the later pass's model, which may not hold it.
 #[derive(Debug, Clone, PartialEq)]
-pub struct NavigationState {
-    /// Time of the state, s.
+pub struct ResumePoint {
+    /// Time of the states, s.
     pub t: f64,
-    /// The navigation states' estimate (the first states of every model of the family).
+    /// Their names: the navigation states first.
+    pub names: Vec<String>,
+    /// Their estimate.
     pub x: Vec<f64>,
     /// Their covariance, column-major (`x.len()` squared).
     pub p: Vec<f64>,
@@ -55,7 +59,7 @@ impl FitSetup {
             noise,
             priors,
             restart_coefficients_after: None,
-            resume_navigation: None,
+            resume: None,
         }
     }
 

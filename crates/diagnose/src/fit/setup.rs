@@ -36,7 +36,10 @@ pub struct FitSetup {
 /// Some states of a filter at one time, with their covariance: where a later pass may
 /// resume ([`FitSetup::resume`]). The navigation states always, in the family's order; after
 /// them any coefficient that wanders (one driven by process noise), found again by name in
-/// the later pass's model, which may not hold it.
+/// the later pass's model, which may not hold it. A resumed state's prior has a mean and
+/// covariances; [`crate::fit::pass::Fit::profile_loglik`]'s Laplace correction assumes a
+/// zero-mean diagonal one, which is why only the navigation states and the wandering ones,
+/// which that correction leaves marginal, are resumed where a profile is taken.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ResumePoint {
     /// Time of the states, s.

@@ -36,7 +36,7 @@ pub const GROSS_NIS_RATIO: f64 = 2.0;
 pub const SUGGEST_SHARE: f64 = 0.5;
 
 /// Most spans of time the report lists.
-const MAX_SPANS: usize = 5;
+pub const MAX_SPANS: usize = 5;
 
 /// One measurement channel's share of the misfit.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -3,7 +3,7 @@
 //! Each dataset's draws come from its own stream (study seed, dataset index), so dataset `i`
 //! is the same bytes whatever runs beside it. Sizes are drawn log-uniformly between the
 //! class's bounds, given as multiples of the effect's typical size (in sigma), by the study
-//! family's draw; the family simulates the dataset ([`super::family`]; on the platform every
+//! family's draw; the family simulates the dataset (`super::family`; on the platform every
 //! coefficient of an effect takes that size times its own typical sigma, with a random sign,
 //! and the base coefficients and the initial tilt are drawn as a real platform's would be).
 

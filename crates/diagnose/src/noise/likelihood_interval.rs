@@ -27,7 +27,7 @@ use crate::error::DiagnoseError;
 /// The log-likelihood fall that bounds the interval: `chi2(1, 0.95) / 2`.
 pub const LR_DROP: f64 = 1.920_729_410_347_062;
 /// Farthest a bound is sought from the optimum, in log-variance: a factor 10^4 in sigma, the
-/// process-noise grid's reach ([`super::grid`]).
+/// process-noise grid's reach (`noise::grid`).
 pub const FARTHEST: f64 = 18.420_680_743_952_367;
 /// Doublings of the step before a side is called open.
 const DOUBLINGS: usize = 6;

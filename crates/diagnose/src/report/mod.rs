@@ -12,7 +12,7 @@ pub use findings::findings;
 
 use crate::candidates::evidence::CandidateKind;
 use crate::diagnosis::{Diagnosis, RoundKind};
-use crate::stand_ins::CONSTANCY_ALPHA;
+use crate::stand_ins::{CONSTANCY_ALPHA, NOISE_TERM_ALPHA};
 use navkf_report::figure::FigureOutcome;
 use navkf_report::markdown::{number, Number, Table};
 use std::fmt::Write as _;
@@ -261,8 +261,9 @@ pub fn markdown(d: &Diagnosis, command: &str, figures: &[FigureOutcome]) -> Stri
         }
         let _ = write!(
             out,
-            "\n## Are the named coefficients constants?\n\nThe final model refitted on each half of the record, the second half resuming where the first ended; each coefficient's two estimates compared, and a noise term's density by the likelihood ratio of one density for the whole record against one for each half (chi-square, one degree of freedom; the effect fails below p = {:.0e}, Bonferroni over its coefficients):\n\n{}",
+            "\n## Are the named coefficients constants?\n\nThe final model refitted on each half of the record, the second half resuming where the first ended; each coefficient's two estimates compared, and a noise term's density by the likelihood ratio of one density for the whole record against one for each half (chi-square, one degree of freedom; an effect fails below p = {:.0e}, Bonferroni over its coefficients, a noise term below p = {}):\n\n{}",
             CONSTANCY_ALPHA,
+            NOISE_TERM_ALPHA,
             constancy.render()
         );
     }

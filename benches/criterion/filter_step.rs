@@ -3,7 +3,7 @@
 //! ([`navkf_benches::RATE_EFFECTS`], 25 states), and for the exact-attitude variant of the base model, per
 //! filter; and the model evaluation on its own.
 //!
-//! `cargo bench -p navkf-criterion` (add `-- --quick` for a short run).
+//! `cargo bench --manifest-path benches/criterion/Cargo.toml` (add `-- --quick` for a short run).
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use navkf_benches::Scenario;

@@ -2,7 +2,7 @@
 //! `navkf_filters::linalg` against nalgebra and faer (sequential, preallocated, so no
 //! allocation is timed where the library allows it).
 //!
-//! `cargo bench -p navkf-criterion --bench linalg`
+//! `cargo bench --manifest-path benches/criterion/Cargo.toml --bench linalg`
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use faer::dyn_stack::{MemBuffer, MemStack};

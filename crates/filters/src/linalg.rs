@@ -4,7 +4,8 @@
 //! They are not the fastest code for these sizes on every CPU: on the AMD Zen 4 of
 //! docs/speed.md, nalgebra's Cholesky (0.73 us at n = 20, a copy included) and faer's
 //! product for the UKF covariance (0.85 us for 41 points) beat [`cholesky_in_place`]
-//! (1.02 us) and [`row_dots`] (1.45 us) (`cargo bench -p navkf-criterion --bench linalg`).
+//! (1.02 us) and [`row_dots`] (1.45 us) (`cargo bench --manifest-path
+//! benches/criterion/Cargo.toml --bench linalg`).
 //! They are kept because they allocate nothing and work on the filters' flat buffers; moving
 //! to a library call that does neither is an open lead (docs/speed.md).
 

@@ -5,9 +5,10 @@
 //! Both work in place on column-major slices and allocate nothing.
 //!
 //! The QR and `S S^T` are hand kernels on `F64x4` (`simd.rs`) because they beat faer's at the
-//! square-root UKF's sizes (`cargo bench -p navkf-criterion --bench linalg -- square_root`;
-//! docs/speed.md). Grouping columns or rows changes no result: every entry keeps the
-//! arithmetic of the scalar `dot`, which the tests check bit for bit.
+//! square-root UKF's sizes (`cargo bench --manifest-path benches/criterion/Cargo.toml
+//! --bench linalg -- square_root`; docs/speed.md). Grouping columns or rows changes no
+//! result: every entry keeps the arithmetic of the scalar `dot`, which the tests check bit
+//! for bit.
 
 use crate::simd::F64x4;
 

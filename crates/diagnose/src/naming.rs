@@ -46,7 +46,7 @@ use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use crate::fit::density::{fit_density, DensityFit};
 use crate::fit::pass::Fit;
-use crate::noise::Theta;
+use crate::noise::{CheckMemo, Theta};
 use crate::options::Options;
 use navkf_dynamics::dataset::Dataset;
 use navkf_filters::FilterSpec;
@@ -73,11 +73,13 @@ pub struct Naming {
 /// a misalignment of degrees can pass for one (measured on the error-rate study: 2 of 60
 /// platforms misaligned by 1-10 deg were "explained by `torquer-scale`"). The choice is
 /// suggested instead, and the findings ask for `--attitude exact`.
+#[allow(clippy::too_many_arguments)]
 pub fn name(
     ds: &Dataset,
     model: &Model<'_>,
     mut ranked: Vec<Evaluated>,
     noise_theta: Theta,
+    checks_run: &mut CheckMemo,
     catalogue: &dyn Catalogue,
     opts: &Options,
     beyond_small_angle: bool,
@@ -111,6 +113,7 @@ pub fn name(
                     &ranked[s],
                     &ranked[n],
                     noise_theta,
+                    checks_run,
                     catalogue,
                     opts,
                 )?);

@@ -98,6 +98,7 @@ pub fn diagnose(
     let mut named: Vec<Named> = Vec::new();
     let mut noise_theta: crate::noise::Theta = [0.0; crate::noise::MAX_SOURCES];
     let mut noise_checks = Vec::new();
+    let mut checks_run = noise::CheckMemo::default();
     let mut confounded = Confounded::default();
     let beyond_small_angle = !beyond_small_angle(
         &under_test.prior_entries,
@@ -111,13 +112,7 @@ pub fn diagnose(
         let summary = summarize_fit(ds, &model, opts);
         // 2.1 Noise check.
         let check = if opts.fit_noise {
-            Some(noise::check(
-                ds,
-                &model,
-                noise_theta,
-                catalogue,
-                &opts.filter,
-            )?)
+            Some(checks_run.check(ds, &model, noise_theta, catalogue, &opts.filter)?)
         } else {
             None
         };
@@ -140,6 +135,7 @@ pub fn diagnose(
             &as_it_stands,
             ranked,
             noise_theta,
+            &mut checks_run,
             catalogue,
             opts,
             beyond_small_angle,

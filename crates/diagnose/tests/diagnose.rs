@@ -5,8 +5,9 @@
 //! `studies/diagnosis.toml`'s business; these tests pin the cases the issue names.
 
 use navkf_diagnose::candidates::{CandidateKind, Outcome};
+use navkf_diagnose::noise::CheckMemo;
 use navkf_diagnose::noise::{NoiseSource, NoiseVerdict};
-use navkf_diagnose::{diagnose, Diagnosis, Options, RoundKind, Verdict};
+use navkf_diagnose::{diagnose, Diagnosis, FitSetup, Options, RoundKind, Verdict};
 use navkf_dynamics::outside::Drag;
 use navkf_dynamics::simulate::{Alignment, InitialTilt, Prior};
 use navkf_dynamics::{
@@ -671,4 +672,34 @@ fn a_platform_misaligned_by_degrees_is_not_explained_by_an_effect() {
             d.findings
         );
     }
+}
+
+/// A noise check asked again with the same model and starting levels is answered from the
+/// diagnosis's memory, with the answer a fresh check gives; other starting levels run anew.
+/// (The round after an effect went first beside the noise levels asks exactly this.)
+#[test]
+fn a_noise_check_asked_again_is_answered_from_memory() {
+    let mut ds = dataset(Vec::new(), &[], 17);
+    ds.noise.gps_m /= 3.0;
+    let catalogue = Registry::catalogue();
+    let opts = Options::default();
+    let lat = ds.measurements.iter().find_map(|m| m.gps_rad()).unwrap()[0];
+    let (priors, _) = navkf_diagnose::priors::resolve(&ds, &opts.prior, lat, &catalogue);
+    let setup = FitSetup::new(Vec::new(), ds.noise, priors);
+    let model = navkf_diagnose::fit::fit(&ds, &setup, &catalogue, &opts.filter).unwrap();
+    let start = [0.0; navkf_diagnose::noise::MAX_SOURCES];
+    let fresh = navkf_diagnose::noise::check(&ds, &model, start, &catalogue, &opts.filter).unwrap();
+    assert!(fresh.refitted, "{fresh:#?}");
+    let mut memo = CheckMemo::default();
+    for _ in 0..2 {
+        let answer = memo
+            .check(&ds, &model, start, &catalogue, &opts.filter)
+            .unwrap();
+        assert_eq!(answer, fresh);
+        assert_eq!(memo.len(), 1);
+    }
+    let elsewhere = std::array::from_fn(|j| if j == 0 { 1.0 } else { 0.0 });
+    memo.check(&ds, &model, elsewhere, &catalogue, &opts.filter)
+        .unwrap();
+    assert_eq!(memo.len(), 2);
 }

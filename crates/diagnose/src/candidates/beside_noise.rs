@@ -26,26 +26,28 @@ use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use crate::fit::pass::{marginal_states, Fit};
 use crate::fit::widening::fit_adaptive;
-use crate::noise::{self, Theta};
+use crate::noise::{CheckMemo, Theta};
 use crate::options::Options;
 use navkf_dynamics::dataset::Dataset;
 
 /// The BIC gain of the structured candidate `effect` over the noise-levels candidate
 /// `noise_levels`, with the noise refitted beside the effect: the noise check run on the
 /// effect's fit from the model's levels `theta`, and the effect refitted at the levels it
-/// finds. Charged for the effect's coefficients and the noise sources the joint fit changes,
+/// finds (a check run before is answered from `checks_run`). Charged for the effect's coefficients and the noise sources the joint fit changes,
 /// less the sources the noise levels changed; and no more than its gain over the model
 /// without it at the joint fit's levels. `-inf` when the joint fit fails.
+#[allow(clippy::too_many_arguments)]
 pub fn gain_beside_refitted_noise(
     ds: &Dataset,
     model: &Fit,
     effect: &Evaluated,
     noise_levels: &Evaluated,
     theta: Theta,
+    checks_run: &mut CheckMemo,
     catalogue: &dyn Catalogue,
     opts: &Options,
 ) -> Result<f64, DiagnoseError> {
-    let check = noise::check(ds, &effect.fit, theta, catalogue, &opts.filter)?;
+    let check = checks_run.check(ds, &effect.fit, theta, catalogue, &opts.filter)?;
     let refitted;
     let (joint, noise_changed) = if check.refitted && check.used != effect.fit.setup.noise {
         let setup = effect.fit.setup.at_noise(check.used);

@@ -41,15 +41,18 @@
 //! ([`crate::candidates`]).
 //!
 //! [`levels`] holds what a check finds ([`NoiseFit`]); [`search`] how ([`check`]); `grid`
-//! the restarts that find process noise stated far off.
+//! the restarts that find process noise stated far off; [`memo`] the checks a diagnosis has
+//! run, so that none runs twice.
 
 mod grid;
 pub mod levels;
 pub mod likelihood_interval;
+pub mod memo;
 pub mod search;
 
 pub use levels::{
     scaled, NoiseFit, NoiseSource, NoiseVerdict, SourceFit, Theta, WhyUnresolved, FEW_UPDATES,
     MAX_SOURCES, RESOLVED_SIGMA_FACTOR, SOURCES, TRADE_OFF, Z_FLAG,
 };
+pub use memo::CheckMemo;
 pub use search::{check, MAX_STEP, Z_ACTIVE};

@@ -32,10 +32,11 @@ use navkf_dynamics::dataset::Dataset;
 
 /// The BIC gain of the structured candidate `effect` over the noise-levels candidate
 /// `noise_levels`, with the noise refitted beside the effect: the noise check run on the
-/// effect's fit from the model's levels `theta`, and the effect refitted at the levels it
-/// finds (a check run before is answered from `checks_run`). Charged for the effect's coefficients and the noise sources the joint fit changes,
-/// less the sources the noise levels changed; and no more than its gain over the model
-/// without it at the joint fit's levels. `-inf` when the joint fit fails.
+/// effect's fit from the model's levels `theta` (answered from `checks_run` when it was run
+/// before), and the effect refitted at the levels it finds. Charged for the effect's
+/// coefficients and the noise sources the joint fit changes, less the sources the noise
+/// levels changed; and no more than its gain over the model without it at the joint fit's
+/// levels. `-inf` when the joint fit fails.
 #[allow(clippy::too_many_arguments)]
 pub fn gain_beside_refitted_noise(
     ds: &Dataset,

@@ -61,6 +61,11 @@ pub struct Args {
     /// The non-holonomic constraint's sigma stated in dataset.toml, m/s (strapdown).
     #[arg(long, value_name = "M_S")]
     nhc_sigma: Option<f64>,
+    /// The vehicle body's sideslip and bounce, m/s: the root-mean-square lateral and
+    /// vertical velocity of the body when cruising (strapdown; default: the constraint's
+    /// sigma, `--nhc-sigma`; 0: a rigid vehicle, whose constraint holds exactly).
+    #[arg(long, value_name = "M_S")]
+    body_motion: Option<f64>,
 }
 
 pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
@@ -94,6 +99,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
         unit: a.unit,
         imu_rate_hz: a.imu_rate,
         nhc_sigma: a.nhc_sigma,
+        body_motion_m_s: a.body_motion,
     };
     let written = simulate(&request, &a.out, SettingNames::CommandLine)?;
     eprintln!("wrote {} ({})", a.out.display(), written.description);

@@ -66,8 +66,9 @@ fn a_simulated_strapdown_dataset_is_inspected_and_diagnosed() {
         s.contains("aligned from the data") && s.contains("GPS track"),
         "{s}"
     );
-    // The diagnosis takes it with the strapdown catalogue: the file's exact-zero constraint
-    // readings are a tolerance it fits, and nothing is named on this clean drive.
+    // The diagnosis takes it with the strapdown catalogue: the body's sideslip and bounce
+    // (the file's constraint readings are zeros) are a tolerance it fits, and nothing is
+    // named on this clean drive.
     let report = out.with_file_name(format!(
         "{}-diagnosis",
         out.file_name().unwrap().to_string_lossy()
@@ -176,6 +177,26 @@ fn strapdown_settings_are_refused_where_they_mean_nothing() {
         "{}",
         text(&o.stderr)
     );
+    for (model, motion, expected) in [
+        ("platform", "0.1", "--body-motion: a strapdown setting"),
+        (
+            "strapdown",
+            "inf",
+            "--body-motion inf: expected a finite velocity >= 0",
+        ),
+    ] {
+        let o = navkf([
+            "simulate",
+            "--model",
+            model,
+            "--body-motion",
+            motion,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(!o.status.success());
+        assert!(text(&o.stderr).contains(expected), "{}", text(&o.stderr));
+    }
     assert!(!out.exists(), "nothing is written when refused");
 }
 

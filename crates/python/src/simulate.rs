@@ -16,7 +16,7 @@ use std::path::PathBuf;
 /// See `navkf.simulate` (python/navkf/__init__.py) for the arguments.
 #[pyfunction]
 #[pyo3(signature = (*, out, seed, run_index, effects, model, trajectory_toml, duration,
-    attitude, azimuth_sigma, truth, unit, imu_rate, nhc_sigma, effects_file))]
+    attitude, azimuth_sigma, truth, unit, imu_rate, nhc_sigma, body_motion, effects_file))]
 #[allow(clippy::too_many_arguments)]
 pub fn simulate(
     py: Python<'_>,
@@ -33,6 +33,7 @@ pub fn simulate(
     unit: Option<String>,
     imu_rate: Option<f64>,
     nhc_sigma: Option<f64>,
+    body_motion: Option<f64>,
     effects_file: Option<PathBuf>,
 ) -> PyResult<Dataset> {
     let model: ModelKind = model.parse().map_err(|_| {
@@ -74,6 +75,7 @@ pub fn simulate(
         unit,
         imu_rate_hz: imu_rate,
         nhc_sigma,
+        body_motion_m_s: body_motion,
     };
     let written = py
         .detach(|| run(&request, &out, SettingNames::Keywords))

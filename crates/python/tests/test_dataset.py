@@ -43,6 +43,12 @@ def test_strapdown_datasets_carry_the_imu_columns(tmp_path):
     assert abs(np.median(ds.inputs["f_z"][:50]) - 9.8) < 0.1
     ds.write(tmp_path / "again")
     assert navkf.Dataset.read(tmp_path / "again").inputs["f_z"].tolist() == ds.inputs["f_z"].tolist()
+    # The body's sideslip and bounce move its readings; body_motion=0 holds it rigid.
+    rigid = navkf.simulate(
+        model="strapdown", unit="mems", imu_rate=10, trajectory=SHORT, seed=2, body_motion=0
+    )
+    assert rigid.inputs["f_x"].tolist() != ds.inputs["f_x"].tolist()
+    assert rigid.noise.get("zupt_m_s") != ds.noise.get("zupt_m_s")
 
 
 def test_write_never_replaces_a_folder_that_is_not_a_dataset(pair, tmp_path):
@@ -73,6 +79,8 @@ def test_a_bad_file_is_named_with_its_line_and_column(pair, tmp_path):
         ({"model": "gimbal"}, "expected \"platform\" or \"strapdown\""),
         ({"unit": "mems"}, "unit: a strapdown setting"),
         ({"model": "strapdown", "imu_rate": 10.5}, "imu_rate 10.5"),
+        ({"model": "strapdown", "body_motion": -0.1}, "body_motion -0.1"),
+        ({"body_motion": 0.1}, "body_motion: a strapdown setting"),
         ({"azimuth_sigma": -1.0}, "azimuth_sigma -1"),
         ({"seed": -1}, "seed -1"),
         ({"trajectory": "[trajectory]\nduration_s = -5.0\n"}, "trajectory"),

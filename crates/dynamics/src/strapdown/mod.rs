@@ -6,6 +6,8 @@
 //! - [`state`]: the 13 states and their names;
 //! - [`attitude`]: the body-to-navigation rotation from roll, pitch and heading, and the
 //!   angle rates from a body rate (docs/model.md eqs. (49), (53)-(55));
+//! - [`body_motion`]: the vehicle body's sideslip and bounce about its path, for written
+//!   datasets;
 //! - [`batch`]: sigma points propagated eight at a time, from the same rates;
 //! - [`effects`]: the catalogue of strapdown effects, each a declaration of where its
 //!   coefficients act, and [`effect_list`] the lists users write;
@@ -26,6 +28,7 @@
 pub mod attitude;
 pub mod batch;
 pub mod batch_measurement;
+pub mod body_motion;
 pub mod effect_list;
 pub mod effect_rates;
 pub mod effects;

@@ -17,12 +17,17 @@
 //! body velocities are zero. A real car's are not quite (sideslip in the turns, bounce), and
 //! that is what the constraint's stated sigma `nhc_m_s` describes; the simulator draws them
 //! as the constraint's reading ([`Measurement::nhc`], `N(0, nhc_m_s^2)` per axis) so that the
-//! filters meet the error they are told of, as they do for every other sensor.
+//! filters meet the error they are told of, as they do for every other sensor. A file has no
+//! column for those readings, so a simulator whose runs are written to files moves the body
+//! itself instead ([`StrapdownSimulator::with_body_motion`], [`super::body_motion`]): the
+//! heading and pitch of the truth and the readings are then the turned body's
+//! ([`body_state`], [`body_reading`], docs/model.md, "A written dataset's body moves").
 //!
 //! Every draw comes from [`crate::rng::stream`]: the biases from `Coefficients`, the reading
 //! noise from `ProcessNoise`, the odometer and GPS noise from `MeasurementNoise`.
 
 use super::attitude::{body_to_nav, euler_of, rotate_back};
+use super::body_motion::{BodyMotion, BodyOffsets};
 use super::errors::{measurement_with, reading_with_errors, vehicle_axes, ErrorLayout, Wander};
 use super::model::{StrapdownModel, MEAS_DIM};
 use super::rates::{input_of, ImuReading};
@@ -44,22 +49,46 @@ use rand_distr::StandardNormal;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-/// The true navigation state of the path at `st`: level, heading along the path.
+/// The true navigation state of the rigid vehicle at `st`: level, heading along the path.
 pub fn path_state(st: &PathState) -> [f64; NAV_DIM] {
-    [0.0, 0.0, st.heading, st.v[0], st.v[1], st.pos[0], st.pos[1]]
+    body_state(st, &BodyOffsets::default())
+}
+
+/// The true navigation state of a body turned by `off` from the rigid vehicle on the path
+/// at `st` ([`super::body_motion`]): the path's velocity and position, the body's attitude.
+pub fn body_state(st: &PathState, off: &BodyOffsets) -> [f64; NAV_DIM] {
+    let heading = st.heading + off.heading;
+    [
+        0.0, off.pitch, heading, st.v[0], st.v[1], st.pos[0], st.pos[1],
+    ]
 }
 
 /// The error-free reading of a level unit on the path at `st` (module documentation).
 pub fn ideal_reading(st: &PathState) -> ImuReading {
-    let c = body_to_nav([0.0, 0.0, st.heading]);
+    body_reading(st, &BodyOffsets::default())
+}
+
+/// The error-free reading of the unit on a body turned by `off` from the rigid vehicle on
+/// the path at `st` ([`super::body_motion`]); [`ideal_reading`] when `off` is zero.
+pub fn body_reading(st: &PathState, off: &BodyOffsets) -> ImuReading {
+    let c = body_to_nav([0.0, off.pitch, st.heading + off.heading]);
     let (sl, cl) = st.pos[0].sin_cos();
     let (rm, rn) = (meridian_radius(sl), prime_vertical_radius(sl));
     let [ve, vn] = st.v;
     let w_in = [-vn / rm, WIE * cl + ve / rn, WIE * sl + ve * sl / cl / rn];
     let w_in_b = rotate_back(&c, w_in);
-    // Heading counts clockwise from North: a turn to the right is a negative rate about up.
+    // The body's rate relative to n at roll 0, from its pitch and heading rates (eqs.
+    // (53)-(55) solved for the rate): forward -psi' sin(theta), left -theta', up
+    // -psi' cos(theta). Heading counts clockwise from North: a turn to the right is a
+    // negative rate about up.
+    let turn = st.turn_rate + off.heading_rate;
+    let (sp, cp) = off.pitch.sin_cos();
     ImuReading {
-        w: [w_in_b[0], w_in_b[1], w_in_b[2] - st.turn_rate],
+        w: [
+            w_in_b[0] - turn * sp,
+            w_in_b[1] - off.pitch_rate,
+            w_in_b[2] - turn * cp,
+        ],
         f: rotate_back(&c, specific_force_for(st)),
     }
 }
@@ -81,6 +110,9 @@ pub struct StrapdownSimulator {
     per_measurement: usize,
     imu_rate_hz: f64,
     measurement_rate_hz: f64,
+    /// The root-mean-square body velocity of each run's sideslip and bounce, m/s
+    /// ([`StrapdownSimulator::with_body_motion`]); `None`: a rigid vehicle.
+    body_motion: Option<f64>,
 }
 
 fn cfg_err(key: &str, message: String) -> DynamicsError {
@@ -222,7 +254,43 @@ impl StrapdownSimulator {
             per_measurement,
             imu_rate_hz,
             measurement_rate_hz,
+            body_motion: None,
         })
+    }
+
+    /// The simulator with each run's vehicle body sliding and pitching about its path
+    /// ([`super::body_motion`]), its lateral and vertical body velocities of root-mean-square
+    /// `sigma_m_s` when cruising, drawn per run. The runs then carry no drawn constraint
+    /// readings ([`Measurement::nhc`]): the truth carries the motion, as a recording's does.
+    /// A rigid vehicle's constraint holds exactly, which no car's does; a dataset meant for
+    /// files wants this, with the sigma its `nhc_m_s` states. (0: a body held to its path
+    /// whose runs draw no readings either.)
+    pub fn with_body_motion(mut self, sigma_m_s: f64) -> Result<Self, DynamicsError> {
+        if !(sigma_m_s.is_finite() && sigma_m_s >= 0.0) {
+            return Err(cfg_err(
+                "truth.body_motion_m_s",
+                format!("{sigma_m_s}: expected a finite velocity >= 0 m/s"),
+            ));
+        }
+        self.body_motion = Some(sigma_m_s);
+        Ok(self)
+    }
+
+    /// Run `run`'s body motion, if any.
+    fn motion_of(&self, seed: u64, run: u64) -> Option<BodyMotion> {
+        self.body_motion.map(|sigma| {
+            let mut rng = stream(seed, run, Purpose::Other(BODY_MOTION));
+            BodyMotion::draw(sigma, self.trajectory.duration(), &mut rng)
+        })
+    }
+
+    /// The vehicle's navigation state at `t` under `motion`.
+    fn vehicle_at(&self, motion: Option<&BodyMotion>, t: f64) -> [f64; NAV_DIM] {
+        let st = self.trajectory.state(t);
+        match motion {
+            None => path_state(&st),
+            Some(m) => body_state(&st, &m.offsets(t, &st)),
+        }
     }
 
     /// The truth model.
@@ -281,13 +349,20 @@ impl StrapdownSimulator {
         let wander = self.bias_laws(h);
         let mut rng = stream(seed, run, Purpose::ProcessNoise);
         let mut walk = stream(seed, run, Purpose::Other(BIAS_WALK));
+        let motion = self.motion_of(seed, run);
         let mut biases = Vec::with_capacity(self.path.len());
         let mut inputs: Vec<InputSample> = Vec::with_capacity(self.ideal.len());
         for (k, (t, ideal)) in self.ideal.iter().enumerate() {
             if k % self.per_measurement == 0 {
                 biases.push(x[BG_X..dynamic_end].to_vec());
             }
-            let mut truth = *ideal;
+            let mut truth = match &motion {
+                None => *ideal,
+                Some(m) => {
+                    let st = self.trajectory.state(*t);
+                    body_reading(&st, &m.offsets(*t, &st))
+                }
+            };
             if let Some(m) = &mount {
                 truth.w = rotate_back(m, truth.w);
                 truth.f = rotate_back(m, truth.f);
@@ -325,7 +400,15 @@ impl StrapdownSimulator {
         let unit_state = |nav: &[f64; NAV_DIM], bias: &[f64]| {
             self.unit_state(nav, mount.as_ref(), bias, effects)
         };
-        for (j, (t, nav)) in self.path.iter().enumerate() {
+        for (j, (t, path_nav)) in self.path.iter().enumerate() {
+            let moved;
+            let nav = match &motion {
+                None => path_nav,
+                Some(m) => {
+                    moved = self.vehicle_at(Some(m), *t);
+                    &moved
+                }
+            };
             let state = unit_state(nav, &biases[j]);
             truth.t.push(*t);
             truth.states.push(state.clone());
@@ -340,15 +423,17 @@ impl StrapdownSimulator {
             // odometer's floor unless `zupt_m_s` says otherwise).
             let still = speed == 0.0;
             let floor = self.noise.zupt_sigma();
+            // A moving body carries its sideslip and bounce itself and stands exactly still:
+            // its readings are zero, as a recording's.
             let nhc = self
                 .noise
                 .nhc_m_s
-                .filter(|_| !still)
+                .filter(|_| !still && motion.is_none())
                 .map(|s| [s * e[3], s * e[4]]);
-            let zupt = still.then(|| [floor * e[3], floor * e[4]]);
-            let (odometer, position) = if layout.has_measurement_errors() {
-                let earlier =
-                    |t: f64| unit_state(&path_state(&self.trajectory.state(t)), &biases[j]);
+            let zupt = (still && motion.is_none()).then(|| [floor * e[3], floor * e[4]]);
+            // The odometer reads the forward speed: the path's, unless the body is turned.
+            let (odometer, position) = if layout.has_measurement_errors() || motion.is_some() {
+                let earlier = |t: f64| unit_state(&self.vehicle_at(motion.as_ref(), t), &biases[j]);
                 self.read_aids(layout, *t, &state, earlier)
             } else {
                 (speed, [nav[LAT], nav[LON]])
@@ -455,6 +540,8 @@ impl StrapdownSimulator {
 
 /// The [`Purpose::Other`] stream of the biases' Gauss-Markov draws.
 const BIAS_WALK: u32 = 69;
+/// The [`Purpose::Other`] stream of the body's sideslip and bounce.
+const BODY_MOTION: u32 = 70;
 
 impl StrapdownSimulator {
     /// Run `run` as a dataset named `name`, with `[initial]` the way a recording states it:
@@ -463,7 +550,9 @@ impl StrapdownSimulator {
     ///
     /// The files cannot hold the constraint's and the zero-velocity update's readings that a
     /// study's runs draw ([`Measurement::nhc`]): a recording's are zero, and so are a written
-    /// dataset's. Its vehicle then has no sideslip at all, less than its `nhc_m_s` says.
+    /// dataset's. A rigid vehicle then has no sideslip at all, less than its `nhc_m_s` says;
+    /// a simulator [`StrapdownSimulator::with_body_motion`] gives its vehicle the motion that
+    /// sigma stands for.
     pub fn dataset(
         &self,
         name: &str,

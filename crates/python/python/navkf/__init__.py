@@ -95,6 +95,7 @@ def simulate(
     unit: Optional[str] = None,
     imu_rate: Optional[float] = None,
     nhc_sigma: Optional[float] = None,
+    body_motion: Optional[float] = None,
     effects_file: Optional[PathLike] = None,
 ) -> Dataset:
     """Simulates a vehicle test, as ``navkf simulate`` does, and returns the dataset.
@@ -102,7 +103,9 @@ def simulate(
     ``effects`` are hidden in the truth: ``"gyro-fz,odometer-scale=0.002"``, a list of
     names (coefficients drawn), or a dict of name -> value. ``model`` is ``"platform"``
     (the paper's) or ``"strapdown"`` (then ``unit`` is ``"navigation"``, ``"tactical"`` or
-    ``"mems"``, ``imu_rate`` in Hz and ``nhc_sigma`` in m/s). ``trajectory`` is TOML text
+    ``"mems"``, ``imu_rate`` in Hz, ``nhc_sigma`` in m/s and ``body_motion``, the body's
+    sideslip and bounce in m/s rms, by default ``nhc_sigma``; 0 for a rigid vehicle, whose
+    constraint holds exactly). ``trajectory`` is TOML text
     with a ``[trajectory]`` table; ``duration`` scales the test (s). ``azimuth_sigma`` is
     the initial azimuth (heading) error's one-sigma, rad. When ``out`` is given the dataset
     is also written there (a new folder, or one ``simulate`` wrote before).
@@ -125,6 +128,7 @@ def simulate(
             unit=unit,
             imu_rate=None if imu_rate is None else float(imu_rate),
             nhc_sigma=None if nhc_sigma is None else float(nhc_sigma),
+            body_motion=None if body_motion is None else float(body_motion),
             effects_file=None if effects_file is None else os.fspath(effects_file),
         )
 

@@ -109,6 +109,7 @@ def simulate(
     unit: Optional[str],
     imu_rate: Optional[float],
     nhc_sigma: Optional[float],
+    body_motion: Optional[float],
     effects_file: Optional[str],
 ) -> Dataset: ...
 def study(

@@ -33,6 +33,9 @@ pub struct SimulationRequest {
     pub imu_rate_hz: Option<f64>,
     /// The non-holonomic constraint's sigma stated in dataset.toml, m/s (strapdown).
     pub nhc_sigma: Option<f64>,
+    /// The root-mean-square lateral and vertical body velocity of the vehicle's sideslip
+    /// and bounce, m/s (strapdown; `None`: the constraint's sigma; 0: a rigid vehicle).
+    pub body_motion_m_s: Option<f64>,
 }
 
 /// A simulator with its settings checked, ready to run: given the dataset's name, the seed

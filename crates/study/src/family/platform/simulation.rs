@@ -21,6 +21,7 @@ pub(in crate::family) fn prepare(
         ("unit", req.unit.is_some()),
         ("imu_rate", req.imu_rate_hz.is_some()),
         ("nhc_sigma", req.nhc_sigma.is_some()),
+        ("body_motion", req.body_motion_m_s.is_some()),
     ] {
         if given {
             let key = names.of(key);

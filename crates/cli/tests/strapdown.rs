@@ -182,21 +182,38 @@ fn strapdown_settings_are_refused_where_they_mean_nothing() {
         (
             "strapdown",
             "inf",
-            "--body-motion inf: expected a finite velocity >= 0",
+            "--body-motion inf: expected a velocity > 0 and at most 1 m/s",
         ),
+        ("strapdown", "-0.1", "--body-motion -0.1: expected"),
+        ("strapdown", "5", "--body-motion 5: expected"),
     ] {
         let o = navkf([
             "simulate",
             "--model",
             model,
-            "--body-motion",
-            motion,
+            &format!("--body-motion={motion}"),
             "--out",
             out.to_str().unwrap(),
         ]);
         assert!(!o.status.success());
         assert!(text(&o.stderr).contains(expected), "{}", text(&o.stderr));
     }
+    // A sideslip of metres a second is a unit's mistake, not a car.
+    let o = navkf([
+        "simulate",
+        "--model",
+        "strapdown",
+        "--nhc-sigma",
+        "10",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        text(&o.stderr).contains("--nhc-sigma 10: expected at most 1 m/s"),
+        "{}",
+        text(&o.stderr)
+    );
     assert!(!out.exists(), "nothing is written when refused");
 }
 

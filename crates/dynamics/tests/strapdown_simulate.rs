@@ -122,13 +122,14 @@ fn a_sliding_bouncing_body_is_followed_by_its_readings() {
     );
 }
 
-#[test]
-fn a_run_reads_biases_and_noise_of_the_stated_size() {
-    let traj = Arc::new(Trajectory::build(&TrajectoryConfig::default()).unwrap());
-    let unit = UnitClass::Tactical.errors();
-    let noise = unit.noise(NoiseConfig::default());
+/// A simulator of the base model at 10 Hz, odometer and GPS at 1 Hz, no effects.
+fn simulator(
+    traj: &Arc<Trajectory>,
+    unit: navkf_dynamics::strapdown::unit_class::UnitErrors,
+    noise: NoiseConfig,
+) -> StrapdownSimulator {
     let model = Arc::new(StrapdownModel::base(&noise));
-    let sim = StrapdownSimulator::new(
+    StrapdownSimulator::new(
         model,
         traj.clone(),
         10.0,
@@ -137,7 +138,15 @@ fn a_run_reads_biases_and_noise_of_the_stated_size() {
         &BTreeMap::new(),
         noise,
     )
-    .unwrap();
+    .unwrap()
+}
+
+#[test]
+fn a_run_reads_biases_and_noise_of_the_stated_size() {
+    let traj = Arc::new(Trajectory::build(&TrajectoryConfig::default()).unwrap());
+    let unit = UnitClass::Tactical.errors();
+    let noise = unit.noise(NoiseConfig::default());
+    let sim = simulator(&traj, unit, noise);
     // The biases: N(0, sigma) over many runs (chi-square of 6 x 200 draws within 4 sigma).
     let mut chi2 = 0.0;
     let runs = 200;
@@ -193,22 +202,13 @@ fn a_moving_body_carries_the_constraint_s_sigma_and_stands_still() {
         nhc_m_s: Some(0.1),
         ..NoiseConfig::default()
     });
-    let model = Arc::new(StrapdownModel::base(&noise));
-    let new = || {
-        StrapdownSimulator::new(
-            model.clone(),
-            traj.clone(),
-            10.0,
-            1.0,
-            unit,
-            &BTreeMap::new(),
-            noise,
-        )
-        .unwrap()
-    };
+    let new = || simulator(&traj, unit, noise);
     let rigid = new().run(2, 0);
     let sim = new().with_body_motion(0.1).unwrap();
-    assert!(new().with_body_motion(f64::NAN).is_err());
+    for refused in [f64::NAN, 0.0, -0.1, 1.5, f64::INFINITY] {
+        let e = new().with_body_motion(refused).unwrap_err().to_string();
+        assert!(e.contains("truth.body_motion_m_s"), "{e}");
+    }
     let run = sim.run(2, 0);
     // The same biases and noise as the rigid vehicle's run: the motion has its own stream.
     assert_eq!(

@@ -25,7 +25,7 @@
 //!
 //! The body turns to carry the velocities: a heading offset `beta = u k(v)` (sideslip) and a
 //! pitch `theta = w k(v)` (bounce), where `v` is the speed and `k(v) = v / (v^2 + v_c^2)`,
-//! `v_c` [`CRUISE_M_S`]. When cruising the body velocities are nearly `u` and `w` (0.9 of
+//! `v_c` [`TAPER_M_S`]. When cruising the body velocities are nearly `u` and `w` (0.9 of
 //! them at 15 m/s, half at `v_c`); a standing car neither slides nor pitches; and the angles
 //! are largest at `v_c`, `sigma / (2 v_c)`, 0.6 deg at the default 0.1 m/s. A steeper taper
 //! (`1/v` above 5 m/s, `v / v_c^2` below) doubled that peak, and 100 Hz readings integrated
@@ -46,7 +46,12 @@ use rand_distr::StandardNormal;
 pub const KNOT_S: f64 = 0.25;
 /// The speed at which the body's angles are largest, m/s; well above it the body velocities
 /// are `u` and `w`, below it they fall off with the square of the speed.
-pub const CRUISE_M_S: f64 = 5.0;
+pub const TAPER_M_S: f64 = 5.0;
+/// The largest root-mean-square body velocity a simulator takes, m/s. A car's sideslip and
+/// bounce are centimetres a second; beyond a metre a second the angles (up to
+/// `sigma / (2 TAPER_M_S)`, 0.1 rad here) are no longer small, and a value this large is
+/// more likely a unit's mistake (cm/s given as m/s) than a vehicle.
+pub const MAX_SIGMA_M_S: f64 = 1.0;
 
 /// `integral of B3(x)^2 dx` for the uniform cubic B-spline `B3`: a spline with coefficients
 /// of unit variance has this mean square.
@@ -133,7 +138,7 @@ impl BodyMotion {
         // d|speed|/dt: the acceleration along the track, signed with the speed.
         let (sh, ch) = st.heading.sin_cos();
         let along = (st.a[0] * sh + st.a[1] * ch) * st.speed.signum();
-        let (v2, c2) = (speed * speed, CRUISE_M_S * CRUISE_M_S);
+        let (v2, c2) = (speed * speed, TAPER_M_S * TAPER_M_S);
         let k = speed / (v2 + c2);
         let dk = (c2 - v2) / (v2 + c2).powi(2);
         let (u, du) = self.lateral.at(t);

@@ -27,7 +27,7 @@
 //! noise from `ProcessNoise`, the odometer and GPS noise from `MeasurementNoise`.
 
 use super::attitude::{body_to_nav, euler_of, rotate_back};
-use super::body_motion::{BodyMotion, BodyOffsets};
+use super::body_motion::{BodyMotion, BodyOffsets, MAX_SIGMA_M_S};
 use super::errors::{measurement_with, reading_with_errors, vehicle_axes, ErrorLayout, Wander};
 use super::model::{StrapdownModel, MEAS_DIM};
 use super::rates::{input_of, ImuReading};
@@ -263,13 +263,17 @@ impl StrapdownSimulator {
     /// `sigma_m_s` when cruising, drawn per run. The runs then carry no drawn constraint
     /// readings ([`Measurement::nhc`]): the truth carries the motion, as a recording's does.
     /// A rigid vehicle's constraint holds exactly, which no car's does; a dataset meant for
-    /// files wants this, with the sigma its `nhc_m_s` states. (0: a body held to its path
-    /// whose runs draw no readings either.)
+    /// files wants this, with the sigma its `nhc_m_s` states. `sigma_m_s` must be in
+    /// `(0, MAX_SIGMA_M_S]` ([`super::body_motion::MAX_SIGMA_M_S`]): a rigid vehicle is the
+    /// simulator without this call.
     pub fn with_body_motion(mut self, sigma_m_s: f64) -> Result<Self, DynamicsError> {
-        if !(sigma_m_s.is_finite() && sigma_m_s >= 0.0) {
+        if !(sigma_m_s > 0.0 && sigma_m_s <= MAX_SIGMA_M_S) {
             return Err(cfg_err(
                 "truth.body_motion_m_s",
-                format!("{sigma_m_s}: expected a finite velocity >= 0 m/s"),
+                format!(
+                    "{sigma_m_s}: expected a velocity > 0 and at most {MAX_SIGMA_M_S} m/s rms \
+                     (a car's sideslip is centimetres a second)"
+                ),
             ));
         }
         self.body_motion = Some(sigma_m_s);

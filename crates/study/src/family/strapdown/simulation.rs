@@ -5,6 +5,7 @@
 
 use crate::error::StudyError;
 use crate::simulation::request::{Ready, SimulationRequest};
+use navkf_dynamics::strapdown::body_motion::MAX_SIGMA_M_S;
 use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
 use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::model::StrapdownModel;
@@ -71,15 +72,18 @@ pub(in crate::family) fn prepare(
             )));
         }
     }
-    // The files hold no constraint readings, so the vehicle carries the sideslip and
-    // bounce the stated sigma describes (dynamics::strapdown::body_motion).
-    let body_motion = req.body_motion_m_s.unwrap_or(nhc);
-    if !(body_motion.is_finite() && body_motion >= 0.0) {
+    if nhc > MAX_SIGMA_M_S {
         return Err(other(format!(
-            "{} {body_motion}: expected a finite velocity >= 0 m/s (0: a rigid vehicle)",
-            names.of("body_motion")
+            "{} {nhc}: expected at most {MAX_SIGMA_M_S} m/s (a car's sideslip is centimetres \
+             a second; cm/s given as m/s?)",
+            names.of("nhc_sigma")
         )));
     }
+    // The files hold no constraint readings, so the vehicle carries the sideslip and
+    // bounce the stated sigma describes (dynamics::strapdown::body_motion); 0 is a rigid
+    // vehicle, and any other value is checked by `with_body_motion` below.
+    let body_motion = req.body_motion_m_s.unwrap_or(nhc);
+    let rigid = body_motion == 0.0;
     // The odometer and GPS come once a second, at one of the readings' times.
     if imu_hz < 1.0 || imu_hz.fract() != 0.0 {
         return Err(other(format!(
@@ -101,7 +105,7 @@ pub(in crate::family) fn prepare(
     let noise = errors.noise(NoiseConfig {
         nhc_m_s: Some(nhc),
         // With body motion the car stands exactly still, and dataset.toml says so.
-        zupt_m_s: (body_motion > 0.0).then_some(STANDING_M_S),
+        zupt_m_s: (!rigid).then_some(STANDING_M_S),
         ..NoiseConfig::default()
     });
     let model = Arc::new(
@@ -119,17 +123,21 @@ pub(in crate::family) fn prepare(
                     .replace("truth.coefficients.", &format!("{} ", names.of("effects"))),
             )
         })?;
-    if body_motion > 0.0 {
-        sim = sim
-            .with_body_motion(body_motion)
-            .map_err(|e| other(format!("{}: {e}", names.of("body_motion"))))?;
+    if !rigid {
+        sim = sim.with_body_motion(body_motion).map_err(|e| {
+            other(format!(
+                "{}; 0: a rigid vehicle",
+                e.to_string()
+                    .replace("truth.body_motion_m_s:", &names.of("body_motion"))
+            ))
+        })?;
     }
     let hidden = if effects.effects.is_empty() {
         String::new()
     } else {
         format!(", hidden: {}", effects.names().join(", "))
     };
-    let motion = if body_motion > 0.0 {
+    let motion = if !rigid {
         format!("body sideslip and bounce {body_motion} m/s rms")
     } else {
         "a rigid vehicle".to_string()

@@ -107,13 +107,16 @@ fn the_committed_study_hides_every_effect_and_300_things_outside_the_catalogue()
         let Hidden::MisstatedNoise { factors } = &p.hidden[0] else {
             panic!("not a noise")
         };
-        assert_eq!(factors.len(), 5, "five sources: {factors:?}");
+        assert_eq!(factors.len(), 6, "six sources: {factors:?}");
     }
-    // The fifth source (the constraints' tolerance) is drawn off in some of them.
-    assert!(planned.iter().any(|p| matches!(
-        p.hidden.first(),
-        Some(Hidden::MisstatedNoise { factors }) if factors[4] != 1.0
-    )));
+    // The fifth and sixth sources (the constraint's and the standstill's tolerances) are
+    // drawn off in some of them.
+    for j in [4, 5] {
+        assert!(planned.iter().any(|p| matches!(
+            p.hidden.first(),
+            Some(Hidden::MisstatedNoise { factors }) if factors[j] != 1.0
+        )));
+    }
 }
 
 #[test]
@@ -224,6 +227,7 @@ fn its_datasets_carry_what_was_drawn() {
         stated.odometer_rel != true_noise.odometer_rel,
         stated.gps_m != true_noise.gps_m,
         stated.nhc_m_s != true_noise.nhc_m_s,
+        stated.zupt_sigma() != true_noise.zupt_sigma(),
     ];
     for (k, f) in factors.iter().enumerate() {
         assert_eq!(off[k], *f != 1.0, "source {k}: factor {f}");

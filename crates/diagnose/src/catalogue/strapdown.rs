@@ -271,12 +271,13 @@ impl Catalogue for StrapdownCatalogue {
         let sigma = vec![level, level, azimuth, v_sigma, v_sigma, sig[2], sig[3]];
         Ok(Start { t: m0.t, x, sigma })
     }
-    /// The sensors' four and the tolerance of the constraint and the zero-velocity update:
-    /// what the vehicle's sideways, vertical and standstill velocities really are, which a
-    /// stated `nhc_m_s` only guesses (a recording's zeros left pessimistic make the likelihood
-    /// reward whatever shrinks the predicted variance).
+    /// The sensors' four and the tolerances of the constraint and of the zero-velocity update,
+    /// each its own: what the moving vehicle's sideways and vertical velocities and the
+    /// standing vehicle's velocity really are, which a stated `nhc_m_s` and `zupt_m_s` only
+    /// guess (a recording's zeros left pessimistic make the likelihood reward whatever shrinks
+    /// the predicted variance).
     fn noise_sources(&self) -> usize {
-        5
+        6
     }
     /// What the horizontal model cannot inform, whose estimates a filter's own linearisation
     /// drifts whatever the truth, so that the likelihood rewards them for the drift (see

@@ -234,8 +234,8 @@ pub(super) fn sign<R: Rng>(rng: &mut R) -> f64 {
 }
 
 /// `truth` as a user would state it who has each source's sigma off by `factors` (true over
-/// stated): gyro, accelerometer, odometer, GPS and, when given, the constraints' tolerance
-/// (both the non-holonomic and the zero-velocity one).
+/// stated): gyro, accelerometer, odometer, GPS and, when given, the non-holonomic constraint's
+/// tolerance and the zero-velocity update's.
 pub fn misstate(truth: &NoiseConfig, factors: &[f64]) -> NoiseConfig {
     let f = |i: usize| factors.get(i).copied().unwrap_or(1.0);
     NoiseConfig {
@@ -245,6 +245,13 @@ pub fn misstate(truth: &NoiseConfig, factors: &[f64]) -> NoiseConfig {
         odometer_floor: truth.odometer_floor / f(2),
         gps_m: truth.gps_m / f(3),
         nhc_m_s: truth.nhc_m_s.map(|v| v / f(4)),
-        zupt_m_s: truth.zupt_m_s.map(|v| v / f(4)),
+        // A family with the standstill's own source states it whether or not the truth leaves
+        // it to default to the odometer's floor, so that an odometer stated off is not a
+        // standstill stated off too.
+        zupt_m_s: if factors.len() > 5 {
+            Some(truth.zupt_sigma() / f(5))
+        } else {
+            truth.zupt_m_s
+        },
     }
 }

@@ -154,7 +154,7 @@ mod tests {
 
     #[test]
     fn a_restart_is_another_basin_only_when_a_process_level_moved_tenfold() {
-        let theta: Theta = [7.6, 2.0, 0.0, 0.0, 0.0];
+        let theta: Theta = [7.6, 2.0, 0.0, 0.0, 0.0, 0.0];
         let mut t = theta;
         t[0] = 8.7; // 78x against 45x in sigma: the same basin refined
         assert!(!another_basin(&t, &theta));

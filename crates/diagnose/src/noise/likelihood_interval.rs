@@ -128,7 +128,7 @@ mod tests {
     /// A log-likelihood of known shape.
     struct Known(fn(&Theta) -> f64);
 
-    const AXIS: Theta = [1.0, 0.0, 0.0, 0.0, 0.0];
+    const AXIS: Theta = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0];
 
     impl Landscape for Known {
         fn values(&self, points: &[Theta]) -> Result<Vec<f64>, DiagnoseError> {
@@ -153,18 +153,35 @@ mod tests {
     fn bounds_follow_the_likelihoods_shape() {
         let quadratic = Known(|t| -0.5 * ((t[0] - 1.0) / 0.5).powi(2));
         for se in [0.05, 0.5, 3.0] {
-            let [lo, hi] = bounds(&quadratic, [1.0, 0.0, 0.0, 0.0, 0.0], 0.0, 0, AXIS, se).unwrap();
+            let [lo, hi] =
+                bounds(&quadratic, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0], 0.0, 0, AXIS, se).unwrap();
             let (lo, hi) = (lo.unwrap(), hi.unwrap());
             assert!((lo - (1.0 - 0.98)).abs() < 1e-3, "{se}: {lo}");
             assert!((hi - (1.0 + 0.98)).abs() < 1e-3, "{se}: {hi}");
         }
         // Flat below 0, falling above: the lower side is open.
         let plateau = Known(|t| if t[0] < 0.0 { 0.0 } else { -t[0] * t[0] });
-        let [lo, hi] = bounds(&plateau, [0.0; 5], 0.0, 0, AXIS, 0.5).unwrap();
+        let [lo, hi] = bounds(
+            &plateau,
+            [0.0; crate::noise::MAX_SOURCES],
+            0.0,
+            0,
+            AXIS,
+            0.5,
+        )
+        .unwrap();
         assert_eq!(lo, None);
         assert!((hi.unwrap() - LR_DROP.sqrt()).abs() < 0.05, "{hi:?}");
         let failing = Known(|t| if t[0] > 3.0 { f64::NAN } else { 0.0 });
-        let [lo, hi] = bounds(&failing, [0.0; 5], 0.0, 0, AXIS, 0.5).unwrap();
+        let [lo, hi] = bounds(
+            &failing,
+            [0.0; crate::noise::MAX_SOURCES],
+            0.0,
+            0,
+            AXIS,
+            0.5,
+        )
+        .unwrap();
         assert_eq!(lo, None);
         assert!(hi.unwrap() <= 3.2 && hi.unwrap() >= 0.0, "{hi:?}");
     }
@@ -176,10 +193,10 @@ mod tests {
     fn the_ridge_gives_the_profile_interval() {
         // -0.5 [x y] C^-1 [x y]^T, C = [[1, 1.8], [1.8, 4]].
         let pair = Known(|t| -0.5 * (4.0 * t[0] * t[0] - 3.6 * t[0] * t[1] + t[1] * t[1]) / 0.76);
-        let ridge = [1.0, 1.8, 0.0, 0.0, 0.0];
-        let [lo, hi] = bounds(&pair, [0.0; 5], 0.0, 0, ridge, 1.0).unwrap();
+        let ridge = [1.0, 1.8, 0.0, 0.0, 0.0, 0.0];
+        let [lo, hi] = bounds(&pair, [0.0; crate::noise::MAX_SOURCES], 0.0, 0, ridge, 1.0).unwrap();
         assert!((hi.unwrap() - 1.96).abs() < 1e-3 && (lo.unwrap() + 1.96).abs() < 1e-3);
-        let [_, hi] = bounds(&pair, [0.0; 5], 0.0, 0, AXIS, 1.0).unwrap();
+        let [_, hi] = bounds(&pair, [0.0; crate::noise::MAX_SOURCES], 0.0, 0, AXIS, 1.0).unwrap();
         assert!((hi.unwrap() - 1.96 * 0.19f64.sqrt()).abs() < 1e-3, "{hi:?}");
     }
 }

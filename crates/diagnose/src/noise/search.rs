@@ -3,8 +3,8 @@
 //! process-noise densities, and the resolution at the optimum.
 
 use super::levels::{
-    scaled, NoiseFit, NoiseVerdict, SourceFit, Theta, WhyUnresolved, FEW_UPDATES, MAX_SOURCES,
-    RESOLVED_SIGMA_FACTOR, SOURCES, TRADE_OFF, Z_FLAG,
+    scaled, NoiseFit, NoiseSource, NoiseVerdict, SourceFit, Theta, WhyUnresolved, FEW_UPDATES,
+    MAX_SOURCES, RESOLVED_SIGMA_FACTOR, SOURCES, TRADE_OFF, Z_FLAG,
 };
 use super::likelihood_interval;
 use crate::catalogue::Catalogue;
@@ -351,7 +351,9 @@ pub fn check(
     catalogue: &dyn Catalogue,
     filter: &FilterSpec,
 ) -> Result<NoiseFit, DiagnoseError> {
-    let (setup, loglik_start, stated) = (&model.setup, model.loglik, &ds.noise);
+    let k = catalogue.noise_sources();
+    let stated = &own_standstill(&ds.noise, k);
+    let (setup, loglik_start) = (&model.setup, model.loglik);
     let surface = Surface {
         ds,
         setup,
@@ -360,9 +362,8 @@ pub fn check(
         filter,
         passes: Default::default(),
         budget: PASS_BUDGET.into(),
-        sources: catalogue.noise_sources(),
+        sources: k,
     };
-    let k = surface.sources;
     let all: Vec<usize> = (0..k).collect();
     let (mut theta, mut f) = (theta_start, loglik_start);
     let mut failed_start = false;
@@ -475,6 +476,31 @@ pub fn check(
                 &mut hess,
             )?;
         }
+        // A tolerance stated far too tight is absorbed by a process noise: between updates the
+        // filter's velocity variance grows with the accelerometer's density, and a density
+        // raised enough covers the standstill's misfit, after which the tolerance's own
+        // likelihood is flat (a standstill stated 10x tight was fitted as accelerometer noise
+        // 6x, the verdict `unexplained`). So when a process noise was refitted, the search
+        // also starts over from the start's levels with the process noises held and the
+        // measurement sources that were off at the start free, and keeps the better optimum.
+        let held: Vec<usize> = (2..k).filter(|&j| z0[j].abs() >= Z_ACTIVE).collect();
+        let tolerance_off = held.iter().any(|&j| SOURCES[j].is_tolerance());
+        if tolerance_off && (active.contains(&0) || active.contains(&1)) {
+            let (mut other_active, mut other_g, mut other_hess) = (held, g, hess);
+            // (The gradient is not read after the search: the resolution takes it again.)
+            surface.allow(PASS_BUDGET);
+            let (t, v) = optimise(
+                &surface,
+                theta_start,
+                loglik_start,
+                &mut other_active,
+                &mut other_g,
+                &mut other_hess,
+            )?;
+            if v > f {
+                (theta, f, active, hess) = (t, v, other_active, other_hess);
+            }
+        }
     }
     // Standard errors: the inverse information over the active sources; the axis curvature
     // for the others.
@@ -529,6 +555,30 @@ pub fn check(
             ];
         }
     }
+    // A tolerance's likelihood goes flat towards zero when the vehicle holds its constraint
+    // more closely than any level resolves (a standing car that is exactly still): the optimum
+    // then sits on a plateau whose curvature says nothing, and the score statistic cannot flag
+    // a level the data put far below the stated one. There the likelihood ratio against the
+    // stated level decides, at the same level (`Z_FLAG^2 / 2`).
+    let plateau: Vec<usize> = (0..k)
+        .filter(|&j| {
+            SOURCES[j].is_tolerance() && theta[j] != 0.0 && (theta[j] / se[j]).abs() <= Z_FLAG
+        })
+        .collect();
+    let at_stated: Vec<Theta> = plateau
+        .iter()
+        .map(|&j| {
+            let mut t = theta;
+            t[j] = 0.0;
+            t
+        })
+        .collect();
+    let mut ratio_flags = [false; MAX_SOURCES];
+    if f.is_finite() && !at_stated.is_empty() {
+        for (&j, v) in plateau.iter().zip(surface.at(&at_stated)?) {
+            ratio_flags[j] = f - v >= PROBE_GAIN;
+        }
+    }
     let mut used_theta = [0.0; MAX_SOURCES];
     let ml = scaled(stated, theta);
     let updates = channel_updates(ds);
@@ -556,7 +606,7 @@ pub fn check(
         .enumerate()
         .map(|(j, &source)| {
             let z = theta[j] / se[j];
-            let verdict = if z.abs() > Z_FLAG {
+            let verdict = if z.abs() > Z_FLAG || ratio_flags[j] {
                 used_theta[j] = theta[j];
                 if theta[j] > 0.0 {
                     NoiseVerdict::UnderStated
@@ -598,6 +648,20 @@ pub fn check(
     })
 }
 
+/// `stated` with the zero-velocity update's tolerance written out when the family fits it as
+/// a source of its own ([`NoiseSource::Standstill`]) and `dataset.toml` leaves it to default to
+/// the odometer's floor: the odometer's refitted level then leaves it where it was stated,
+/// as the source's own level does the odometer.
+fn own_standstill(stated: &NoiseConfig, sources: usize) -> NoiseConfig {
+    let has_standstill = SOURCES[..sources].contains(&NoiseSource::Standstill);
+    NoiseConfig {
+        zupt_m_s: stated
+            .zupt_m_s
+            .or(has_standstill.then_some(stated.odometer_floor)),
+        ..*stated
+    }
+}
+
 /// Updates of each source's channel, in the order of [`SOURCES`]: `usize::MAX` for the
 /// process noises, which have no channel of their own.
 fn channel_updates(ds: &Dataset) -> [usize; MAX_SOURCES] {
@@ -609,13 +673,10 @@ fn channel_updates(ds: &Dataset) -> [usize; MAX_SOURCES] {
         usize::MAX,
         count(&|m| m.velocity.is_some() || m.speed.is_some()),
         count(&|m| m.position_deg.is_some()),
-        // The constraint reads at every standstill, and while moving when `nhc_m_s` is given
-        // (navkf_dynamics::strapdown::sensors), whether or not the file holds its zeros.
-        count(&|m| {
-            m.nhc.is_some()
-                || m.zupt.is_some()
-                || m.speed == Some(0.0)
-                || (m.speed.is_some() && ds.noise.nhc_m_s.is_some())
-        }),
+        // The constraint reads while moving when `nhc_m_s` is given, the zero-velocity update
+        // at every standstill (navkf_dynamics::strapdown::sensors), whether or not the file
+        // holds their zeros.
+        count(&|m| m.speed.is_some_and(|v| v != 0.0) && ds.noise.nhc_m_s.is_some()),
+        count(&|m| m.speed == Some(0.0)),
     ]
 }

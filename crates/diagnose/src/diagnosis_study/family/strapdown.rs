@@ -117,9 +117,9 @@ impl StudyFamily for Strapdown {
         }))
     }
 
-    /// Gyro, accelerometer, odometer, GPS and the constraints' tolerance.
+    /// Gyro, accelerometer, odometer, GPS, the constraint's tolerance and the standstill's.
     fn noise_sources(&self) -> usize {
-        5
+        6
     }
 
     fn simulate(

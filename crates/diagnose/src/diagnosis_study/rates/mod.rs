@@ -274,7 +274,14 @@ fn mems_truth(r: &Record, j: usize) -> f64 {
 }
 
 /// Names of the noise sources in a record's `noise_ratios` order.
-const SOURCE_LABELS: [&str; 5] = ["gyro", "accelerometer", "odometer", "GPS", "constraints"];
+const SOURCE_LABELS: [&str; 6] = [
+    "gyro",
+    "accelerometer",
+    "odometer",
+    "GPS",
+    "constraint",
+    "standstill",
+];
 
 /// `v` with `digits` significant digits, without an exponent between 1e-3 and 1e5.
 pub fn sig(v: f64, digits: usize) -> String {

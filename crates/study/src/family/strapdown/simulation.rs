@@ -21,11 +21,10 @@ const DEFAULT_IMU_HZ: f64 = 100.0;
 const DEFAULT_NHC_M_S: f64 = 0.1;
 /// The zero-velocity update's sigma a dataset with body motion states, m/s. Its car stands
 /// exactly still, so any sigma well under the velocity error the accelerometer noise builds
-/// between two updates (a MEMS unit's: 2 mm/s in a second) says so; the diagnosis fits it
-/// tied to the constraint's (one tolerance), so a larger one distorts the fit. On a clean
-/// written MEMS drive: 1e-2 m/s (the odometer's floor) left the standstill rows at 0.12 of
-/// their predicted variance and the verdict `unexplained`; 1e-3 had the accelerometer noise
-/// fitted at 0.7x of the true level to shrink them; 1e-4 is consistent.
+/// between two updates (a MEMS unit's: 2 mm/s in a second) says so. The odometer's floor
+/// (1e-2 m/s) would be a statement the data contradict: the diagnosis fits the standstill's
+/// tolerance about 70x down (and, when it fitted it tied to the constraint's, left the verdict
+/// `unexplained`).
 const STANDING_M_S: f64 = 1e-4;
 /// The heading sigma of `[initial]` when none is given, rad (2 deg: a heading from the
 /// first GPS track).

@@ -144,10 +144,16 @@ pub fn markdown(
         "\nSingle {effects} effects, all sizes: the hidden effect named {}; something else named too or instead {}.\n",
         r.single_found, r.single_extra
     );
+    // With no named hidden effect there is no estimate to measure: a dash, not an RMS of 0.
+    let rms = if r.estimates_within_3_sigma.n == 0 {
+        "-".to_string()
+    } else {
+        format!("{:.2}", r.estimate_error_rms)
+    };
     let _ = writeln!(
         out,
-        "Estimates of the named hidden effects' coefficients (final model): within 3 sigma of the truth {}; RMS of (estimate - truth) / sigma {:.2} (1 if the sigmas are honest).\n",
-        r.estimates_within_3_sigma, r.estimate_error_rms
+        "Estimates of the named hidden effects' coefficients (final model): within 3 sigma of the truth {}; RMS of (estimate - truth) / sigma {rms} (1 if the sigmas are honest).\n",
+        r.estimates_within_3_sigma
     );
     let _ = writeln!(
         out,
@@ -352,6 +358,11 @@ mod tests {
             assert!(!declared.contains(absent), "{absent}:\n{declared}");
         }
         assert!(declared.contains("Single catalogued or declared effects, all sizes"));
+        // It names none of its hidden effects, so it has no estimate to measure: no RMS of 0.
+        assert!(
+            declared.contains("within 3 sigma of the truth -; RMS of (estimate - truth) / sigma -"),
+            "{declared}"
+        );
         assert!(declared.contains("Rates as fractions: clean 0.0 % named.\n"));
         let catalogued = rendered("strapdown-diagnosis");
         for present in [

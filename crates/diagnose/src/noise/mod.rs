@@ -9,11 +9,14 @@
 //! Each source gets a variance scale `exp(theta)`: the gyro density `q_g` and the
 //! accelerometer density `q_a` (docs/model.md eq. (12)), the odometer's sigma (its relative
 //! term and its floor together) and the GPS sigma (both docs/model.md eq. (14)); the
-//! strapdown family adds the tolerance of its pseudo-measurements (`nhc_m_s` and `zupt_m_s`
-//! together, docs/model.md eqs. (60), (61)), which is no sensor's noise but how far from zero
-//! the vehicle's sideways, vertical and standstill velocities are, and which a recording's
-//! exact zeros leave pessimistic (the likelihood then favours any effect that shrinks the
-//! predicted variance). The innovation log-likelihood `LL(theta)` is maximised over the
+//! strapdown family adds the tolerances of its pseudo-measurements, each a source of its own
+//! (`nhc_m_s` and `zupt_m_s`, docs/model.md eqs. (60), (61)), which are no sensor's noise but
+//! how far from zero the moving vehicle's sideways and vertical velocities and the standing
+//! vehicle's velocity are, and which a recording's exact zeros leave pessimistic (the
+//! likelihood then favours any effect that shrinks the predicted variance). A tolerance's
+//! likelihood can go flat towards zero, so its level is also tested by the likelihood ratio,
+//! and one stated too tight is searched for again with the process noises held
+//! ([`search`]). The innovation log-likelihood `LL(theta)` is maximised over the
 //! log-scales:
 //!
 //! 1. **Score test at the levels in use.** Central differences along each axis give the

@@ -1,5 +1,5 @@
-//! The search of a noise check ([`super`]): the log-likelihood over the four log-scales, its
-//! score at the start, Newton's method over the sources that are off, the probes of the
+//! The search of a noise check ([`super`]): the log-likelihood over the sources' log-scales,
+//! its score at the start, Newton's method over the sources that are off, the probes of the
 //! process-noise densities, and the resolution at the optimum.
 
 use super::levels::{

@@ -215,13 +215,15 @@ fn exact_zero_constraint_readings_are_fitted_as_a_tolerance_not_an_effect() {
 /// is fitted back within 20 %, and the other levels and the verdict are what they are with it
 /// stated right. Fitted tied to the constraint's, one level for both, a standstill stated 10x
 /// over left a written drive `unexplained`, and 10x under moved the accelerometer noise to
-/// 0.7x of the truth to absorb it.
+/// 0.7x of the truth to absorb it; stated 20x tight, it is found only by probing it wider.
 #[test]
 fn a_standstill_tolerance_stated_off_alone_is_fitted_on_its_own() {
     let catalogue = StrapdownCatalogue::default();
     let truth = drive("", 3, 0);
     let floor = truth.noise.odometer_floor;
-    for off in [10.0, 0.1] {
+    // 20x tight: the filter's own velocity variance swamps the tolerance at the stated level,
+    // and only the probes find it (without them: accelerometer noise ~6x, `unexplained`).
+    for off in [10.0, 0.1, 0.05] {
         let mut ds = truth.clone();
         ds.noise.zupt_m_s = Some(floor * off);
         let (d, _) = diagnose(&ds, &catalogue, &Options::default()).unwrap();

@@ -480,25 +480,54 @@ pub fn check(
         // filter's velocity variance grows with the accelerometer's density, and a density
         // raised enough covers the standstill's misfit, after which the tolerance's own
         // likelihood is flat (a standstill stated 10x tight was fitted as accelerometer noise
-        // 6x, the verdict `unexplained`). So when a process noise was refitted, the search
-        // also starts over from the start's levels with the process noises held and the
-        // measurement sources that were off at the start free, and keeps the better optimum.
-        let held: Vec<usize> = (2..k).filter(|&j| z0[j].abs() >= Z_ACTIVE).collect();
-        let tolerance_off = held.iter().any(|&j| SOURCES[j].is_tolerance());
-        if tolerance_off && (active.contains(&0) || active.contains(&1)) {
-            let (mut other_active, mut other_g, mut other_hess) = (held, g, hess);
-            // (The gradient is not read after the search: the resolution takes it again.)
-            surface.allow(PASS_BUDGET);
-            let (t, v) = optimise(
-                &surface,
-                theta_start,
-                loglik_start,
-                &mut other_active,
-                &mut other_g,
-                &mut other_hess,
-            )?;
-            if v > f {
-                (theta, f, active, hess) = (t, v, other_active, other_hess);
+        // 6x, the verdict `unexplained`). Stated tighter still, the tolerance is flat at the
+        // start too (the filter's own velocity variance swamps it), so its score cannot see
+        // it, as a process noise stated far too small cannot be seen. So when a process noise
+        // was refitted, each tolerance is also probed 10 and 100 times larger in sigma from
+        // the start's levels, and the search starts over from the best of the start and the
+        // probes, with the process noises held and the tolerances and measurement sources
+        // that were off free; the better optimum is kept.
+        let tolerances: Vec<usize> = (2..k).filter(|&j| SOURCES[j].is_tolerance()).collect();
+        if !tolerances.is_empty() && (active.contains(&0) || active.contains(&1)) {
+            let mut free: Vec<usize> = (2..k).filter(|&j| z0[j].abs() >= Z_ACTIVE).collect();
+            let probes: Vec<(usize, Theta)> = tolerances
+                .iter()
+                .flat_map(|&j| {
+                    PROBES.iter().map(move |&p| {
+                        let mut t = theta_start;
+                        t[j] += p;
+                        (j, t)
+                    })
+                })
+                .collect();
+            let v = surface.at(&probes.iter().map(|p| p.1).collect::<Vec<_>>())?;
+            let mut from = (loglik_start, theta_start);
+            for ((j, t), &vj) in probes.iter().zip(&v) {
+                if vj - loglik_start > PROBE_GAIN {
+                    if !free.contains(j) {
+                        free.push(*j);
+                    }
+                    if vj > from.0 {
+                        from = (vj, *t);
+                    }
+                }
+            }
+            if free.iter().any(|&j| SOURCES[j].is_tolerance()) {
+                free.sort_unstable();
+                // (The gradient is not read after the search: the resolution takes it again.)
+                let (mut other_g, mut other_hess) = (g, hess);
+                surface.allow(PASS_BUDGET);
+                let (t, v) = optimise(
+                    &surface,
+                    from.1,
+                    from.0,
+                    &mut free,
+                    &mut other_g,
+                    &mut other_hess,
+                )?;
+                if v > f {
+                    (theta, f, active, hess) = (t, v, free, other_hess);
+                }
             }
         }
     }

@@ -241,6 +241,53 @@ fn optimise(
     Ok((theta, f))
 }
 
+/// What probing some axes wider found: the axes whose probe gained more than `PROBE_GAIN`
+/// over the point probed from (in the order probed), and the best of that point and the
+/// probes with its value.
+struct Probe {
+    gained: Vec<usize>,
+    best: Theta,
+    value: f64,
+}
+
+/// Each of `axes` raised by each of `PROBES` from `from` (value `value`), evaluated in one
+/// batch: a level stated far too small leaves the likelihood flat around it, so only a
+/// probe well away can see it.
+fn probe_wider(
+    surface: &Surface<'_>,
+    from: Theta,
+    value: f64,
+    axes: &[usize],
+) -> Result<Probe, DiagnoseError> {
+    let probes: Vec<(usize, Theta)> = axes
+        .iter()
+        .flat_map(|&j| {
+            PROBES.iter().map(move |&p| {
+                let mut t = from;
+                t[j] += p;
+                (j, t)
+            })
+        })
+        .collect();
+    let values = surface.at(&probes.iter().map(|p| p.1).collect::<Vec<_>>())?;
+    let mut found = Probe {
+        gained: Vec::new(),
+        best: from,
+        value,
+    };
+    for ((j, t), &v) in probes.iter().zip(&values) {
+        if v - value > PROBE_GAIN {
+            if !found.gained.contains(j) {
+                found.gained.push(*j);
+            }
+            if v > found.value {
+                (found.best, found.value) = (*t, v);
+            }
+        }
+    }
+    Ok(found)
+}
+
 /// Where Newton's method stopped: the log-scales, the log-likelihood there and its Hessian.
 struct NewtonEnd {
     theta: Theta,
@@ -427,35 +474,24 @@ pub fn check(
     // the local search (probing first would let a process noise stand in for a measurement
     // noise the local search finds at once).
     if f.is_finite() && !failed_start {
-        let probes: Vec<(usize, Theta)> = [0usize, 1]
-            .iter()
+        let unfitted: Vec<usize> = [0usize, 1]
+            .into_iter()
             .filter(|j| !active.contains(j))
-            .flat_map(|&j| {
-                PROBES.iter().map(move |&p| {
-                    let mut t = theta;
-                    t[j] += p;
-                    (j, t)
-                })
-            })
             .collect();
-        let v = surface.at(&probes.iter().map(|p| p.1).collect::<Vec<_>>())?;
-        let mut best = (f, theta);
-        let mut probed = false;
-        for ((j, t), &vj) in probes.iter().zip(&v) {
-            if vj - f > PROBE_GAIN {
-                probed = true;
-                if !active.contains(j) {
-                    active.push(*j);
-                }
-                if vj > best.0 {
-                    best = (vj, *t);
-                }
-            }
-        }
+        let probe = probe_wider(&surface, theta, f, &unfitted)?;
+        let probed = !probe.gained.is_empty();
         if probed {
             refitted = true;
+            active.extend(probe.gained);
             active.sort_unstable();
-            (theta, f) = optimise(&surface, best.1, best.0, &mut active, &mut g, &mut hess)?;
+            (theta, f) = optimise(
+                &surface,
+                probe.best,
+                probe.value,
+                &mut active,
+                &mut g,
+                &mut hess,
+            )?;
         }
         // Noise stated far off leaves local optima along the ridge where one process noise
         // stands in for the other: a gyro density raised 10^4 times in sigma explains the
@@ -490,26 +526,10 @@ pub fn check(
         let tolerances: Vec<usize> = (2..k).filter(|&j| SOURCES[j].is_tolerance()).collect();
         if !tolerances.is_empty() && (active.contains(&0) || active.contains(&1)) {
             let mut free: Vec<usize> = (2..k).filter(|&j| z0[j].abs() >= Z_ACTIVE).collect();
-            let probes: Vec<(usize, Theta)> = tolerances
-                .iter()
-                .flat_map(|&j| {
-                    PROBES.iter().map(move |&p| {
-                        let mut t = theta_start;
-                        t[j] += p;
-                        (j, t)
-                    })
-                })
-                .collect();
-            let v = surface.at(&probes.iter().map(|p| p.1).collect::<Vec<_>>())?;
-            let mut from = (loglik_start, theta_start);
-            for ((j, t), &vj) in probes.iter().zip(&v) {
-                if vj - loglik_start > PROBE_GAIN {
-                    if !free.contains(j) {
-                        free.push(*j);
-                    }
-                    if vj > from.0 {
-                        from = (vj, *t);
-                    }
+            let probe = probe_wider(&surface, theta_start, loglik_start, &tolerances)?;
+            for j in probe.gained {
+                if !free.contains(&j) {
+                    free.push(j);
                 }
             }
             if free.iter().any(|&j| SOURCES[j].is_tolerance()) {
@@ -519,8 +539,8 @@ pub fn check(
                 surface.allow(PASS_BUDGET);
                 let (t, v) = optimise(
                     &surface,
-                    from.1,
-                    from.0,
+                    probe.best,
+                    probe.value,
                     &mut free,
                     &mut other_g,
                     &mut other_hess,

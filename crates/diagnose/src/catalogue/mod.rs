@@ -9,7 +9,7 @@ pub mod platform;
 pub mod strapdown;
 
 use crate::error::DiagnoseError;
-use navkf_dynamics::dataset::{Dataset, Measurement};
+use navkf_dynamics::dataset::{Dataset, InputSample, Measurement};
 use navkf_dynamics::declared::DeclaredFile;
 use navkf_dynamics::sensor_classes::PhysicalBound;
 use navkf_dynamics::trajectory::Phase;
@@ -150,8 +150,9 @@ pub trait Catalogue: Send + Sync + std::fmt::Debug {
     fn cannot_join(&self, _effects: &[String], _candidate: &str) -> Option<String> {
         None
     }
-    /// The motion phase of the step ending at `m`, from the inputs of its window.
-    fn phase(&self, window: &InputWindow, m: &Measurement) -> Phase;
+    /// The motion phase of the step ending at `m`, from the readings of its window (the
+    /// readings since the last update) or from the dataset's `inputs` about `m`.
+    fn phase(&self, inputs: &[InputSample], window: &InputWindow, m: &Measurement) -> Phase;
     /// The catalogue with the rival of a noise-only candidate added (a random walk of the
     /// accelerometer biases, outside the catalogue) and that rival's name and typical
     /// density; `None` when the family has none.

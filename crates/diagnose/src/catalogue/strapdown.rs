@@ -11,7 +11,7 @@
 use super::{first_full_measurement, Catalogue, Channel, ChannelKind, EffectInfo, Start};
 use crate::error::DiagnoseError;
 use crate::start_attitude::{AttitudeSource, StartAttitude};
-use navkf_dynamics::dataset::{Dataset, Measurement};
+use navkf_dynamics::dataset::{Dataset, InputSample, Measurement};
 use navkf_dynamics::earth::WIE;
 use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
 use navkf_dynamics::strapdown::effects::{StrapdownEffect, StrapdownRegistry};
@@ -36,6 +36,13 @@ pub const STATED_HEADING_SIGMA: f64 = 0.035;
 pub fn stated_level_sigma(class: UnitClass) -> f64 {
     class.errors().accel_bias / navkf_dynamics::earth::STANDARD_GRAVITY
 }
+
+/// The span of readings, centred on an update, whose mean rate about up and forward force
+/// file the update under a motion phase, s. The body's sway about its path (sideslip and
+/// bounce, at most a degree or so, with content below about 1.5 Hz) averages out over it: a
+/// sideslip of 0.6 deg that reverses within it yaws the body at 0.3 deg/s on average, below
+/// the 1 deg/s of a turn. A real turn of the path lasts longer.
+pub const PHASE_WINDOW_S: f64 = 4.0;
 
 /// The strapdown catalogue at the sizes of a unit class (MEMS unless set).
 #[derive(Debug, Clone, Default)]
@@ -291,21 +298,37 @@ impl Catalogue for StrapdownCatalogue {
     fn pinned(&self) -> &'static [&'static str] {
         &["baz", "s_az", "m_azx", "m_azy", "s_gx", "s_gy"]
     }
-    /// From the odometer's speed and the readings over the step: the forward force
-    /// (accelerating, decelerating) and the rate about up (turning).
-    fn phase(&self, window: &InputWindow, m: &Measurement) -> Phase {
+    /// From the odometer's speed and the readings over [`PHASE_WINDOW_S`] about the update:
+    /// the forward force (accelerating, decelerating) and the rate about up (turning). Over
+    /// the step's own readings (a tenth of a second at 10 Hz), the body's sway is what they
+    /// measure: its sideslip yaws it at degrees a second and its bounce pitches gravity into
+    /// the forward force, so 13 % of the updates a drive's path took straight at a steady
+    /// speed were filed as turning or accelerating, picked for the sway that also makes their
+    /// constraint rows large (test `a_bodys_sway_is_not_filed_as_turning`).
+    fn phase(&self, inputs: &[InputSample], window: &InputWindow, m: &Measurement) -> Phase {
         let Some(speed) = m.speed else {
             return Phase::Cruising;
         };
         if speed.abs() < thresholds::STILL_SPEED {
             return Phase::Standstill;
         }
-        let knots = window.f.len().max(1) as f64;
-        let (turn, along) = window
-            .f
-            .iter()
-            .fold((0.0, 0.0), |(w, a), f| (w + f[2], a + f[3]));
-        crate::consistency::moving_phase(turn / knots, along / knots)
+        let half = 0.5 * PHASE_WINDOW_S;
+        let from = inputs.partition_point(|s| s.t < m.t - half);
+        let to = inputs.partition_point(|s| s.t <= m.t + half);
+        // Readings sparser than the window: the step's own.
+        let (turn, along, count) = if to > from + 1 {
+            inputs[from..to]
+                .iter()
+                .fold((0.0, 0.0, 0.0), |(w, a, n), s| {
+                    (w + s.f[2], a + s.f[3], n + 1.0)
+                })
+        } else {
+            window.f.iter().fold((0.0, 0.0, 0.0), |(w, a, n), f| {
+                (w + f[2], a + f[3], n + 1.0)
+            })
+        };
+        let count = f64::max(count, 1.0);
+        crate::consistency::moving_phase(turn / count, along / count)
     }
     fn cannot_join(&self, effects: &[String], candidate: &str) -> Option<String> {
         let list: Vec<StrapdownEffect> = effects

@@ -223,65 +223,71 @@ fn main() {
         }
         return;
     }
-    // `-- study FILE INDEX`: one dataset of a diagnosis study, as the study diagnosed it.
+    // `-- study FILE INDEX...`: datasets of a diagnosis study, each as the study diagnosed it.
     if std::env::args().nth(1).as_deref() == Some("study") {
         use navkf_diagnose::diagnosis_study::{content, DiagnosisStudyConfig};
-        let path = std::env::args().nth(2).expect("study FILE INDEX");
-        let index: usize = std::env::args()
-            .nth(3)
-            .and_then(|s| s.parse().ok())
-            .expect("INDEX");
+        let path = std::env::args().nth(2).expect("study FILE INDEX...");
+        let indices: Vec<usize> = std::env::args()
+            .skip(3)
+            .map(|s| s.parse().expect("INDEX"))
+            .collect();
+        assert!(!indices.is_empty(), "study FILE INDEX...");
         let config = DiagnosisStudyConfig::load(std::path::Path::new(&path)).unwrap();
         let planned = content::plan(&config).unwrap();
         let trajectory = Arc::new(Trajectory::build(&config.trajectory).unwrap());
-        let p = &planned[index];
-        println!("hidden: {:?}", p.hidden);
-        let ds = content::simulate(&config, &trajectory, p).unwrap();
-        let catalogue = navkf_diagnose::catalogue::of(&ds).unwrap();
-        let mut o = config.options();
-        // A misaligned platform is diagnosed with the attitude equations its class says, as
-        // the study does.
-        for h in &p.hidden {
-            if let navkf_diagnose::diagnosis_study::hidden::Hidden::Misaligned {
-                attitude, ..
-            } = h
-            {
-                o.filter.attitude = *attitude;
+        for index in indices {
+            let p = planned
+                .get(index)
+                .unwrap_or_else(|| panic!("{path} has no dataset {index}"));
+            println!("dataset {index}, hidden: {:?}", p.hidden);
+            let ds = content::simulate(&config, &trajectory, p).unwrap();
+            let catalogue = navkf_diagnose::catalogue::of(&ds).unwrap();
+            let mut o = config.options();
+            // A misaligned platform is diagnosed with the attitude equations its class says, as
+            // the study does.
+            for h in &p.hidden {
+                if let navkf_diagnose::diagnosis_study::hidden::Hidden::Misaligned {
+                    attitude,
+                    ..
+                } = h
+                {
+                    o.filter.attitude = *attitude;
+                }
             }
-        }
-        if let Ok(w) = std::env::var("WITH") {
-            o.with
-                .extend(w.split(',').filter(|e| !e.is_empty()).map(String::from));
-        }
-        let (d, _) = diagnose(&ds, &*catalogue, &o).unwrap();
-        for r in &d.rounds {
-            println!(
-                "round: model {:?}, NIS {:.3}, named {:?}",
-                r.model, r.nis.mean, r.named
-            );
-            for c in r.candidates.iter().take(12) {
-                let coefficients: Vec<String> = c
-                    .coefficients
-                    .iter()
-                    .map(|k| format!("{} {:.2e}+-{:.1e}", k.name, k.estimate, k.sigma))
-                    .collect();
+            if let Ok(w) = std::env::var("WITH") {
+                o.with
+                    .extend(w.split(',').filter(|e| !e.is_empty()).map(String::from));
+            }
+            let (d, _) = diagnose(&ds, &*catalogue, &o).unwrap();
+            for r in &d.rounds {
                 println!(
-                    "  {:24} bic {:8.1} (informed {:8.1}) k {} excess {:5.2} {:?} {}",
-                    c.effect,
-                    c.bic_gain,
-                    navkf_diagnose::naming::effective_bic(c),
-                    c.parameters,
-                    c.excess_removed,
-                    c.outcome,
-                    coefficients.join(", ")
+                    "round: model {:?}, NIS {:.3}, named {:?}",
+                    r.model, r.nis.mean, r.named
                 );
+                for c in r.candidates.iter().take(12) {
+                    let coefficients: Vec<String> = c
+                        .coefficients
+                        .iter()
+                        .map(|k| format!("{} {:.2e}+-{:.1e}", k.name, k.estimate, k.sigma))
+                        .collect();
+                    println!(
+                        "  {:24} bic {:8.1} (informed {:8.1}) k {} excess {:5.2} {:?} {}",
+                        c.effect,
+                        c.bic_gain,
+                        navkf_diagnose::naming::effective_bic(c),
+                        c.parameters,
+                        c.excess_removed,
+                        c.outcome,
+                        coefficients.join(", ")
+                    );
+                }
             }
-        }
-        for (effect, c) in &d.constancy {
-            println!("constancy of {effect}: {c:?}");
-        }
-        for f in &d.findings {
-            println!("- {f}");
+            for (effect, c) in &d.constancy {
+                println!("constancy of {effect}: {c:?}");
+            }
+            for f in &d.findings {
+                println!("- {f}");
+            }
         }
         return;
     }

@@ -679,8 +679,7 @@ fn a_bodys_sway_is_not_filed_as_turning() {
             let truth = traj.state(m.t);
             let phase = catalogue.phase(&ds.inputs, &window, m);
             let rate = truth.turn_rate.to_degrees().abs();
-            let along =
-                traj.state(m.t).a[0] * truth.heading.sin() + truth.a[1] * truth.heading.cos();
+            let along = truth.a[0] * truth.heading.sin() + truth.a[1] * truth.heading.cos();
             if truth.speed > 1.0 && rate < 0.3 && along.abs() < 0.03 {
                 steady += 1;
                 steady_wrong += usize::from(phase != Phase::Cruising);

@@ -9,7 +9,7 @@ pub mod platform;
 pub mod strapdown;
 
 use crate::error::DiagnoseError;
-use navkf_dynamics::dataset::{Dataset, InputSample, Measurement};
+use navkf_dynamics::dataset::{Dataset, Measurement};
 use navkf_dynamics::declared::DeclaredFile;
 use navkf_dynamics::sensor_classes::PhysicalBound;
 use navkf_dynamics::trajectory::Phase;
@@ -151,8 +151,9 @@ pub trait Catalogue: Send + Sync + std::fmt::Debug {
         None
     }
     /// The motion phase of the step ending at `m`, from the readings of its window (the
-    /// readings since the last update) or from the dataset's `inputs` about `m`.
-    fn phase(&self, inputs: &[InputSample], window: &InputWindow, m: &Measurement) -> Phase;
+    /// readings since the last update) or from the dataset's readings and measurements about
+    /// `m`.
+    fn phase(&self, ds: &Dataset, window: &InputWindow, m: &Measurement) -> Phase;
     /// The catalogue with the rival of a noise-only candidate added (a random walk of the
     /// accelerometer biases, outside the catalogue) and that rival's name and typical
     /// density; `None` when the family has none.

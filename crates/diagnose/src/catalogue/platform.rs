@@ -6,7 +6,7 @@ use super::{first_full_measurement, Catalogue, Channel, ChannelKind, EffectInfo,
 use crate::consistency::classify;
 use crate::error::DiagnoseError;
 use crate::rivals::{AccelBiasWalk, GpsAntennaOffset};
-use navkf_dynamics::dataset::{Dataset, InputSample, Measurement};
+use navkf_dynamics::dataset::{Dataset, Measurement};
 use navkf_dynamics::prior::{base_coefficient_sigma, default_azimuth_rad, default_level_rad};
 use navkf_dynamics::state::*;
 use navkf_dynamics::trajectory::Phase;
@@ -138,7 +138,7 @@ impl Catalogue for Registry {
     }
     /// From the mean horizontal specific force over the step's input knots and the
     /// odometer's velocity.
-    fn phase(&self, _inputs: &[InputSample], window: &InputWindow, m: &Measurement) -> Phase {
+    fn phase(&self, _ds: &Dataset, window: &InputWindow, m: &Measurement) -> Phase {
         let knots = window.f.len().max(1) as f64;
         let (fe, fnn) = window
             .f

@@ -11,7 +11,7 @@
 use super::{first_full_measurement, Catalogue, Channel, ChannelKind, EffectInfo, Start};
 use crate::error::DiagnoseError;
 use crate::start_attitude::{AttitudeSource, StartAttitude};
-use navkf_dynamics::dataset::{Dataset, InputSample, Measurement};
+use navkf_dynamics::dataset::{Dataset, Measurement};
 use navkf_dynamics::earth::WIE;
 use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
 use navkf_dynamics::strapdown::effects::{StrapdownEffect, StrapdownRegistry};
@@ -37,12 +37,43 @@ pub fn stated_level_sigma(class: UnitClass) -> f64 {
     class.errors().accel_bias / navkf_dynamics::earth::STANDARD_GRAVITY
 }
 
-/// The span of readings, centred on an update, whose mean rate about up and forward force
-/// file the update under a motion phase, s. The body's sway about its path (sideslip and
-/// bounce, at most a degree or so, with content below about 1.5 Hz) averages out over it: a
-/// sideslip of 0.6 deg that reverses within it yaws the body at 0.3 deg/s on average, below
-/// the 1 deg/s of a turn. A real turn of the path lasts longer.
+/// The span, centred on an update, whose mean rate about up and whose odometer speeds
+/// ([`speed_slope`]) file the update under a motion phase, s. The body's sway about its path
+/// (sideslip and bounce, at most a degree or so, with content below about 1.5 Hz) averages
+/// out over it: a sideslip of 0.6 deg that reverses within it yaws the body at 0.3 deg/s on
+/// average, below the 1 deg/s of a turn. A real turn of the path lasts longer.
 pub const PHASE_WINDOW_S: f64 = 4.0;
+
+/// The along-track acceleration about `t`, m/s^2: the least-squares slope of the odometer's
+/// speeds within `half` seconds either side; `None` with fewer than two readings there, or
+/// readings less than `half` apart.
+///
+/// Not the forward specific force: the body's bounce pitches it by `theta`, which puts
+/// `g theta` into that force (0.18 m/s^2 rms at a bounce of 0.3 m/s, still 0.07 averaged over
+/// [`PHASE_WINDOW_S`], against the 0.1 m/s^2 of an acceleration), while the speed along the
+/// body hardly changes with it. The odometer's noise (centimetres a second) leaves the slope
+/// of a few readings within millimetres a second squared.
+fn speed_slope(measurements: &[Measurement], t: f64, half: f64) -> Option<f64> {
+    let from = measurements.partition_point(|m| m.t < t - half);
+    let to = measurements.partition_point(|m| m.t <= t + half);
+    let near = || {
+        measurements[from..to.max(from)]
+            .iter()
+            .filter_map(|m| m.speed.filter(|v| v.is_finite()).map(|v| (m.t, v)))
+    };
+    let (n, st, sv) = near().fold((0.0, 0.0, 0.0), |(n, st, sv), (t, v)| {
+        (n + 1.0, st + t, sv + v)
+    });
+    if n < 2.0 {
+        return None;
+    }
+    let (tm, vm) = (st / n, sv / n);
+    let (stt, stv) = near().fold((0.0, 0.0), |(stt, stv), (t, v)| {
+        (stt + (t - tm) * (t - tm), stv + (t - tm) * (v - vm))
+    });
+    // Spread below a quarter of the window: the readings are too close to tell a slope.
+    (stt >= n * (0.25 * half) * (0.25 * half)).then(|| stv / stt)
+}
 
 /// The strapdown catalogue at the sizes of a unit class (MEMS unless set).
 #[derive(Debug, Clone, Default)]
@@ -305,7 +336,7 @@ impl Catalogue for StrapdownCatalogue {
     /// the forward force, so 13 % of the updates a drive's path took straight at a steady
     /// speed were filed as turning or accelerating, picked for the sway that also makes their
     /// constraint rows large (test `a_bodys_sway_is_not_filed_as_turning`).
-    fn phase(&self, inputs: &[InputSample], window: &InputWindow, m: &Measurement) -> Phase {
+    fn phase(&self, ds: &Dataset, window: &InputWindow, m: &Measurement) -> Phase {
         let Some(speed) = m.speed else {
             return Phase::Cruising;
         };
@@ -313,10 +344,11 @@ impl Catalogue for StrapdownCatalogue {
             return Phase::Standstill;
         }
         let half = 0.5 * PHASE_WINDOW_S;
+        let inputs = &ds.inputs;
         let from = inputs.partition_point(|s| s.t < m.t - half);
         let to = inputs.partition_point(|s| s.t <= m.t + half);
         // Readings sparser than the window: the step's own.
-        let (turn, along, count) = if to > from + 1 {
+        let (turn, force, count) = if to > from + 1 {
             inputs[from..to]
                 .iter()
                 .fold((0.0, 0.0, 0.0), |(w, a, n), s| {
@@ -328,7 +360,8 @@ impl Catalogue for StrapdownCatalogue {
             })
         };
         let count = f64::max(count, 1.0);
-        crate::consistency::moving_phase(turn / count, along / count)
+        let along = speed_slope(&ds.measurements, m.t, half).unwrap_or(force / count);
+        crate::consistency::moving_phase(turn / count, along)
     }
     fn cannot_join(&self, effects: &[String], candidate: &str) -> Option<String> {
         let list: Vec<StrapdownEffect> = effects

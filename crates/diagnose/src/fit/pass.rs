@@ -394,7 +394,7 @@ pub fn fit(
         fit.s_sigma.push(ss);
         fit.nis.push(r.nis);
         fit.dims.push(k);
-        fit.phases.push(catalogue.phase(inputs, v.window, m));
+        fit.phases.push(catalogue.phase(ds, v.window, m));
         fit.loglik += r.log_likelihood;
         for i in nav..n {
             fit.track.estimate.push(x[i]);

@@ -77,6 +77,10 @@ pub(crate) fn axpy(acc: &mut Chunk, a: f64, src: &Chunk) {
 /// stage kernel is compiled with every size known.
 const PLATFORM_D: usize = navkf_dynamics::state::NAV_DIM;
 
+/// The widest row, in chunks, whose stage rate [`Stage::run_any`] holds in a stack buffer
+/// (64 states with 4 lanes).
+const ROW_CHUNKS: usize = 16;
+
 /// One RK4 stage of the tangent, fused: for every dynamic row `r`,
 /// `t = [0 F_b][r] + sum_m F_a[r, m] y_in[m]` (the stage's tangent rate, never stored),
 /// then `acc[r] = (first ? base[r] : acc[r]) + w t` and, for the next stage,
@@ -166,32 +170,65 @@ impl Stage<'_> {
         }
     }
 
-    /// Any size: the rate is accumulated one chunk at a time.
+    /// Any size. With rows of up to [`ROW_CHUNKS`] chunks, as [`Stage::run_n`] but with the
+    /// row's rate in a stack buffer: each `F_a[r, m]` is read once per row and its exact zeros
+    /// skipped, so every element gets the same sums in the same order as there. A strapdown
+    /// model whose biases wander has 16 dynamic rows (the 13 base states and 3 departures),
+    /// six of them the constant biases', whose `F_a` rows are all zero: a dense product spent
+    /// most of its time on them. Wider rows accumulate one chunk at a time.
     #[inline(always)]
     fn run_any(&self, nc: usize, acc: &mut [Chunk], mut y_out: Option<(&mut [Chunk], f64)>) {
         let d = self.d;
+        let mut buf = [[0.0; LANES]; ROW_CHUNKS];
         for r in 0..d {
             let row = &self.jac[r * nc..(r + 1) * nc];
-            for ch in 0..nc {
+            let masked = |ch: usize| {
                 let mut t = row[ch];
                 for (l, v) in t.iter_mut().enumerate() {
                     if ch * LANES + l < d {
                         *v = 0.0;
                     }
                 }
-                for m in 0..d {
-                    let a = row[m / LANES][m % LANES];
-                    axpy(&mut t, a, &self.y_in[m * nc + ch]);
-                }
+                t
+            };
+            let mut finish = |ch: usize, t: &Chunk| {
                 let i = r * nc + ch;
                 let b = &self.base[i];
                 if self.first {
                     acc[i] = *b;
                 }
-                axpy(&mut acc[i], self.w, &t);
+                axpy(&mut acc[i], self.w, t);
                 if let Some((y, c)) = y_out.as_mut() {
                     y[i] = *b;
-                    axpy(&mut y[i], *c, &t);
+                    axpy(&mut y[i], *c, t);
+                }
+            };
+            if nc <= ROW_CHUNKS {
+                let t = &mut buf[..nc];
+                for (ch, tc) in t.iter_mut().enumerate() {
+                    *tc = masked(ch);
+                }
+                for m in 0..d {
+                    let a = row[m / LANES][m % LANES];
+                    if a != 0.0 {
+                        for (o, s) in t.iter_mut().zip(&self.y_in[m * nc..(m + 1) * nc]) {
+                            axpy(o, a, s);
+                        }
+                    }
+                }
+                for (ch, tc) in t.iter().enumerate() {
+                    finish(ch, tc);
+                }
+            } else {
+                for ch in 0..nc {
+                    let mut t = masked(ch);
+                    for m in 0..d {
+                        let a = row[m / LANES][m % LANES];
+                        if a != 0.0 {
+                            axpy(&mut t, a, &self.y_in[m * nc + ch]);
+                        }
+                    }
+                    finish(ch, &t);
                 }
             }
         }
@@ -266,7 +303,8 @@ mod tests {
     use super::*;
 
     /// The compiled-size path (the platform model's 7 dynamic states, up to 8 chunks per row)
-    /// and the any-size fallback (other models) compute the same stage, to rounding.
+    /// and the any-size fallback (other models) compute the same stage, bit for bit: the same
+    /// sums in the same order.
     #[test]
     fn fixed_and_any_size_stages_agree() {
         const NC: usize = 3;
@@ -304,7 +342,7 @@ mod tests {
                 .zip(acc_any.as_flattened())
                 .chain(y_n.as_flattened().iter().zip(y_any.as_flattened()))
             {
-                assert!((a - b).abs() <= 1e-14 * (1.0 + a.abs()), "{a} vs {b}");
+                assert_eq!(a.to_bits(), b.to_bits(), "{a} vs {b}");
             }
             // And both against the product written out: t = [0 F_b] + F_a y_in.
             let (jf, yf, bf) = (jac.as_flattened(), y_in.as_flattened(), base.as_flattened());
@@ -321,6 +359,55 @@ mod tests {
                         (got - want).abs() <= 1e-13,
                         "row {r} col {c}: {got} vs {want}"
                     );
+                }
+            }
+        }
+    }
+
+    /// The any-size path against the product written out, for a wandering strapdown model's
+    /// 16 dynamic rows (six of them all zero) and for rows wider than its stack buffer.
+    #[test]
+    fn any_size_stage_is_the_written_out_product() {
+        for (d, nc) in [(16, 5), (10, ROW_CHUNKS + 1)] {
+            let np = nc * LANES;
+            let filled = |seed: f64, len: usize| -> Vec<Chunk> {
+                (0..len)
+                    .map(|i| std::array::from_fn(|l| (seed * (i * LANES + l + 1) as f64).sin()))
+                    .collect()
+            };
+            let mut jac = filled(0.7, d * nc);
+            for r in 7..d.min(13) {
+                jac[r * nc..(r + 1) * nc].fill([0.0; LANES]);
+            }
+            let (y_in, base) = (filled(1.3, d * nc), filled(2.9, d * nc));
+            let stage = Stage {
+                d,
+                jac: &jac,
+                y_in: &y_in,
+                base: &base,
+                w: 0.25,
+                first: true,
+            };
+            let mut acc = filled(4.1, d * nc);
+            let mut y = vec![[0.0; LANES]; d * nc];
+            stage.run_any(nc, &mut acc, Some((&mut y, 0.5)));
+            let (jf, yf, bf) = (jac.as_flattened(), y_in.as_flattened(), base.as_flattened());
+            for r in 0..d {
+                for c in 0..np {
+                    let mut t = if c < d { 0.0 } else { jf[r * np + c] };
+                    for m in 0..d {
+                        t += jf[r * np + m] * yf[m * np + c];
+                    }
+                    let i = r * np + c;
+                    for (got, want) in [
+                        (acc.as_flattened()[i], bf[i] + 0.25 * t),
+                        (y.as_flattened()[i], bf[i] + 0.5 * t),
+                    ] {
+                        assert!(
+                            (got - want).abs() <= 1e-13,
+                            "d {d}, row {r} col {c}: {got} vs {want}"
+                        );
+                    }
                 }
             }
         }

@@ -2,7 +2,7 @@
 //! take `--attitude`, a misaligned dataset diagnosed with the small-angle model is warned
 //! about, and a study file with a `[sweep]` writes one folder per point plus the summary.
 
-mod common;
+use crate::common;
 
 use common::{navkf, text, Scratch};
 use std::path::Path;

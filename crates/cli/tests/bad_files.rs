@@ -2,7 +2,7 @@
 //! named, a study file too large to be one, a CSV header or a TOML line of megabytes. Each is
 //! refused without being read whole, naming the file.
 
-mod common;
+use crate::common;
 
 use common::study_files::{refused_at_once, scratch, study_file};
 use common::{navkf, text};

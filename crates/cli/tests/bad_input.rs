@@ -3,7 +3,7 @@
 //! that are not what they claim (devices, FIFOs, oversized or giant-lined files) are in
 //! `bad_files.rs`.
 
-mod common;
+use crate::common;
 
 use common::study_files::{refused_at_once, scratch, study_file};
 use common::{navkf, text};

@@ -3,7 +3,7 @@
 //! written, and nothing panics with "failed printing to stdout: Broken pipe" (Rust ignores
 //! SIGPIPE, so a write to a closed pipe is an error every print must expect).
 
-mod common;
+use crate::common;
 
 use common::{text, Scratch};
 use std::ffi::OsStr;

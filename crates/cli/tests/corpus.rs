@@ -8,7 +8,7 @@
 //! is a TOML file whose `# expect: ...` lines give the fragments, run through `navkf study`
 //! (always refused: exit 1, nothing written).
 
-mod common;
+use crate::common;
 
 use common::{navkf, text, Scratch};
 use std::path::{Path, PathBuf};

@@ -3,7 +3,7 @@
 //! `diagnose` then names without the file (and with it, no conflict); a study file's
 //! `[[effect]]` tables reach `study` and `plan`; a malformed file is refused by file and key.
 
-mod common;
+use crate::common;
 
 use common::{navkf, text, Scratch};
 use std::ffi::OsStr;

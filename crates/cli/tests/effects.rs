@@ -1,7 +1,7 @@
 //! `navkf effects`: exits 0 and lists every catalogued effect with each of its coefficients
 //! (unit and typical size on the coefficient's line), and the 13 base coefficients.
 
-mod common;
+use crate::common;
 
 use common::{navkf, text};
 use navkf_dynamics::prior::base_coefficient_sigma;

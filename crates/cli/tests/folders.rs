@@ -2,7 +2,7 @@
 //! one that navkf did not make or that holds a file it did not write, and leaves it as it
 //! was. One test per folder rule, each with the cases a careless user met.
 
-mod common;
+use crate::common;
 
 use common::{navkf, text, Scratch};
 use std::fs;

@@ -3,7 +3,7 @@
 //! gap, absurd stated noise, the pole, a stuck odometer). `diagnose` answers each with the
 //! verdict `implausible data` (exit 0), names no effect, and says where; `inspect` lists them.
 
-mod common;
+use crate::common;
 
 use common::{navkf, text, Scratch};
 use std::path::Path;

@@ -6,7 +6,7 @@
 //! A path is resolved to the longest module prefix that is a file; a name a module
 //! re-exports (`pub use sub::Name`) is followed to the file that defines it.
 
-mod common;
+use crate::common;
 
 use common::Scratch;
 use std::collections::{BTreeMap, BTreeSet};

@@ -1,7 +1,7 @@
 //! Shards of a study, and of a sweep, merge into what the study gives on one machine,
 //! whatever its example run holds.
 
-mod common;
+use crate::common;
 
 use common::{navkf, text, Scratch};
 use std::path::Path;

@@ -1,7 +1,7 @@
 //! `navkf plan` from the command line: one study file, several, and a sweep; and the tests
 //! it plans driven by `simulate --trajectory`.
 
-mod common;
+use crate::common;
 
 use common::{navkf, text, Scratch};
 

@@ -2,7 +2,7 @@
 //! then `merge`, gives the summary one machine gives, byte for byte; a set of shards that
 //! does not tile the run is refused, naming the file.
 
-mod common;
+use crate::common;
 
 use common::{navkf, text, Scratch};
 use std::path::{Path, PathBuf};

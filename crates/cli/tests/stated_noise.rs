@@ -1,7 +1,7 @@
 //! A dataset without a `[noise]` table has navkf's default noise, and the diagnosis does not
 //! call it the user's statement.
 
-mod common;
+use crate::common;
 
 use common::{navkf, text, Scratch};
 

@@ -3,7 +3,7 @@
 //! setting without `--model strapdown` is refused, and
 //! `plan` and `study` take a strapdown study file.
 
-mod common;
+use crate::common;
 
 use common::{navkf, text, Scratch};
 use std::path::PathBuf;

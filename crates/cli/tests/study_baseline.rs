@@ -1,7 +1,7 @@
 //! `navkf study --baseline`: passes against its own baseline, fails with a table and a
 //! non-zero exit when results got worse, and refuses a baseline made with other settings.
 
-mod common;
+use crate::common;
 
 use common::{navkf, text, Scratch};
 use std::path::{Path, PathBuf};

@@ -5,7 +5,7 @@
 //! panicking. The two tests draw every kind: before and after with the truth (the path in two
 //! panels, the coefficient errors), and a base model alone (the path in one).
 
-mod figure_text;
+use crate::figure_text;
 #[path = "../../dynamics/tests/common/scratch.rs"]
 mod scratch;
 

@@ -4,7 +4,7 @@
 //! `push_with_mid` where the input varies). Where the solution is a polynomial in time of
 //! degree <= 4, RK4 reproduces it exactly and the checks are to rounding.
 
-mod common;
+use crate::common;
 
 use common::*;
 use navkf_dynamics::earth::{

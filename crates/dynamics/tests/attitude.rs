@@ -2,7 +2,7 @@
 //! docs/model.md, "Variant: exact attitude", its Jacobian against finite differences at large
 //! angles with every rate effect, and its batched propagation against the one-state path.
 
-mod common;
+use crate::common;
 
 use common::*;
 use navkf_dynamics::attitude::{Attitude, Rotation};

@@ -2,7 +2,7 @@
 //! and without process noise, across several blocks with padding lanes, and steps aside when
 //! the latitudes are too far apart for its series.
 
-mod common;
+use crate::common;
 
 use common::{one_by_one, window};
 use navkf_dynamics::prior::base_coefficient_sigma;

@@ -3,7 +3,7 @@
 //! configuration, truth and summary are in `dataset_config.rs` and `dataset_truth.rs`, positions
 //! in the wrong unit and incomplete rows in `dataset_rows.rs`.
 
-mod dataset_files;
+use crate::dataset_files;
 
 use dataset_files::*;
 use navkf_dynamics::dataset::Dataset;

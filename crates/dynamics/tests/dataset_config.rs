@@ -1,6 +1,6 @@
 //! `dataset.toml`: noise, simulation and prior tables, each refusal naming its key and line.
 
-mod dataset_files;
+use crate::dataset_files;
 
 use dataset_files::*;
 use navkf_dynamics::dataset::{Dataset, Provenance};

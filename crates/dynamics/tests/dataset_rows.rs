@@ -1,7 +1,7 @@
 //! Measurement rows that cannot be what they say: positions in radians where degrees are
 //! expected, half an odometer or GPS pair, rows saying nothing, files with too few rows.
 
-mod dataset_files;
+use crate::dataset_files;
 
 use dataset_files::*;
 use navkf_dynamics::dataset::Dataset;

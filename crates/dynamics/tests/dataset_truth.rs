@@ -1,7 +1,7 @@
 //! `truth.csv`'s checks, the dataset summary, and what reading refuses of files that are not
 //! text or not regular files.
 
-mod dataset_files;
+use crate::dataset_files;
 
 use dataset_files::*;
 use navkf_dynamics::dataset::{Dataset, InputSample, Measurement};

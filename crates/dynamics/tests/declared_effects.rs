@@ -4,12 +4,10 @@
 //! and fails on a broken one, a simulated dataset with a declared effect reads back with the
 //! effect known, and each malformed declaration is refused by its key.
 
-mod common;
+use crate::common;
 
-#[path = "common/markdown.rs"]
-mod markdown;
-#[path = "common/scratch.rs"]
-mod scratch;
+use crate::common::markdown;
+use crate::common::scratch;
 use common::*;
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::declared::{parse_declarations, TermFeature, TermSide};

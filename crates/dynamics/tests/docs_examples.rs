@@ -15,10 +15,8 @@ use navkf_dynamics::prior::base_coefficient_sigma;
 use navkf_dynamics::state::{BASE_DIM, BASE_NAMES, BASE_UNITS, NAV_DIM};
 use navkf_dynamics::{NoiseConfig, PlatformPrior, Registry};
 
-#[path = "common/markdown.rs"]
-mod markdown;
-#[path = "common/scratch.rs"]
-mod scratch;
+use crate::common::markdown;
+use crate::common::scratch;
 
 use markdown::{doc, fenced};
 use scratch::Scratch;

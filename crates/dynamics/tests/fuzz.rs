@@ -1,6 +1,6 @@
 //! The dataset reader under random input: random bytes, and random mutations of a good
 //! dataset, must give a dataset or an error, never a panic or a hang. 300 cases each here;
-//! `NAVKF_FUZZ_CASES=100000 cargo test --release -p navkf-dynamics --test fuzz` runs longer.
+//! `NAVKF_FUZZ_CASES=100000 cargo test --release -p navkf-dynamics --test all fuzz::` runs longer.
 //! Files stay small, so memory is bounded by construction; the reader's streaming and
 //! regular-file checks are tested in tests/dataset.rs.
 
@@ -8,8 +8,7 @@ use navkf_dynamics::dataset::Dataset;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-#[path = "common/scratch.rs"]
-mod scratch;
+use crate::common::scratch;
 
 use scratch::Scratch;
 

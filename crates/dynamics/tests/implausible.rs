@@ -2,7 +2,7 @@
 //! does not hold, is named with where (file, columns, times, values); clean records of many
 //! shapes, with large effects and mis-stated noise, never are.
 
-mod common;
+use crate::common;
 
 use common::datasets::{self, short};
 use navkf_dynamics::dataset::{Dataset, Implausibility, JumpShape};

@@ -5,8 +5,7 @@
 use navkf_dynamics::dataset::Dataset;
 use navkf_dynamics::input_file::{read_text, TextFile, CSV_LINE_MAX_BYTES, TOML_MAX_BYTES};
 
-#[path = "common/scratch.rs"]
-mod scratch;
+use crate::common::scratch;
 
 use scratch::Scratch;
 

@@ -9,7 +9,7 @@
 //! plus the rounding floor of the difference quotient, so even the smallest terms (the
 //! `d(1/RN)/dL` parts, ~1e-5 of their entry) are resolved.
 
-mod common;
+use crate::common;
 
 use common::*;
 use navkf_dynamics::effect::Partials;

@@ -3,7 +3,7 @@
 //! a drive made from a trajectory, so every converted value has a known answer. Real KITTI
 //! data carry a licence the repository should not take on.
 
-mod dataset_files;
+use crate::dataset_files;
 
 use dataset_files::{assert_mentions, temp_folder, Scratch};
 use navkf_dynamics::dataset::kitti::{read_kitti, OXTS_FIELDS};

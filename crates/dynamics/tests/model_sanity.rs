@@ -2,7 +2,7 @@
 //! (exactly `[v_x, v_y, L, lambda]` and linear for the base model, non-linear with
 //! odometer-scale or gps-latency), and the process-noise channels.
 
-mod common;
+use crate::common;
 
 use common::*;
 use navkf_dynamics::effects::GyroBiasWalk;

@@ -2,9 +2,8 @@
 //! file and column, and good data of many shapes are not; a track across the antimeridian
 //! reads as one continuous track; inputs slower than the measurements are refused.
 
-mod common;
-#[path = "common/scratch.rs"]
-mod scratch;
+use crate::common;
+use crate::common::scratch;
 
 use common::datasets::{self, short};
 use navkf_dynamics::dataset::{Dataset, Doubt};

@@ -4,7 +4,7 @@
 //! Catches: points or noise values sliced at the wrong stride, scratch too small or shared
 //! state leaking from one point to the next.
 
-mod common;
+use crate::common;
 
 use common::*;
 use navkf_dynamics::SystemModel;

@@ -7,7 +7,7 @@
 //! the full catalogue at its typical size) is propagated for 100 s under a smooth turning
 //! input, with steps h, h/2, h/4, and compared with a reference at h/64.
 
-mod common;
+use crate::common;
 
 use common::*;
 use navkf_dynamics::state::*;

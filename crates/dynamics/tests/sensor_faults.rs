@@ -1,7 +1,7 @@
 //! Sensor faults outside the catalogue do what they say to the measurements, and nothing
 //! else: measured against the clean run they were applied to, in metres and per cent.
 
-mod common;
+use crate::common;
 
 use common::datasets::short;
 use navkf_dynamics::dataset::Dataset;

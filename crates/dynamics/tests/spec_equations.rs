@@ -7,7 +7,7 @@
 //! a term on the wrong state, a coefficient read at the wrong offset or under the wrong
 //! name, a wrong Earth constant or radius formula.
 
-mod common;
+use crate::common;
 
 use common::*;
 use navkf_dynamics::state::*;

@@ -3,7 +3,7 @@
 //! unit at rest that reads the Earth's rate and gravity and stays in place, and constant
 //! rates relative to the ground that give the closed-form attitude.
 
-mod common;
+use crate::common;
 
 use navkf_dynamics::earth::{meridian_radius, normal_gravity, prime_vertical_radius, WIE};
 use navkf_dynamics::strapdown::attitude::{body_to_nav, euler_of, rotate_back};

@@ -2,7 +2,7 @@
 //! increments, `measurements.csv` with the odometer's speed, `[initial]`; written and read back
 //! bit for bit, and every refusal naming its file, line and column or key.
 
-mod dataset_files;
+use crate::dataset_files;
 
 use dataset_files::*;
 use navkf_dynamics::dataset::{Dataset, Doubt};

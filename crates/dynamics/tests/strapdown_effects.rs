@@ -5,7 +5,7 @@
 //! statistics, the batched propagation against one point at a time, and the effect lists'
 //! refusals.
 
-mod common;
+use crate::common;
 
 use navkf_dynamics::family::FamilyModel;
 use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;

@@ -15,7 +15,7 @@
 //! Unlike the catalogue's gyro terms it depends on velocity and latitude, so its partials
 //! have state columns as well as coefficient columns.
 
-mod common;
+use crate::common;
 
 use common::*;
 use navkf_dynamics::earth::WIE;

@@ -25,7 +25,7 @@
 //! The chi-square quantile is the Wilson-Hilferty approximation, within 1% of the exact
 //! value at these dof (checked below against tabulated values).
 
-mod common;
+use crate::common;
 
 use navkf_dynamics::*;
 use navkf_filters::*;

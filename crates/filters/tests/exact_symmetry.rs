@@ -6,7 +6,7 @@
 //! effects. Catches a kernel change that leaves the triangles a last bit apart, which
 //! nothing downstream would notice until a Cholesky of an almost-symmetric matrix.
 
-mod common;
+use crate::common;
 
 use navkf_dynamics::*;
 use navkf_filters::*;

@@ -13,7 +13,7 @@
 //!   wrong partial derivative of the platform model, a wrong stage product or chaining, or a
 //!   wrong block of the covariance propagation.
 
-mod common;
+use crate::common;
 
 use navkf_dynamics::state::*;
 use navkf_dynamics::system::propagate_generic;

@@ -7,7 +7,7 @@
 //! observation that turns NaN into the state, an index panic on a wrong-size slice, and a
 //! filter that cannot be reset after an error.
 
-mod common;
+use crate::common;
 
 use navkf_dynamics::state::*;
 use navkf_dynamics::*;

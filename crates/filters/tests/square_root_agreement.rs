@@ -4,7 +4,7 @@
 //! through `h`, the innovation factor by QR, rank-one downdates). Catches a wrong block of the
 //! pre-array, a lost sign of a reflection, a wrong centre-point update or downdate.
 
-mod common;
+use crate::common;
 
 use navkf_dynamics::state::*;
 use navkf_dynamics::*;

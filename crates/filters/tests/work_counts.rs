@@ -13,7 +13,7 @@
 //! the wrong number of RK4 stages or sub-steps, an update that redraws or re-propagates
 //! points it already has, an EKF that evaluates more Jacobians than stages.
 
-mod common;
+use crate::common;
 
 use navkf_dynamics::state::*;
 use navkf_dynamics::*;

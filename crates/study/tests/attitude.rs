@@ -2,7 +2,7 @@
 //! angles gives the base model's results, and `[filter.variants]` are parsed, checked and run
 //! under their labels.
 
-mod common;
+use crate::common;
 
 use common::{run_all, short_config, PAPER};
 use navkf_dynamics::Attitude;

@@ -2,7 +2,7 @@
 //! 2 and 4 threads (4 threads also puts two blocks in flight at once, a different grouping),
 //! and folding blocks as they complete gives the same tally as folding them at the end.
 
-mod common;
+use crate::common;
 
 use common::{short_config, without_timings};
 use navkf_study::summary::{summarize, Summary};

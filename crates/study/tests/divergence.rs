@@ -1,6 +1,6 @@
 //! Diverged runs are counted with their reason and left out of every statistic.
 
-mod common;
+use crate::common;
 
 use common::short_config;
 use navkf_dynamics::state::NAV_DIM;

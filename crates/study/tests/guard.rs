@@ -2,7 +2,7 @@
 //! rerun (bit for bit, same seed), and deliberately mis-tuned filters fail with a table that
 //! names the filter and the coefficient.
 
-mod common;
+use crate::common;
 
 use common::short_config;
 use navkf_study::guard::{compare, settings_differences, DEFAULT_K};

@@ -1,7 +1,7 @@
 //! `plan` predicts, from one bound recursion, what the Monte Carlo RMS of the same study is,
 //! and on a test with a closed-form information matrix it predicts exactly that.
 
-mod common;
+use crate::common;
 
 use common::{run_all, short_config, PAPER};
 use nalgebra::{DMatrix, DVector};

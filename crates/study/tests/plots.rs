@@ -2,7 +2,7 @@
 //! path): every figure is written as PNG and SVG with its title, and degenerate data (every
 //! run of a filter diverged, NaN, one stored time, nothing at all) draws without a panic.
 
-mod common;
+use crate::common;
 
 use common::Scratch;
 use navkf_filters::{DivergenceCause, RunFailure};

@@ -2,7 +2,7 @@
 //! an incomplete or overlapping set of shard files, and it refuses a shard file whose counts,
 //! arrays or sums do not fit the study, naming the file and the field, without panicking.
 
-mod common;
+use crate::common;
 
 use common::{short_config, temp_dir, without_timings};
 use navkf_dynamics::state::NAV_DIM;

@@ -3,7 +3,7 @@
 //! covariance describes (NEES and NIS inside their 99 % bands), and the settings only the
 //! platform reads are refused by key, not ignored.
 
-mod common;
+use crate::common;
 
 use common::run_all;
 use navkf_report::stats::{mean_chi2_band, Band};

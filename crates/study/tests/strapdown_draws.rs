@@ -10,7 +10,7 @@
 //! pays. `SHOW=1` prints every case's NEES and each bias's RMS over its sigma. A filter told a hundredth of the true noise densities must be caught optimistic:
 //! the check can fail.
 
-mod common;
+use crate::common;
 
 use common::run_all;
 use navkf_dynamics::strapdown::unit_class::UnitClass;

@@ -2,7 +2,7 @@
 //! filters' model: its predicted final sigma of every coefficient agrees with the Monte Carlo
 //! RMS of the same study, and it says what a level drive cannot identify.
 
-mod common;
+use crate::common;
 
 use common::run_all;
 use navkf_study::plan::plan;

@@ -12,7 +12,7 @@
 //! the GPS noise and over the speed a segment of that test reaches (its key, `to`, says no
 //! unit).
 
-mod common;
+use crate::common;
 
 // Shared with the diagnosis figures' test; not every function of it is used here.
 #[allow(dead_code)]
@@ -29,7 +29,7 @@ use navkf_study::sweep::{self, points, SweepSummary};
 use navkf_study::{Study, StudyConfig};
 use std::path::Path;
 
-const COMMAND: &str = "cargo test --test study_figures";
+const COMMAND: &str = "cargo test -p navkf-study --test all study_figures";
 
 /// A short study: the paper's filters, odometer scale and GPS latency in truth and filters.
 const STUDY: &str = r#"

@@ -2,7 +2,7 @@
 //! setting; bad keys and values are refused with their name; and the points' summaries
 //! measure what the setting does.
 
-mod common;
+use crate::common;
 
 use common::{run_all, short_config, PAPER};
 use navkf_dynamics::Attitude;

@@ -5,6 +5,8 @@
 #![allow(dead_code)]
 
 pub mod datasets;
+pub mod markdown;
+pub mod scratch;
 
 use navkf_dynamics::kinematics::IntoInput;
 use navkf_dynamics::state::*;

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-/// A fresh, empty folder `navkf-<name>-<pid>` under the system temporary folder, removed with
+/// A fresh, empty folder `navkf-<name>-<pid>-<k>` under the system temporary folder, removed with
 /// all it holds when this guard drops, also when the test panics: the tests must not litter
 /// /tmp. It reads as the folder's `&Path`. Bind it to a named variable (never `_`, which
 /// drops it at once) that lives to the end of the test.
@@ -15,12 +15,20 @@ pub struct Scratch {
 }
 
 impl Scratch {
-    /// Makes the folder, removing what an earlier process of the same id left there.
+    /// Makes the folder: the first `k` whose folder this call creates itself. A crate's tests
+    /// share one process (its `tests/all.rs`), and may each include this file, so neither the
+    /// process id nor a counter of one copy makes a name unique; creating the folder does.
     pub fn new(name: &str) -> Scratch {
-        let path = std::env::temp_dir().join(format!("navkf-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&path);
-        std::fs::create_dir_all(&path).expect("a scratch folder");
-        Scratch { path, keep: false }
+        let pid = std::process::id();
+        for k in 0.. {
+            let path = std::env::temp_dir().join(format!("navkf-{name}-{pid}-{k}"));
+            match std::fs::create_dir(&path) {
+                Ok(()) => return Scratch { path, keep: false },
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+                Err(e) => panic!("a scratch folder {}: {e}", path.display()),
+            }
+        }
+        unreachable!("a free scratch name")
     }
 
     /// The same folder, left in place when the guard drops (its path printed then).

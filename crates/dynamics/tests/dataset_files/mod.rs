@@ -8,8 +8,7 @@ use navkf_dynamics::dataset::{Dataset, InputSample, Measurement, Provenance, Tru
 use navkf_dynamics::{NoiseConfig, PlatformPrior};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-#[path = "../common/scratch.rs"]
-mod scratch;
+use crate::common::scratch;
 
 pub use scratch::Scratch;
 

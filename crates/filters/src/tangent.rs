@@ -73,9 +73,17 @@ pub(crate) fn axpy(acc: &mut Chunk, a: f64, src: &Chunk) {
     }
 }
 
-/// Dynamic dimension of the platform model (its seven navigation states), for which the
-/// stage kernel is compiled with every size known.
+/// Dynamic dimension of the platform model and of a strapdown model whose biases are
+/// constants (their seven navigation states), for which the stage kernel is compiled with
+/// every size known.
 const PLATFORM_D: usize = navkf_dynamics::state::NAV_DIM;
+
+/// Dynamic dimensions of a strapdown model whose biases wander (docs/model.md eq. (69)): its
+/// 13 base states and the departures of one triad, or of both. The
+/// diagnosis weighs such models in every round and fits its noise levels on them once one is
+/// named, so the kernel is compiled for them too (`ErrorLayout::dynamic_dim`).
+const ONE_TRIAD_D: usize = navkf_dynamics::strapdown::state::BASE_DIM + 3;
+const TWO_TRIADS_D: usize = navkf_dynamics::strapdown::state::BASE_DIM + 6;
 
 /// The widest row, in chunks, whose stage rate [`Stage::run_any`] holds in a stack buffer
 /// (64 states with 4 lanes).
@@ -86,8 +94,8 @@ const ROW_CHUNKS: usize = 16;
 /// then `acc[r] = (first ? base[r] : acc[r]) + w t` and, for the next stage,
 /// `y_out[r] = base[r] + c t`. `jac` holds the model Jacobian's `d` padded rows `[F_a F_b]`.
 ///
-/// With the sizes known at compile time (`d = 7`, up to 8 chunks per row) each row's rate
-/// `t` lives in registers. An exactly zero `F_a[r, m]` is skipped by one branch: the platform
+/// With the sizes known at compile time (`d` = 7, 16 or 19, up to 8 chunks per row) each
+/// row's rate `t` lives in registers. An exactly zero `F_a[r, m]` is skipped by one branch: the platform
 /// model's block has at most 27 nonzeros of 49, the other 22 zero whatever the state, so the
 /// branches are mostly the same from stage to stage and predicted. Skipping an exact zero
 /// leaves every sum as the dense product would make it while `y_in` is finite (a non-finite
@@ -114,14 +122,19 @@ impl Stage<'_> {
     #[inline(always)]
     fn run_sized(&self, nc: usize, acc: &mut [Chunk], y_out: Option<(&mut [Chunk], f64)>) {
         macro_rules! fixed {
-            ($($n:literal)*) => {
+            ($($d:ident: $($n:literal)*;)*) => {
                 match (self.d, nc) {
-                    $((PLATFORM_D, $n) => self.run_n::<PLATFORM_D, $n>(acc, y_out),)*
+                    $($(($d, $n) => self.run_n::<$d, $n>(acc, y_out),)*)*
                     _ => self.run_any(nc, acc, y_out),
                 }
             };
         }
-        fixed!(1 2 3 4 5 6 7 8)
+        // Rows of up to 32 states: the base model with every effect a diagnosis weighs.
+        fixed!(
+            PLATFORM_D: 1 2 3 4 5 6 7 8;
+            ONE_TRIAD_D: 4 5 6 7 8;
+            TWO_TRIADS_D: 5 6 7 8;
+        )
     }
 
     /// With the sizes known, the row's rate `t` lives in registers.
@@ -170,12 +183,10 @@ impl Stage<'_> {
         }
     }
 
-    /// Any size. With rows of up to [`ROW_CHUNKS`] chunks, as [`Stage::run_n`] but with the
-    /// row's rate in a stack buffer: each `F_a[r, m]` is read once per row and its exact zeros
-    /// skipped, so every element gets the same sums in the same order as there. A strapdown
-    /// model whose biases wander has 16 dynamic rows (the 13 base states and 3 departures),
-    /// six of them the constant biases', whose `F_a` rows are all zero: a dense product spent
-    /// most of its time on them. Wider rows accumulate one chunk at a time.
+    /// Any other size. With rows of up to [`ROW_CHUNKS`] chunks, as [`Stage::run_n`] but with
+    /// the row's rate in a stack buffer: each `F_a[r, m]` is read once per row and its exact
+    /// zeros skipped, so every element gets the same sums in the same order as there. Wider
+    /// rows accumulate one chunk at a time.
     #[inline(always)]
     fn run_any(&self, nc: usize, acc: &mut [Chunk], mut y_out: Option<(&mut [Chunk], f64)>) {
         let d = self.d;
@@ -302,13 +313,18 @@ fn rows_times_matrix_n<const NC: usize>(
 mod tests {
     use super::*;
 
-    /// The compiled-size path (the platform model's 7 dynamic states, up to 8 chunks per row)
-    /// and the any-size fallback (other models) compute the same stage, bit for bit: the same
-    /// sums in the same order.
+    /// The compiled-size path (7 dynamic states, or a wandering strapdown model's 16 or 19,
+    /// up to 8 chunks per row) and the any-size fallback compute the same stage, bit for bit:
+    /// the same sums in the same order.
     #[test]
     fn fixed_and_any_size_stages_agree() {
-        const NC: usize = 3;
-        let d = PLATFORM_D;
+        fixed_and_any_size_stages_agree_at::<PLATFORM_D, 3>();
+        fixed_and_any_size_stages_agree_at::<ONE_TRIAD_D, 5>();
+        fixed_and_any_size_stages_agree_at::<TWO_TRIADS_D, 8>();
+    }
+
+    fn fixed_and_any_size_stages_agree_at<const D: usize, const NC: usize>() {
+        let d = D;
         let filled = |seed: f64, len: usize| -> Vec<Chunk> {
             (0..len)
                 .map(|i| std::array::from_fn(|l| (seed * (i * LANES + l + 1) as f64).sin()))
@@ -334,7 +350,7 @@ mod tests {
             let start = filled(4.1, d * NC);
             let (mut acc_n, mut acc_any) = (start.clone(), start);
             let (mut y_n, mut y_any) = (vec![[0.0; LANES]; d * NC], vec![[0.0; LANES]; d * NC]);
-            stage.run_n::<PLATFORM_D, NC>(&mut acc_n, Some((&mut y_n, 0.5)));
+            stage.run_n::<D, NC>(&mut acc_n, Some((&mut y_n, 0.5)));
             stage.run_any(NC, &mut acc_any, Some((&mut y_any, 0.5)));
             for (a, b) in acc_n
                 .as_flattened()

@@ -79,8 +79,7 @@ pub(crate) fn axpy(acc: &mut Chunk, a: f64, src: &Chunk) {
 const PLATFORM_D: usize = navkf_dynamics::state::NAV_DIM;
 
 /// Dynamic dimensions of a strapdown model whose biases wander (docs/model.md eq. (69)): its
-/// 13 base states and the departures of one triad, or of both. The
-/// diagnosis weighs such models in every round and fits its noise levels on them once one is
+/// 13 base states and the departures of one triad, or of both. The diagnosis weighs such models in every round and fits its noise levels on them once one is
 /// named, so the kernel is compiled for them too (`ErrorLayout::dynamic_dim`).
 const ONE_TRIAD_D: usize = navkf_dynamics::strapdown::state::BASE_DIM + 3;
 const TWO_TRIADS_D: usize = navkf_dynamics::strapdown::state::BASE_DIM + 6;
@@ -95,9 +94,9 @@ const ROW_CHUNKS: usize = 16;
 /// `y_out[r] = base[r] + c t`. `jac` holds the model Jacobian's `d` padded rows `[F_a F_b]`.
 ///
 /// With the sizes known at compile time (`d` = 7, 16 or 19, up to 8 chunks per row) each
-/// row's rate `t` lives in registers. An exactly zero `F_a[r, m]` is skipped by one branch: the platform
-/// model's block has at most 27 nonzeros of 49, the other 22 zero whatever the state, so the
-/// branches are mostly the same from stage to stage and predicted. Skipping an exact zero
+/// row's rate `t` lives in registers. An exactly zero `F_a[r, m]` is skipped by one branch:
+/// the platform model's block has at most 27 nonzeros of 49, the other 22 zero whatever the
+/// state, so the branches are mostly the same from stage to stage and predicted. Skipping an exact zero
 /// leaves every sum as the dense product would make it while `y_in` is finite (a non-finite
 /// tangent is caught at the end of the step either way).
 /// (Measured slower, on an AVX-512 Zen 5: the dense product; two partial sums per row; all
@@ -183,10 +182,10 @@ impl Stage<'_> {
         }
     }
 
-    /// Any other size. With rows of up to [`ROW_CHUNKS`] chunks, as [`Stage::run_n`] but with
-    /// the row's rate in a stack buffer: each `F_a[r, m]` is read once per row and its exact
-    /// zeros skipped, so every element gets the same sums in the same order as there. Wider
-    /// rows accumulate one chunk at a time.
+    /// Any other size: as [`Stage::run_n`], but with the row's rate in a stack buffer of
+    /// [`ROW_CHUNKS`] chunks (a wider row in pieces of that many): each `F_a[r, m]` is read
+    /// once per piece and its exact zeros skipped, so every element gets the same sums in the
+    /// same order as there.
     #[inline(always)]
     fn run_any(&self, nc: usize, acc: &mut [Chunk], mut y_out: Option<(&mut [Chunk], f64)>) {
         let d = self.d;
@@ -214,32 +213,25 @@ impl Stage<'_> {
                     axpy(&mut y[i], *c, t);
                 }
             };
-            if nc <= ROW_CHUNKS {
-                let t = &mut buf[..nc];
-                for (ch, tc) in t.iter_mut().enumerate() {
+            // A row of up to ROW_CHUNKS chunks at once; a wider one in pieces of that many
+            // (each element's sum is over m in order either way).
+            for start in (0..nc).step_by(ROW_CHUNKS) {
+                let chunks = start..nc.min(start + ROW_CHUNKS);
+                let t = &mut buf[..chunks.len()];
+                for (tc, ch) in t.iter_mut().zip(chunks.clone()) {
                     *tc = masked(ch);
                 }
                 for m in 0..d {
                     let a = row[m / LANES][m % LANES];
                     if a != 0.0 {
-                        for (o, s) in t.iter_mut().zip(&self.y_in[m * nc..(m + 1) * nc]) {
+                        let src = &self.y_in[m * nc + chunks.start..m * nc + chunks.end];
+                        for (o, s) in t.iter_mut().zip(src) {
                             axpy(o, a, s);
                         }
                     }
                 }
-                for (ch, tc) in t.iter().enumerate() {
+                for (tc, ch) in t.iter().zip(chunks) {
                     finish(ch, tc);
-                }
-            } else {
-                for ch in 0..nc {
-                    let mut t = masked(ch);
-                    for m in 0..d {
-                        let a = row[m / LANES][m % LANES];
-                        if a != 0.0 {
-                            axpy(&mut t, a, &self.y_in[m * nc + ch]);
-                        }
-                    }
-                    finish(ch, &t);
                 }
             }
         }

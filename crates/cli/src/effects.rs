@@ -79,7 +79,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
                 ModelKind::Platform,
                 "the model listed (--model)",
             )? {
-                Some(file) => file.platform_registry()?,
+                Some(file) => file.registry()?,
                 None => Registry::catalogue(),
             };
             let mut text = listing(&registry)?;
@@ -99,7 +99,7 @@ pub fn run(a: Args) -> Result<(), Box<dyn std::error::Error>> {
                 ModelKind::Strapdown,
                 "the model listed (--model)",
             )? {
-                Some(file) => file.strapdown_registry()?,
+                Some(file) => file.registry()?,
                 None => StrapdownRegistry::catalogue(),
             };
             let class: UnitClass = a.unit.as_deref().unwrap_or("mems").parse()?;

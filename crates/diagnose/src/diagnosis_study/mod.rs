@@ -22,12 +22,11 @@ pub mod shard;
 use crate::error::DiagnoseError;
 use crate::{diagnose, Options, Verdict};
 use content::{Class, Hidden, Planned};
-use navkf_dynamics::declared::EffectDeclaration;
+use navkf_dynamics::declared::{EffectCatalogue, EffectDeclaration};
 use navkf_dynamics::input_file::{printable, read_text, toml_error, toml_message, TextFile};
 use navkf_dynamics::simulate::{Alignment, InitialTilt};
-use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::unit_class::UnitClass;
-use navkf_dynamics::{ModelKind, NoiseConfig, Registry, Trajectory, TrajectoryConfig};
+use navkf_dynamics::{ModelKind, NoiseConfig, Trajectory, TrajectoryConfig};
 use navkf_report::executor::Executor;
 use navkf_report::StudyKind;
 use serde::{Deserialize, Serialize};
@@ -305,18 +304,10 @@ impl DiagnosisStudyConfig {
             .unwrap_or_default()
     }
 
-    /// The platform catalogue with the file's `[[effect]]` declared.
-    pub fn platform_registry(&self) -> Result<Registry, DiagnoseError> {
-        let mut registry = Registry::catalogue();
-        registry.declare(&self.effect)?;
-        Ok(registry)
-    }
-
-    /// The strapdown catalogue with the file's `[[effect]]` declared.
-    pub fn strapdown_registry(&self) -> Result<StrapdownRegistry, DiagnoseError> {
-        let mut registry = StrapdownRegistry::catalogue();
-        registry.declare(&self.effect)?;
-        Ok(registry)
+    /// The catalogue of the file's family (`Registry`, `StrapdownRegistry`) with its
+    /// `[[effect]]` declared.
+    pub fn registry<R: EffectCatalogue>(&self) -> Result<R, DiagnoseError> {
+        Ok(R::with_declared(&self.effect)?)
     }
 
     fn validate(&self) -> Result<(), String> {

@@ -8,12 +8,11 @@
 //! and any later clash (an effect that `dataset.toml` declares otherwise) reported with this
 //! file's name, not as a bare key.
 
-use super::{read_declarations, EffectDeclaration};
+use super::{read_declarations, EffectCatalogue, EffectDeclaration};
 use crate::dataset::files_of;
 use crate::dataset::Dataset;
 use crate::error::DynamicsError;
 use crate::model_kind::ModelKind;
-use crate::strapdown::effects::StrapdownRegistry;
 use crate::Registry;
 use std::path::{Path, PathBuf};
 
@@ -67,22 +66,11 @@ impl DeclaredFile {
         &self.declarations
     }
 
-    /// The platform catalogue with these effects declared.
-    pub fn platform_registry(&self) -> Result<Registry, DynamicsError> {
-        let mut registry = Registry::catalogue();
-        registry
-            .declare(&self.declarations)
-            .map_err(|e| self.locate(e))?;
-        Ok(registry)
-    }
-
-    /// The strapdown catalogue with these effects declared.
-    pub fn strapdown_registry(&self) -> Result<StrapdownRegistry, DynamicsError> {
-        let mut registry = StrapdownRegistry::catalogue();
-        registry
-            .declare(&self.declarations)
-            .map_err(|e| self.locate(e))?;
-        Ok(registry)
+    /// The catalogue of a family ([`Registry`],
+    /// [`StrapdownRegistry`](crate::strapdown::effects::StrapdownRegistry)) with these effects
+    /// declared; an error names this file and the key.
+    pub fn registry<R: EffectCatalogue>(&self) -> Result<R, DynamicsError> {
+        R::with_declared(&self.declarations).map_err(|e| self.locate(e))
     }
 
     /// Refuses the file unless its effects are of `family`, the family of `what` (`dataset
@@ -112,7 +100,7 @@ impl DeclaredFile {
             return Dataset::read(dir);
         };
         let ds = if file.family.is_platform() {
-            Dataset::read_with(dir, &file.platform_registry()?).map_err(|e| {
+            Dataset::read_with(dir, &file.registry::<Registry>()?).map_err(|e| {
                 if Dataset::read(dir).is_ok() {
                     DynamicsError::File {
                         path: file.path.clone(),
@@ -150,6 +138,7 @@ impl DeclaredFile {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::strapdown::effects::StrapdownRegistry;
 
     /// A fresh folder of one test's files, removed when the test ends, passed or failed: the
     /// tests must not litter /tmp.
@@ -197,10 +186,14 @@ places = [{ coefficient = "n_axy", place = "E_a[x][y]" }]
         let dir = Scratch::new("family");
         let drag = DeclaredFile::read(&dir.file("drag.toml", DRAG)).unwrap();
         assert_eq!(drag.family(), ModelKind::Platform);
-        assert!(drag.platform_registry().unwrap().build("drag").is_ok());
+        assert!(drag.registry::<Registry>().unwrap().build("drag").is_ok());
         let skew = DeclaredFile::read(&dir.file("skew.toml", SKEW)).unwrap();
         assert_eq!(skew.family(), ModelKind::Strapdown);
-        assert!(skew.strapdown_registry().unwrap().get("skew").is_ok());
+        assert!(skew
+            .registry::<StrapdownRegistry>()
+            .unwrap()
+            .get("skew")
+            .is_ok());
         let refused = skew
             .expect_family(ModelKind::Platform, "dataset `drive`")
             .unwrap_err()

@@ -32,12 +32,14 @@
 //! assert_eq!(model.state_names()[20], "kd");
 //! ```
 
+mod catalogue;
 mod declaration;
 mod effect;
 mod effects_file;
 mod feature;
 pub mod strapdown;
 
+pub use catalogue::EffectCatalogue;
 pub use declaration::{
     CoefficientDeclaration, EffectDeclaration, PlaceDeclaration, TermDeclaration,
 };

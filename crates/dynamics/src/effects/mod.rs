@@ -23,7 +23,7 @@ pub use odometer_misalignment::OdometerMisalignment;
 pub use odometer_scale::OdometerScale;
 pub use torquer_scale::TorquerScale;
 
-use crate::declared::{DeclaredEffect, EffectDeclaration};
+use crate::declared::{DeclaredEffect, EffectCatalogue, EffectDeclaration};
 use crate::effect::DynEffect;
 use crate::error::DynamicsError;
 use std::sync::Arc;
@@ -139,5 +139,15 @@ impl Registry {
             .iter()
             .find(|(_, f)| f().coefficient_names().contains(&coefficient))
             .map(|(n, _)| n.clone())
+    }
+}
+
+impl EffectCatalogue for Registry {
+    fn catalogue() -> Self {
+        Registry::catalogue()
+    }
+
+    fn declare(&mut self, declarations: &[EffectDeclaration]) -> Result<(), DynamicsError> {
+        Registry::declare(self, declarations)
     }
 }

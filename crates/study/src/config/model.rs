@@ -2,6 +2,7 @@
 //! the other tables that family does not read, refused by name rather than ignored.
 
 use super::StudyConfig;
+use navkf_dynamics::declared::EffectCatalogue;
 use navkf_dynamics::strapdown::effect_list::StrapdownEffectList;
 use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::unit_class::UnitClass;
@@ -32,27 +33,18 @@ impl ModelSection {
 }
 
 impl StudyConfig {
-    /// The platform effects the study may name: the catalogue's and its `[[effect]]`
-    /// declarations. The message names the key (`effect[0].rates[1].feature`).
-    pub fn registry(&self) -> Result<Registry, String> {
-        let mut registry = Registry::catalogue();
-        registry.declare(&self.effect).map_err(declaration_error)?;
-        Ok(registry)
-    }
-
-    /// The strapdown effects the study may name: the strapdown catalogue's and its
-    /// `[[effect]]` declarations (`places`).
-    pub fn strapdown_registry(&self) -> Result<StrapdownRegistry, String> {
-        let mut registry = StrapdownRegistry::catalogue();
-        registry.declare(&self.effect).map_err(declaration_error)?;
-        Ok(registry)
+    /// The effects the study may name: its family's catalogue (`Registry`,
+    /// `StrapdownRegistry`) and its `[[effect]]` declarations. The message names the key
+    /// (`effect[0].rates[1].feature`).
+    pub fn registry<R: EffectCatalogue>(&self) -> Result<R, String> {
+        R::with_declared(&self.effect).map_err(declaration_error)
     }
 
     /// Checks the `[[effect]]` declarations against the study's family.
     pub(super) fn check_declarations(&self) -> Result<(), String> {
         match self.model.kind {
-            ModelKind::Platform => self.registry().map(drop),
-            ModelKind::Strapdown => self.strapdown_registry().map(drop),
+            ModelKind::Platform => self.registry::<Registry>().map(drop),
+            ModelKind::Strapdown => self.registry::<StrapdownRegistry>().map(drop),
         }
     }
 
@@ -105,7 +97,7 @@ pub(super) fn check_family_keys(config: &StudyConfig) -> Result<(), String> {
         ModelKind::Strapdown => {
             let refuse =
                 |key: &str, why: &str| Err(format!("{key}: {why} (model.kind = \"strapdown\")"));
-            let registry = config.strapdown_registry()?;
+            let registry = config.registry::<StrapdownRegistry>()?;
             for (key, effects) in [
                 ("truth.effects", &config.truth.effects),
                 ("filter.effects", &config.filter.effects),

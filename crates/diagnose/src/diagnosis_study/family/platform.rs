@@ -21,7 +21,7 @@ pub(super) struct Platform;
 
 impl StudyFamily for Platform {
     fn effect_names(&self, config: &DiagnosisStudyConfig) -> Result<Vec<String>, DiagnoseError> {
-        Ok(config.platform_registry()?.names())
+        Ok(config.registry::<Registry>()?.names())
     }
 
     fn validate(&self, config: &DiagnosisStudyConfig) -> Result<(), String> {
@@ -40,7 +40,7 @@ impl StudyFamily for Platform {
             );
         }
         config
-            .platform_registry()
+            .registry::<Registry>()
             .map(drop)
             .map_err(declaration_message)
     }
@@ -50,7 +50,7 @@ impl StudyFamily for Platform {
     }
 
     fn pair_fits(&self, config: &DiagnosisStudyConfig) -> Result<PairFits, DiagnoseError> {
-        let registry = config.platform_registry()?;
+        let registry = config.registry::<Registry>()?;
         let noise = NoiseConfig::default();
         Ok(Box::new(move |pair| {
             PlatformModel::new(registry.build_all(&pair)?, &noise)?;
@@ -60,7 +60,7 @@ impl StudyFamily for Platform {
 
     fn effect_scales(&self, config: &DiagnosisStudyConfig) -> Vec<EffectScale> {
         config
-            .platform_registry()
+            .registry::<Registry>()
             .map(|r| rates::platform_scales(&r))
             .unwrap_or_default()
     }
@@ -69,7 +69,7 @@ impl StudyFamily for Platform {
         &self,
         config: &'a DiagnosisStudyConfig,
     ) -> Result<EffectDraw<'a>, DiagnoseError> {
-        let registry = config.platform_registry()?;
+        let registry = config.registry::<Registry>()?;
         Ok(Box::new(move |rng, name, range| {
             draw_effect(rng, name, range, &registry)
         }))
@@ -130,7 +130,7 @@ fn simulate(
     trajectory: &Arc<Trajectory>,
     p: &Planned,
 ) -> Result<Dataset, DiagnoseError> {
-    let catalogue = config.platform_registry()?;
+    let catalogue = config.registry::<Registry>()?;
     let noise = config.noise;
     let mut effects: Vec<Box<dyn navkf_dynamics::DynEffect>> = Vec::new();
     let mut coefficients = BTreeMap::new();

@@ -49,14 +49,14 @@ pub(super) struct Strapdown;
 
 impl StudyFamily for Strapdown {
     fn effect_names(&self, config: &DiagnosisStudyConfig) -> Result<Vec<String>, DiagnoseError> {
-        let registry = config.strapdown_registry()?;
+        let registry = config.registry::<StrapdownRegistry>()?;
         Ok(registry.names().into_iter().map(str::to_string).collect())
     }
 
     fn validate(&self, config: &DiagnosisStudyConfig) -> Result<(), String> {
         validate(config)?;
         config
-            .strapdown_registry()
+            .registry::<StrapdownRegistry>()
             .map(drop)
             .map_err(declaration_message)
     }
@@ -77,7 +77,7 @@ impl StudyFamily for Strapdown {
     }
 
     fn pair_fits(&self, config: &DiagnosisStudyConfig) -> Result<PairFits, DiagnoseError> {
-        let registry = config.strapdown_registry()?;
+        let registry = config.registry::<StrapdownRegistry>()?;
         let class = config.model.unit_class();
         let noise = NoiseConfig::default();
         Ok(Box::new(move |pair| {
@@ -88,7 +88,7 @@ impl StudyFamily for Strapdown {
     }
 
     fn effect_scales(&self, config: &DiagnosisStudyConfig) -> Vec<EffectScale> {
-        let Ok(registry) = config.strapdown_registry() else {
+        let Ok(registry) = config.registry::<StrapdownRegistry>() else {
             return Vec::new();
         };
         registry
@@ -110,7 +110,7 @@ impl StudyFamily for Strapdown {
         &self,
         config: &'a DiagnosisStudyConfig,
     ) -> Result<EffectDraw<'a>, DiagnoseError> {
-        let registry = config.strapdown_registry()?;
+        let registry = config.registry::<StrapdownRegistry>()?;
         let class = config.model.unit_class();
         Ok(Box::new(move |rng, name, range| {
             draw_effect(rng, &registry, name, range, class)
@@ -273,7 +273,7 @@ fn simulate(
             }
         }
     }
-    let registry = config.strapdown_registry()?;
+    let registry = config.registry::<StrapdownRegistry>()?;
     let list = StrapdownEffectList::parse_entries(&entries, &registry)
         .map_err(|(i, e)| DiagnoseError::Content(format!("{}: {e}", entries[i])))?;
     let model = Arc::new(

@@ -7,7 +7,7 @@ use crate::dataset::read::{read_imu, strapdown_coefficients};
 use crate::dataset::{
     DataWarning, Dataset, InputSample, IMU_FILE, IMU_RATE_COLUMNS, SPEED_MEASUREMENT_COLUMNS,
 };
-use crate::declared::EffectDeclaration;
+use crate::declared::{EffectCatalogue, EffectDeclaration};
 use crate::effects::Registry;
 use crate::error::DynamicsError;
 use crate::model_kind::ModelKind;
@@ -69,8 +69,7 @@ impl FamilyFiles for StrapdownFiles {
         _: &mut Registry,
         declared: &[EffectDeclaration],
     ) -> Result<Vec<String>, DynamicsError> {
-        let mut catalogue = StrapdownRegistry::catalogue();
-        catalogue.declare(declared)?;
+        let catalogue = StrapdownRegistry::with_declared(declared)?;
         Ok(strapdown_coefficients(&catalogue))
     }
     fn navigation_names(&self) -> &'static [&'static str] {

@@ -24,7 +24,7 @@ mod odometer_misalignment;
 mod odometer_scale;
 
 use super::unit_class::UnitClass;
-use crate::declared::EffectDeclaration;
+use crate::declared::{EffectCatalogue, EffectDeclaration};
 use crate::error::DynamicsError;
 pub use crate::sensor_classes::PhysicalBound;
 use std::sync::Arc;
@@ -310,3 +310,13 @@ const fn every_class(sigma: f64) -> [f64; 3] {
 const DEG_PER_H: f64 = std::f64::consts::PI / 180.0 / 3600.0;
 /// Standard gravity, m/s^2.
 const G0: f64 = crate::earth::STANDARD_GRAVITY;
+
+impl EffectCatalogue for StrapdownRegistry {
+    fn catalogue() -> Self {
+        StrapdownRegistry::catalogue()
+    }
+
+    fn declare(&mut self, declarations: &[EffectDeclaration]) -> Result<(), DynamicsError> {
+        StrapdownRegistry::declare(self, declarations)
+    }
+}

@@ -69,7 +69,7 @@ fn platform_model(
 
 fn parts(config: &StudyConfig, trajectory: Arc<Trajectory>) -> Result<FamilyParts, StudyError> {
     let noise = config.noise;
-    let registry = config.registry().map_err(StudyError::Other)?;
+    let registry = config.registry::<Registry>().map_err(StudyError::Other)?;
     let (truth_model, truth_fixed) = platform_model(
         &registry,
         "truth.effects",

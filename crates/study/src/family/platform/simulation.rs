@@ -4,6 +4,7 @@
 
 use crate::error::StudyError;
 use crate::simulation::request::{Ready, SimulationRequest};
+use navkf_dynamics::declared::EffectCatalogue;
 use navkf_dynamics::effect_spec::EffectSpec;
 use navkf_dynamics::{
     Attitude, NoiseConfig, PlatformModel, Registry, Simulator, Trajectory, TruthConfig,
@@ -30,8 +31,7 @@ pub(in crate::family) fn prepare(
             )));
         }
     }
-    let mut registry = Registry::catalogue();
-    registry.declare(&req.declarations)?;
+    let registry = Registry::with_declared(&req.declarations)?;
     let spec = EffectSpec::parse(&req.effects, &registry)?;
     let noise = NoiseConfig::default();
     let effect_names = spec.names();

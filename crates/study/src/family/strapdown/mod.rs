@@ -63,7 +63,9 @@ fn parts(config: &StudyConfig, trajectory: Arc<Trajectory>) -> Result<FamilyPart
         ..unit
     };
     let noise = config.truth_noise();
-    let registry = config.strapdown_registry().map_err(StudyError::Other)?;
+    let registry = config
+        .registry::<navkf_dynamics::strapdown::effects::StrapdownRegistry>()
+        .map_err(StudyError::Other)?;
     let list = |key: &str, entries: &[String]| {
         StrapdownEffectList::parse_entries(entries, &registry)
             .map_err(|(i, e)| StudyError::Other(format!("{key}[{i}]: {e}")))

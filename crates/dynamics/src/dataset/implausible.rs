@@ -86,28 +86,6 @@ impl Dataset {
         out
     }
 
-    fn fixes(&self) -> Vec<(f64, [f64; 2])> {
-        self.measurements
-            .iter()
-            .filter_map(|m| m.position_deg.map(|p| (m.t, p)))
-            .collect()
-    }
-
-    fn odometer(&self) -> Vec<(f64, [f64; 2])> {
-        self.measurements
-            .iter()
-            .filter_map(|m| m.velocity.map(|v| (m.t, v)))
-            .collect()
-    }
-
-    /// The odometer's speeds with their times ([`super::Measurement::odometer_speed`]).
-    fn odometer_speeds(&self) -> Vec<(f64, f64)> {
-        self.measurements
-            .iter()
-            .filter_map(|m| m.odometer_speed().map(|s| (m.t, s)))
-            .collect()
-    }
-
     /// The filter period: the measurements' median interval (1 s with a single row).
     fn filter_period(&self) -> f64 {
         median_interval(self.measurements.iter().map(|m| m.t)).unwrap_or(1.0)
@@ -116,7 +94,7 @@ impl Dataset {
     fn near_pole(&self) -> Option<Implausibility> {
         let limit = latitude_limit_deg();
         let near: Vec<(f64, f64)> = self
-            .fixes()
+            .gps_fixes()
             .into_iter()
             .filter(|(_, p)| !(p[0].abs() <= limit))
             .map(|(t, p)| (t, p[0]))
@@ -155,7 +133,7 @@ impl Dataset {
     }
 
     fn off_ground(&self) -> Option<Implausibility> {
-        let lat = self.fixes().first().map_or(45.0, |(_, p)| p[0]);
+        let lat = self.gps_fixes().first().map_or(45.0, |(_, p)| p[0]);
         let gravity = normal_gravity(lat.to_radians().sin());
         // -1: fall, 1: overload, 0: on the ground.
         let side = |f: f64| {
@@ -227,7 +205,7 @@ impl Dataset {
     /// truth moves with its platform's errors, and a simulated platform misaligned by 10 deg
     /// drives the paper's test at up to 160 m/s, odometer and GPS agreeing.
     pub(super) fn odometer_beyond_road(&self) -> Vec<(f64, f64)> {
-        let fixes = self.fixes();
+        let fixes = self.gps_fixes();
         let gps_speed = |t: f64| -> Option<f64> {
             // Two fixes or more (with one, `clamp(1, 0)` would panic).
             if fixes.len() < 2 {
@@ -248,8 +226,8 @@ impl Dataset {
     }
 
     fn position_jump(&self) -> Option<Implausibility> {
-        let fixes = self.fixes();
-        let odometer = self.odometer();
+        let fixes = self.gps_fixes();
+        let odometer = self.odometer_velocities();
         let speeds = self.odometer_speeds();
         let period = self.filter_period();
         // The GPS's own fix-to-fix scatter, per axis: the median distance between its

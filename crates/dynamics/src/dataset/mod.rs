@@ -14,6 +14,7 @@ pub mod kitti;
 mod limits;
 mod plausibility;
 mod read;
+mod series;
 mod strapdown_plausibility;
 mod summary;
 mod write;

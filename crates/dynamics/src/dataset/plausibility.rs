@@ -23,7 +23,7 @@
 //! the GPS (a stuck 300 m/s would otherwise make the GPS longitude look like radians); nor is a
 //! GPS track closer to a pole than the model holds ([`super::Implausibility::NearPole`]).
 
-use super::read::{chord_m, odometer_east_north};
+use super::read::{chord_m, odometer_displacement, odometer_east_north};
 use super::{Dataset, INPUTS_FILE, MEASUREMENTS_FILE};
 use crate::earth::{meridian_radius, normal_gravity, prime_vertical_radius};
 use serde::{Deserialize, Serialize};
@@ -114,11 +114,7 @@ impl Dataset {
             .iter()
             .filter_map(|m| m.position_deg)
             .any(|p| !(p[0].abs() <= limit));
-        let odometer: Vec<(f64, [f64; 2])> = self
-            .measurements
-            .iter()
-            .filter_map(|m| m.velocity.map(|v| (m.t, v)))
-            .collect();
+        let odometer = self.odometer_velocities();
         let travel = Travel::of(self, &odometer).filter(|_| !odometer_fast && !at_pole);
         let warn = |doubt, file: &str, column: &str, message: String| DataWarning {
             doubt,
@@ -131,11 +127,8 @@ impl Dataset {
         let compared = travel
             .as_ref()
             .is_some_and(|t| t.odometer[0].hypot(t.odometer[1]) >= MIN_TRAVEL_M);
-        let over_spans = || {
-            self.travel_over_spans(|ta, tb| {
-                odometer_east_north(&odometer, ta, tb).map(|d| d[0].hypot(d[1]))
-            })
-        };
+        let over_spans =
+            || self.travel_over_spans(|ta, tb| odometer_displacement(&odometer, ta, tb));
         if let Some(t) = travel.as_ref().filter(|_| compared) {
             let odo = t.odometer[0].hypot(t.odometer[1]);
             // GPS in radians also leaves the odometer far ahead (57 times). Milliseconds

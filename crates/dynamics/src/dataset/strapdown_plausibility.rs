@@ -18,7 +18,7 @@
 use super::plausibility::{
     median, median_interval, speed_unit_doubt, GRAVITY_TOLERANCE, SLOWEST_INPUT_S,
 };
-use super::read::odometer_east_north;
+use super::read::odometer_displacement;
 use super::{DataWarning, Dataset, Doubt, IMU_FILE, MEASUREMENTS_FILE};
 
 /// Rates whose 99th percentile exceeds this (rad/s) are no road vehicle's.
@@ -124,14 +124,10 @@ impl Dataset {
                 ));
             }
         }
-        // The speed as a one-axis odometer: the platform's integrator gives its path length.
-        let speeds: Vec<(f64, [f64; 2])> = self
-            .measurements
-            .iter()
-            .filter_map(|m| m.speed.map(|v| (m.t, [v.abs(), 0.0])))
-            .collect();
+        // The speed as a track: the platform's integrator gives its path length.
+        let track = self.odometer_track();
         let (odometer, gps) =
-            self.travel_over_spans(|ta, tb| odometer_east_north(&speeds, ta, tb).map(|d| d[0]));
+            self.travel_over_spans(|ta, tb| odometer_displacement(&track, ta, tb));
         if let Some(message) = speed_unit_doubt(odometer, gps, "integrated, the odometer speed") {
             out.push(DataWarning {
                 doubt: Doubt::OdometerNotMetresPerSecond,

@@ -166,27 +166,9 @@ impl Dataset {
     pub fn summary(&self) -> DatasetSummary {
         let input_t: Vec<f64> = self.inputs.iter().map(|s| s.t).collect();
         let meas_t: Vec<f64> = self.measurements.iter().map(|m| m.t).collect();
-        // A strapdown odometer's speed, as a velocity along North (for speed and stream).
-        let odometer: Vec<(f64, [f64; 2])> = self
-            .measurements
-            .iter()
-            .filter_map(|m| {
-                m.velocity
-                    .or(m.speed.map(|s| [0.0, s.abs()]))
-                    .map(|v| (m.t, v))
-            })
-            .collect();
-        let fixes: Vec<[f64; 2]> = self
-            .measurements
-            .iter()
-            .filter_map(|m| m.position_deg)
-            .collect();
-        let gps_t: Vec<f64> = self
-            .measurements
-            .iter()
-            .filter(|m| m.position_deg.is_some())
-            .map(|m| m.t)
-            .collect();
+        let odometer = self.odometer_track();
+        let fixes: Vec<[f64; 2]> = self.gps_fixes().iter().map(|(_, p)| *p).collect();
+        let gps_t: Vec<f64> = self.gps_fixes().iter().map(|(t, _)| *t).collect();
         let odo_t: Vec<f64> = odometer.iter().map(|(t, _)| *t).collect();
 
         let span = span_of(&input_t).or_else(|| span_of(&meas_t));

@@ -43,7 +43,7 @@ use units::*;
 pub(super) use config::{known_coefficients, strapdown_coefficients};
 pub(super) use imu::read_imu;
 pub(super) use measurements::read_inputs;
-pub(super) use units::{chord_m, odometer_east_north};
+pub(super) use units::{chord_m, odometer_displacement, odometer_east_north};
 
 impl Dataset {
     /// Reads and validates the dataset folder `dir` (`docs/data-format.md`): `inputs.csv` and

@@ -87,7 +87,11 @@ pub(super) fn looks_like_radians(
 
 /// The length (m) of the odometer's displacement over `[ta, tb]`, from its samples inside
 /// the interval; `None` with fewer than two.
-pub(super) fn odometer_displacement(odometer: &[(f64, [f64; 2])], ta: f64, tb: f64) -> Option<f64> {
+pub(in crate::dataset) fn odometer_displacement(
+    odometer: &[(f64, [f64; 2])],
+    ta: f64,
+    tb: f64,
+) -> Option<f64> {
     odometer_east_north(odometer, ta, tb).map(|d| d[0].hypot(d[1]))
 }
 

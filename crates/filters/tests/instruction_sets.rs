@@ -59,9 +59,11 @@ fn final_bits<M: SystemModel + 'static, S: MeasurementModel<Record = Measurement
 }
 
 /// Runs every filter with the chosen copy, then with the baseline forced; asserts equal bits.
+/// Within each copy's turn the filters run side by side, one thread each: the copy is a
+/// process-wide switch, but the filters share nothing else.
 fn assert_copies_agree<
     M: SystemModel + 'static,
-    S: MeasurementModel<Record = Measurement> + ?Sized,
+    S: MeasurementModel<Record = Measurement> + Sync + ?Sized,
 >(
     what: &str,
     model: &Arc<M>,
@@ -76,12 +78,21 @@ fn assert_copies_agree<
     if chosen != InstructionSet::Avx2Fma {
         eprintln!("{what}: one copy only ({chosen}); comparing it with itself");
     }
-    for kind in FilterKind::ALL {
+    let every_filter = |baseline: bool| {
+        force_baseline(baseline);
+        let bits: Vec<_> = std::thread::scope(|scope| {
+            let runs: Vec<_> = FilterKind::ALL
+                .into_iter()
+                .map(|kind| scope.spawn(move || final_bits(kind, model, run, sensors, x0, p0)))
+                .collect();
+            runs.into_iter().map(|r| r.join().unwrap()).collect()
+        });
         force_baseline(false);
-        let fast = final_bits(kind, model, run, sensors, x0, p0);
-        force_baseline(true);
-        let plain = final_bits(kind, model, run, sensors, x0, p0);
-        force_baseline(false);
+        bits
+    };
+    let fast = every_filter(false);
+    let plain = every_filter(true);
+    for ((kind, fast), plain) in FilterKind::ALL.into_iter().zip(fast).zip(plain) {
         assert!(fast.is_ok(), "{what}, {kind}: {:?}", fast);
         assert_eq!(
             fast, plain,

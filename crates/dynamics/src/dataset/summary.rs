@@ -167,8 +167,9 @@ impl Dataset {
         let input_t: Vec<f64> = self.inputs.iter().map(|s| s.t).collect();
         let meas_t: Vec<f64> = self.measurements.iter().map(|m| m.t).collect();
         let odometer = self.odometer_track();
-        let fixes: Vec<[f64; 2]> = self.gps_fixes().iter().map(|(_, p)| *p).collect();
-        let gps_t: Vec<f64> = self.gps_fixes().iter().map(|(t, _)| *t).collect();
+        let gps = self.gps_fixes();
+        let fixes: Vec<[f64; 2]> = gps.iter().map(|(_, p)| *p).collect();
+        let gps_t: Vec<f64> = gps.iter().map(|(t, _)| *t).collect();
         let odo_t: Vec<f64> = odometer.iter().map(|(t, _)| *t).collect();
 
         let span = span_of(&input_t).or_else(|| span_of(&meas_t));

@@ -79,13 +79,14 @@ pub(crate) fn axpy(acc: &mut Chunk, a: f64, src: &Chunk) {
 const PLATFORM_D: usize = navkf_dynamics::state::NAV_DIM;
 
 /// Dynamic dimensions of a strapdown model whose biases wander (docs/model.md eq. (69)): its
-/// 13 base states and the departures of one triad, or of both. The diagnosis weighs such models in every round and fits its noise levels on them once one is
-/// named, so the kernel is compiled for them too (`ErrorLayout::dynamic_dim`).
+/// 13 base states and the departures of one triad, or of both. The diagnosis weighs such
+/// models in every round and fits its noise levels on them once one is named, so the kernel is
+/// compiled for them too (`ErrorLayout::dynamic_dim`).
 const ONE_TRIAD_D: usize = navkf_dynamics::strapdown::state::BASE_DIM + 3;
 const TWO_TRIADS_D: usize = navkf_dynamics::strapdown::state::BASE_DIM + 6;
 
-/// The widest row, in chunks, whose stage rate [`Stage::run_any`] holds in a stack buffer
-/// (64 states with 4 lanes).
+/// How many chunks of a row's stage rate [`Stage::run_any`] holds in its stack buffer at once
+/// (64 states with 4 lanes); a wider row goes through it in pieces of this many.
 const ROW_CHUNKS: usize = 16;
 
 /// One RK4 stage of the tangent, fused: for every dynamic row `r`,
@@ -96,9 +97,9 @@ const ROW_CHUNKS: usize = 16;
 /// With the sizes known at compile time (`d` = 7, 16 or 19, up to 8 chunks per row) each
 /// row's rate `t` lives in registers. An exactly zero `F_a[r, m]` is skipped by one branch:
 /// the platform model's block has at most 27 nonzeros of 49, the other 22 zero whatever the
-/// state, so the branches are mostly the same from stage to stage and predicted. Skipping an exact zero
-/// leaves every sum as the dense product would make it while `y_in` is finite (a non-finite
-/// tangent is caught at the end of the step either way).
+/// state, so the branches are mostly the same from stage to stage and predicted. Skipping an
+/// exact zero leaves every sum as the dense product would make it while `y_in` is finite (a
+/// non-finite tangent is caught at the end of the step either way).
 /// (Measured slower, on an AVX-512 Zen 5: the dense product; two partial sums per row; all
 /// rows of one chunk at a time; `y_in` copied to locals first; outputs formed in registers
 /// rather than copied then added to; an index list of the nonzeros rebuilt at every stage.)

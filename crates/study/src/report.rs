@@ -1,6 +1,6 @@
 //! Human-readable tables of a summary (terminal and report.md), and `report.md` itself.
 
-use crate::summary::Summary;
+use crate::summary::{Summary, EQUIVALENCE_MARGIN};
 use navkf_report::markdown::{cell, number, Number, Table};
 use navkf_report::provenance::machine;
 use std::fmt::Write as _;
@@ -102,11 +102,10 @@ pub fn paired_table(s: &Summary) -> String {
         "relative",
         "verdict",
     ]);
-    let mut significant = 0;
+    let (mut excluding_zero, mut worse) = (0, 0);
     for d in &s.paired {
-        if d.significant() {
-            significant += 1;
-        }
+        excluding_zero += usize::from(d.excludes_zero());
+        worse += usize::from(d.significant());
         let pct = 100.0 * d.relative;
         // Below 0.1 % the fixed form would read +0.0 %: the exponent keeps the size.
         let rel = if !pct.is_finite() || pct.abs() >= 0.1 || pct == 0.0 {
@@ -126,11 +125,23 @@ pub fn paired_table(s: &Summary) -> String {
         ]);
     }
     out.push_str(&table.render());
+    let equal_but_nonzero = excluding_zero - worse;
+    let equal_note = if equal_but_nonzero > 0 {
+        format!(
+            "; {equal_but_nonzero} of them lie within {} % of `b`'s mean squared error and are \
+             called equal: the runs are paired, so they resolve differences far below any a \
+             user would choose a filter by",
+            100.0 * EQUIVALENCE_MARGIN
+        )
+    } else {
+        String::new()
+    };
     let _ = writeln!(
         out,
-        "\n{significant} of {} comparisons exclude zero at 95 % (about {:.1} would by chance alone if the filters were equal).",
+        "\n{excluding_zero} of {} comparisons exclude zero at 95 % (about {:.1} would by chance \
+         alone if the filters were equal){equal_note}.",
         s.paired.len(),
-        0.05 * s.paired.len() as f64
+        0.05 * s.paired.len() as f64,
     );
     out
 }

@@ -80,23 +80,45 @@ pub struct PairedDifference {
     pub ci95: [f64; 2],
     /// The difference relative to `b`'s mean squared error.
     pub relative: f64,
+    /// `b`'s mean squared error, the scale of [`EQUIVALENCE_MARGIN`] (NaN in summaries
+    /// written before the margin, which then give no `equal within` verdict).
+    #[serde(default = "not_known")]
+    pub b_mean_sq_err: f64,
 }
+
+fn not_known() -> f64 {
+    f64::NAN
+}
+
+/// Paired differences whose whole 95 % interval lies within this share of `b`'s mean
+/// squared error are called equal. The filters of one study see the same draws, so their
+/// paired difference is measured far more finely than either's RMS: a few hundred runs
+/// resolve shares of 1e-7, the rounding of two algebraically equal filters. 1 % of a mean
+/// squared error is 0.5 % of an RMS, below the RMS tables' own sampling error (about 3 % at
+/// 500 runs) and below any difference a user would choose a filter by.
+pub const EQUIVALENCE_MARGIN: f64 = 0.01;
 
 /// What a paired difference says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PairedVerdict {
     /// The interval is not finite (fewer than two runs where both finished).
     NoVerdict,
-    /// The 95 % interval holds zero.
+    /// The whole 95 % interval lies within [`EQUIVALENCE_MARGIN`] of `b`'s mean squared
+    /// error, whether or not it holds zero.
+    Equal,
+    /// The 95 % interval holds zero and reaches beyond the margin.
     NoSignificantDifference,
-    /// The interval is above zero: `a` has the larger squared error.
+    /// The interval is above zero and reaches beyond the margin: `a` has the larger
+    /// squared error.
     AWorse,
-    /// The interval is below zero: `b` has the larger squared error.
+    /// The interval is below zero and reaches beyond the margin: `b` has the larger
+    /// squared error.
     BWorse,
 }
 
 impl PairedDifference {
-    /// Whether the 95 % interval excludes zero (a NaN interval is no verdict, so `false`).
+    /// Whether one filter is worse by more than the margin could hold (a NaN interval is no
+    /// verdict, so `false`).
     pub fn significant(&self) -> bool {
         matches!(
             self.verdict(),
@@ -104,11 +126,38 @@ impl PairedDifference {
         )
     }
 
+    /// Whether the 95 % interval excludes zero, however small the difference.
+    pub fn excludes_zero(&self) -> bool {
+        let [lo, hi] = self.ci95;
+        lo > 0.0 || hi < 0.0
+    }
+
     /// What the 95 % interval says.
+    ///
+    /// ```
+    /// use navkf_study::summary::{PairedDifference, PairedVerdict};
+    /// let d = |ci95: [f64; 2]| PairedDifference {
+    ///     a: "ekf".into(),
+    ///     b: "standard_ukf".into(),
+    ///     coefficient: "Kg0x".into(),
+    ///     n: 500,
+    ///     mean_sq_err_diff: 0.5 * (ci95[0] + ci95[1]),
+    ///     ci95,
+    ///     relative: 0.5 * (ci95[0] + ci95[1]) / 4.0,
+    ///     b_mean_sq_err: 4.0,
+    /// };
+    /// // Significant, but 1e-6 of the mean squared error: equal.
+    /// assert_eq!(d([1e-6, 5e-6]).verdict(), PairedVerdict::Equal);
+    /// assert_eq!(d([0.01, 0.2]).verdict(), PairedVerdict::AWorse);
+    /// assert_eq!(d([-0.2, 0.01]).verdict(), PairedVerdict::NoSignificantDifference);
+    /// ```
     pub fn verdict(&self) -> PairedVerdict {
         let [lo, hi] = self.ci95;
+        let margin = EQUIVALENCE_MARGIN * self.b_mean_sq_err;
         if !(lo.is_finite() && hi.is_finite()) {
             PairedVerdict::NoVerdict
+        } else if -margin <= lo && hi <= margin {
+            PairedVerdict::Equal
         } else if lo > 0.0 {
             PairedVerdict::AWorse
         } else if hi < 0.0 {
@@ -118,10 +167,12 @@ impl PairedDifference {
         }
     }
 
-    /// The verdict in words, naming the filter: `ekf worse`, `no significant difference`.
+    /// The verdict in words, naming the filter: `ekf worse`, `equal within 1 %`,
+    /// `no significant difference`.
     pub fn verdict_words(&self) -> String {
         match self.verdict() {
             PairedVerdict::NoVerdict => "no verdict".into(),
+            PairedVerdict::Equal => format!("equal within {} %", 100.0 * EQUIVALENCE_MARGIN),
             PairedVerdict::NoSignificantDifference => "no significant difference".into(),
             PairedVerdict::AWorse => format!("{} worse", self.a),
             PairedVerdict::BWorse => format!("{} worse", self.b),
@@ -257,5 +308,66 @@ pub fn paired_difference(
         mean_sq_err_diff: mean,
         ci95: [mean - 1.96 * se, mean + 1.96 * se],
         relative: mean / msb,
+        b_mean_sq_err: msb,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn difference(ci95: [f64; 2], b_mean_sq_err: f64) -> PairedDifference {
+        let mean = 0.5 * (ci95[0] + ci95[1]);
+        PairedDifference {
+            a: "ekf".into(),
+            b: "standard_ukf".into(),
+            coefficient: "Kg0x".into(),
+            n: 200,
+            mean_sq_err_diff: mean,
+            ci95,
+            relative: mean / b_mean_sq_err,
+            b_mean_sq_err,
+        }
+    }
+
+    #[test]
+    fn the_margin_is_a_share_of_the_second_filters_mean_squared_error() {
+        // 1 % of 2.0 is 0.02: an interval up to it is equal, one reaching past is not.
+        assert_eq!(
+            difference([0.001, 0.02], 2.0).verdict(),
+            PairedVerdict::Equal
+        );
+        assert_eq!(
+            difference([0.001, 0.021], 2.0).verdict(),
+            PairedVerdict::AWorse
+        );
+        assert_eq!(
+            difference([-0.021, -0.001], 2.0).verdict(),
+            PairedVerdict::BWorse
+        );
+        assert_eq!(
+            difference([-0.02, 0.02], 2.0).verdict_words(),
+            "equal within 1 %"
+        );
+        assert_eq!(
+            difference([-0.03, 0.01], 2.0).verdict(),
+            PairedVerdict::NoSignificantDifference
+        );
+        assert!(difference([0.001, 0.02], 2.0).excludes_zero());
+        assert!(!difference([0.001, 0.02], 2.0).significant());
+        assert!(difference([0.001, 0.021], 2.0).significant());
+        let none = difference([f64::NAN, f64::NAN], 2.0);
+        assert_eq!(none.verdict(), PairedVerdict::NoVerdict);
+        assert!(!none.excludes_zero());
+    }
+
+    #[test]
+    fn a_summary_written_before_the_margin_keeps_its_verdicts() {
+        // No `b_mean_sq_err`: read as NaN, so no interval is called equal.
+        let json = r#"{"a":"ekf","b":"standard_ukf","coefficient":"Kg0x","n":200,
+            "mean_sq_err_diff":3e-6,"ci95":[1e-6,5e-6],"relative":1.5e-6}"#;
+        let d: PairedDifference = serde_json::from_str(json).unwrap();
+        assert!(d.b_mean_sq_err.is_nan());
+        assert_eq!(d.verdict(), PairedVerdict::AWorse);
     }
 }

@@ -5,7 +5,7 @@ use super::point_folder;
 use crate::error::StudyError;
 use crate::monte_carlo::{ExampleRun, Study};
 use crate::output::write_results;
-use crate::summary::{paired_difference, PairedDifference, Summary};
+use crate::summary::{paired_difference, PairedDifference, Summary, EQUIVALENCE_MARGIN};
 use crate::tally::Tally;
 use navkf_dynamics::state::PHI_Z;
 use navkf_filters::DivergenceCause;
@@ -307,7 +307,10 @@ pub fn markdown(s: &SweepSummary, command: &str, figures: &[FigureOutcome]) -> S
         out,
         "## Paired differences of the final heading error\n\nMean over runs of \
          `e_a^2 - e_b^2` (rad^2) with its 95 % confidence interval, and relative to `b`'s mean \
-         squared error; significant where the interval excludes zero.\n"
+         squared error. The verdict is a study report's: a filter is worse where the \
+         interval excludes zero and reaches beyond {margin} % of `b`'s mean squared error, \
+         and the two are equal within {margin} % where the whole interval lies inside.\n",
+        margin = 100.0 * EQUIVALENCE_MARGIN
     );
     let mut heading = Table::new([
         s.key.as_str(),
@@ -316,7 +319,7 @@ pub fn markdown(s: &SweepSummary, command: &str, figures: &[FigureOutcome]) -> S
         "mean difference",
         "95 % CI",
         "relative",
-        "significant",
+        "verdict",
     ]);
     for p in &s.points {
         for d in &p.paired_heading {
@@ -331,7 +334,7 @@ pub fn markdown(s: &SweepSummary, command: &str, figures: &[FigureOutcome]) -> S
                     number(d.ci95[1], Number::Sci(3))
                 ),
                 number(d.relative, Number::SignedPercent(2)),
-                if d.significant() { "yes" } else { "no" }.into(),
+                d.verdict_words(),
             ]);
         }
     }
@@ -339,10 +342,17 @@ pub fn markdown(s: &SweepSummary, command: &str, figures: &[FigureOutcome]) -> S
     let _ = writeln!(
         out,
         "\n## Paired differences of the coefficients\n\nPer point, how many of the paired \
-         tests (pairs of filters x coefficients) find a significant difference, and the \
-         largest relative one.\n"
+         tests (pairs of filters x coefficients) find one filter worse by more than \
+         {margin} % of the other's mean squared error, how many more exclude zero within \
+         that margin, and the largest relative difference of the first kind.\n",
+        margin = 100.0 * EQUIVALENCE_MARGIN
     );
-    let mut coefficients = Table::new([s.key.as_str(), "significant / tests", "largest relative"]);
+    let mut coefficients = Table::new([
+        s.key.as_str(),
+        "worse / tests",
+        "equal but excluding zero",
+        "largest relative",
+    ]);
     for p in &s.points {
         let sig: Vec<&PairedDifference> = p.paired.iter().filter(|d| d.significant()).collect();
         let largest = sig
@@ -357,9 +367,15 @@ pub fn markdown(s: &SweepSummary, command: &str, figures: &[FigureOutcome]) -> S
                     number(d.relative, Number::SignedPercent(2))
                 )
             });
+        let equal_but_nonzero = p
+            .paired
+            .iter()
+            .filter(|d| d.excludes_zero() && !d.significant())
+            .count();
         coefficients.row([
             format!("{:e}", p.value),
             format!("{} / {}", sig.len(), p.paired.len()),
+            equal_but_nonzero.to_string(),
             largest,
         ]);
     }

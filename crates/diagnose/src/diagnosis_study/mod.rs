@@ -106,11 +106,14 @@ pub enum OutsideEffect {
     Drag,
     /// [`navkf_dynamics::outside::AccelWarmUp`].
     AccelWarmUp,
-    /// GPS multipath ([`navkf_dynamics::sensor_faults::SensorFault::GpsStep`]): fixes off by metres for minutes.
+    /// GPS multipath ([`navkf_dynamics::sensor_faults::SensorFault::GpsStep`]): fixes off
+    /// by metres for minutes.
     GpsStep,
-    /// Wheel slip while accelerating ([`navkf_dynamics::sensor_faults::SensorFault::OdometerSlip`]).
+    /// Wheel slip while accelerating
+    /// ([`navkf_dynamics::sensor_faults::SensorFault::OdometerSlip`]).
     OdometerSlip,
-    /// A GPS antenna away from the platform ([`navkf_dynamics::sensor_faults::SensorFault::GpsLeverArm`]).
+    /// A GPS antenna away from the platform
+    /// ([`navkf_dynamics::sensor_faults::SensorFault::GpsLeverArm`]).
     GpsLeverArm,
 }
 

@@ -100,7 +100,8 @@ pub struct TurnProfile {
     pub turning_time: f64,
     /// `turning_time` as a fraction of the span.
     pub turning_fraction: f64,
-    /// What the force's two axes are, in words ([`super::family::FamilyFiles::planar_force_words`]).
+    /// What the force's two axes are, in words
+    /// ([`super::family::FamilyFiles::planar_force_words`]).
     #[serde(skip)]
     pub force_words: &'static str,
 }

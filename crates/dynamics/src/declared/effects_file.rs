@@ -27,9 +27,9 @@ pub struct DeclaredFile {
 impl DeclaredFile {
     /// Reads `path` and checks its declarations against the catalogue of their family: the
     /// first other than the default whose terms a declaration states (the strapdown's
-    /// `places`; [`crate::dataset::FamilyFiles::states_own_terms`]), the default family's otherwise. A file
-    /// mixing two families' terms is refused by the check of the one found, at the key of
-    /// the first term of the other.
+    /// `places`; [`crate::dataset::FamilyFiles::states_own_terms`]), the default family's
+    /// otherwise. A file mixing two families' terms is refused by the check of the one
+    /// found, at the key of the first term of the other.
     pub fn read(path: &Path) -> Result<DeclaredFile, DynamicsError> {
         let declarations = read_declarations(path)?;
         let states = |kind: ModelKind| {

@@ -68,6 +68,37 @@ fn the_manoeuvre_study_drives_its_own_test_and_hides_the_four_effects_it_names()
     assert_eq!(planned.len(), 170);
 }
 
+/// The detection study measures the limits of the error-rate study's drives on more of them:
+/// it is that study's file in every section but `[study]` and `[[content]]`, and hides each
+/// catalogued effect alone on 100 drives (README's limits are its).
+#[test]
+fn the_detection_study_is_the_error_rate_study_with_100_drives_per_effect() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../studies/strapdown-detection.toml"
+    );
+    let detection = DiagnosisStudyConfig::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let mut same = committed();
+    same.study = detection.study.clone();
+    same.content = detection.content.clone();
+    assert_eq!(same, detection, "only [study] and [[content]] differ");
+    assert_ne!(
+        detection.study.seed,
+        committed().study.seed,
+        "draws of its own"
+    );
+    let planned = plan(&detection).unwrap();
+    let registry = StrapdownRegistry::catalogue();
+    for name in registry.names() {
+        let singles = planned
+            .iter()
+            .filter(|p| p.class == Class::Single && p.hidden[0].effect() == Some(name))
+            .count();
+        assert_eq!(singles, 100, "{name}");
+    }
+    assert_eq!(planned.len(), 100 * registry.names().len());
+}
+
 #[test]
 fn the_committed_study_hides_every_effect_and_300_things_outside_the_catalogue() {
     let config = committed();

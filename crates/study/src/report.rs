@@ -128,10 +128,16 @@ pub fn paired_table(s: &Summary) -> String {
     let equal_but_nonzero = excluding_zero - worse;
     let equal_note = if equal_but_nonzero > 0 {
         format!(
-            "; {equal_but_nonzero} of them lie within {} % of `b`'s mean squared error and are \
+            "; {equal_but_nonzero} of them {} within {} % of `b`'s mean squared error and {} \
              called equal: the runs are paired, so they resolve differences far below any a \
              user would choose a filter by",
-            100.0 * EQUIVALENCE_MARGIN
+            if equal_but_nonzero == 1 {
+                "lies"
+            } else {
+                "lie"
+            },
+            100.0 * EQUIVALENCE_MARGIN,
+            if equal_but_nonzero == 1 { "is" } else { "are" },
         )
     } else {
         String::new()

@@ -99,6 +99,36 @@ fn the_detection_study_is_the_error_rate_study_with_100_drives_per_effect() {
     assert_eq!(planned.len(), 100 * registry.names().len());
 }
 
+/// Likewise the stop-and-go drive's detection study: `strapdown-manoeuvres.toml` but for
+/// `[study]` and `[[content]]`, and the three effects a stop-and-go drive might reveal, each
+/// alone on 100 drives.
+#[test]
+fn the_stop_and_go_detection_study_is_the_manoeuvre_study_with_100_drives_per_effect() {
+    let read = |name: &str| {
+        let path = format!("{}/../../studies/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+        DiagnosisStudyConfig::parse(&std::fs::read_to_string(path).unwrap()).unwrap()
+    };
+    let detection = read("strapdown-manoeuvres-detection");
+    let mut same = read("strapdown-manoeuvres");
+    assert_ne!(detection.study.seed, same.study.seed, "draws of its own");
+    same.study = detection.study.clone();
+    same.content = detection.content.clone();
+    assert_eq!(same, detection, "only [study] and [[content]] differ");
+    let planned = plan(&detection).unwrap();
+    for effect in [
+        "accel-misalignment",
+        "gyro-g-sensitivity",
+        "accel-bias-instability",
+    ] {
+        let singles = planned
+            .iter()
+            .filter(|p| p.class == Class::Single && p.hidden[0].effect() == Some(effect))
+            .count();
+        assert_eq!(singles, 100, "{effect}");
+    }
+    assert_eq!(planned.len(), 300);
+}
+
 #[test]
 fn the_committed_study_hides_every_effect_and_300_things_outside_the_catalogue() {
     let config = committed();

@@ -8,6 +8,7 @@ use navkf_diagnose::diagnosis_study::DiagnosisStudyConfig;
 use navkf_dynamics::strapdown::effects::StrapdownRegistry;
 use navkf_dynamics::strapdown::unit_class::UnitClass;
 use navkf_dynamics::{ModelKind, Trajectory};
+use std::collections::BTreeMap;
 use std::sync::Arc;
 
 const HEAD: &str = r#"
@@ -27,21 +28,39 @@ fn parse(rest: &str) -> Result<DiagnosisStudyConfig, String> {
     DiagnosisStudyConfig::parse(&format!("{HEAD}{rest}"))
 }
 
-fn committed() -> DiagnosisStudyConfig {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../studies/strapdown-diagnosis.toml"
-    );
+/// The committed study file `studies/NAME.toml`.
+fn study_file(name: &str) -> DiagnosisStudyConfig {
+    let path = format!("{}/../../studies/{name}.toml", env!("CARGO_MANIFEST_DIR"));
     DiagnosisStudyConfig::parse(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn committed() -> DiagnosisStudyConfig {
+    study_file("strapdown-diagnosis")
+}
+
+/// A detection study is `base` with its own `[study]` (another seed) and `[[content]]`: the
+/// same drives, unit, noise and rules, more of them per effect. Returns its datasets'
+/// single-effect count per effect.
+fn detection_study_of(base: &str, detection: &str) -> (usize, BTreeMap<String, usize>) {
+    let detection = study_file(detection);
+    let mut same = study_file(base);
+    assert_ne!(detection.study.seed, same.study.seed, "draws of its own");
+    same.study = detection.study.clone();
+    same.content = detection.content.clone();
+    assert_eq!(same, detection, "only [study] and [[content]] differ");
+    let planned = plan(&detection).unwrap();
+    let mut singles = BTreeMap::new();
+    for p in planned.iter().filter(|p| p.class == Class::Single) {
+        *singles
+            .entry(p.hidden[0].effect().unwrap().to_string())
+            .or_insert(0) += 1;
+    }
+    (planned.len(), singles)
 }
 
 #[test]
 fn the_manoeuvre_study_drives_its_own_test_and_hides_the_four_effects_it_names() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../studies/strapdown-manoeuvres.toml"
-    );
-    let config = DiagnosisStudyConfig::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let config = study_file("strapdown-manoeuvres");
     assert_eq!(config.model.kind, ModelKind::Strapdown);
     assert_eq!(
         config.trajectory.segments.len(),
@@ -73,30 +92,12 @@ fn the_manoeuvre_study_drives_its_own_test_and_hides_the_four_effects_it_names()
 /// catalogued effect alone on 100 drives (README's limits are its).
 #[test]
 fn the_detection_study_is_the_error_rate_study_with_100_drives_per_effect() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../studies/strapdown-detection.toml"
-    );
-    let detection = DiagnosisStudyConfig::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
-    let mut same = committed();
-    same.study = detection.study.clone();
-    same.content = detection.content.clone();
-    assert_eq!(same, detection, "only [study] and [[content]] differ");
-    assert_ne!(
-        detection.study.seed,
-        committed().study.seed,
-        "draws of its own"
-    );
-    let planned = plan(&detection).unwrap();
+    let (datasets, singles) = detection_study_of("strapdown-diagnosis", "strapdown-detection");
     let registry = StrapdownRegistry::catalogue();
     for name in registry.names() {
-        let singles = planned
-            .iter()
-            .filter(|p| p.class == Class::Single && p.hidden[0].effect() == Some(name))
-            .count();
-        assert_eq!(singles, 100, "{name}");
+        assert_eq!(singles.get(name), Some(&100), "{name}");
     }
-    assert_eq!(planned.len(), 100 * registry.names().len());
+    assert_eq!(datasets, 100 * registry.names().len());
 }
 
 /// Likewise the stop-and-go drive's detection study: `strapdown-manoeuvres.toml` but for
@@ -104,29 +105,17 @@ fn the_detection_study_is_the_error_rate_study_with_100_drives_per_effect() {
 /// alone on 100 drives.
 #[test]
 fn the_stop_and_go_detection_study_is_the_manoeuvre_study_with_100_drives_per_effect() {
-    let read = |name: &str| {
-        let path = format!("{}/../../studies/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-        DiagnosisStudyConfig::parse(&std::fs::read_to_string(path).unwrap()).unwrap()
-    };
-    let detection = read("strapdown-manoeuvres-detection");
-    let mut same = read("strapdown-manoeuvres");
-    assert_ne!(detection.study.seed, same.study.seed, "draws of its own");
-    same.study = detection.study.clone();
-    same.content = detection.content.clone();
-    assert_eq!(same, detection, "only [study] and [[content]] differ");
-    let planned = plan(&detection).unwrap();
-    for effect in [
+    let (datasets, singles) =
+        detection_study_of("strapdown-manoeuvres", "strapdown-manoeuvres-detection");
+    let expected: BTreeMap<String, usize> = [
         "accel-misalignment",
         "gyro-g-sensitivity",
         "accel-bias-instability",
-    ] {
-        let singles = planned
-            .iter()
-            .filter(|p| p.class == Class::Single && p.hidden[0].effect() == Some(effect))
-            .count();
-        assert_eq!(singles, 100, "{effect}");
-    }
-    assert_eq!(planned.len(), 300);
+    ]
+    .map(|e| (e.to_string(), 100))
+    .into();
+    assert_eq!(singles, expected);
+    assert_eq!(datasets, 300);
 }
 
 #[test]

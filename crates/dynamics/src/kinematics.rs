@@ -47,6 +47,12 @@ pub fn platform_input(f: SpecificForce) -> Input {
     [f[0], f[1], f[2], 0.0, 0.0, 0.0]
 }
 
+/// Where a platform input may carry the seconds since its record started
+/// ([`Kinematics::elapsed_s`]). Recorded and simulated inputs leave it zero; the diagnosis
+/// writes the time there on its own copy of a dataset when it fits a term shaped in time (an
+/// accelerometer bias settling after switch-on), which no catalogued effect is.
+pub const ELAPSED_SLOT: usize = 3;
+
 /// Trigonometry, radii and rates at one state, with their derivatives in latitude (for
 /// Jacobians). Field names follow `docs/model.md`: `w_cmd` is the rate the platform is
 /// torqued at.
@@ -89,6 +95,9 @@ pub struct Kinematics<T = f64> {
     pub d_tan_over_rn: T,
     /// `[-v_y/RM, wie cosL + v_x/RN, wie sinL + v_x tanL/RN]`, rad/s: docs/model.md eq. (7).
     pub w_cmd: [T; 3],
+    /// The input's [`ELAPSED_SLOT`]: seconds since the record started where the caller put
+    /// them there, zero otherwise. The same for every lane of a batch.
+    pub elapsed_s: f64,
 }
 
 impl Kinematics<f64> {
@@ -166,6 +175,7 @@ impl<T: Real> Kinematics<T> {
                 cos_l * WIE + v_x * inv_rn,
                 sin_l * WIE + v_x * tan_over_rn,
             ],
+            elapsed_s: f[ELAPSED_SLOT],
         }
     }
 }

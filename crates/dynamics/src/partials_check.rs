@@ -86,13 +86,17 @@ pub fn random_state(model: &PlatformModel, rng: &mut ChaCha8Rng) -> Vec<f64> {
     x
 }
 
-/// A realistic specific force: up to 2 m/s^2 horizontally, ~9.8 vertically.
+/// A realistic specific force: up to 2 m/s^2 horizontally, ~9.8 vertically; and a time
+/// since the record started, up to an hour ([`crate::kinematics::ELAPSED_SLOT`]), for terms
+/// shaped in time.
 pub fn random_input(rng: &mut ChaCha8Rng) -> Input {
-    platform_input([
+    let mut u = platform_input([
         rng.gen_range(-2.0..2.0),
         rng.gen_range(-2.0..2.0),
         9.8 + rng.gen_range(-0.1..0.1),
-    ])
+    ]);
+    u[crate::kinematics::ELAPSED_SLOT] = rng.gen_range(0.0..3600.0);
+    u
 }
 
 /// Finite-difference steps, one per kind of state.

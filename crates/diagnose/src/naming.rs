@@ -18,8 +18,9 @@
 //! share of its signature and, once in, bury it; but not while a noise-only term set aside for
 //! the misfit it leaves explains as much as the levels, which are then not the best account of
 //! what is missing. A noise-only term must also beat a
-//! walk of the other sensor, outside the catalogue ([`crate::rivals`]): if that fits as well,
-//! the data cannot say which sensor carries the drift.
+//! walk of the other sensor and a settling accelerometer bias, outside the catalogue
+//! ([`crate::rivals`]): if either fits as well, the data cannot say which sensor carries the
+//! drift.
 //!
 //! **No stand-ins.** When the misfit is explained decisively better by a candidate that
 //! cannot be named (its coefficients confounded, or its values no real sensor's), nothing is
@@ -45,9 +46,11 @@ use crate::candidates::evidence::{
 use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use crate::fit::density::{fit_density, DensityFit};
-use crate::fit::pass::Fit;
+use crate::fit::pass::{marginal_states, Fit};
+use crate::fit::time_constant::fit_time_constant;
 use crate::noise::{CheckMemo, Theta};
 use crate::options::Options;
+use crate::rivals::with_elapsed_time;
 use navkf_dynamics::dataset::Dataset;
 use navkf_filters::FilterSpec;
 
@@ -191,8 +194,9 @@ fn best_nameable_structured(cands: &[Candidate]) -> Option<usize> {
 }
 
 /// Whether a random walk of the accelerometer biases ([`AccelBiasWalk`], outside the
-/// catalogue) fits the model as well as the noise-only candidate `chosen`; if so, the note
-/// that says why `chosen` is not named.
+/// catalogue), or else their settling after switch-on ([`settling_note`]), fits the model as
+/// well as the noise-only candidate `chosen`; if so, the note that says why `chosen` is not
+/// named.
 fn rival_note(
     ds: &Dataset,
     model: &Fit,
@@ -211,7 +215,7 @@ fn rival_note(
     // Same priors, one density each: the marginal likelihoods compare directly.
     let gain = 2.0 * (chosen.fit.loglik - rival.loglik);
     if rival.failure.is_none() && gain < DECISIVE_BIC {
-        Ok(Some(format!(
+        return Ok(Some(format!(
             "`{}` would make the model consistent, but a random walk of the accelerometer \
              biases (density {q:.1e} (m/s^2)^2/s, not in the catalogue) fits as well (twice \
              the log-likelihood difference {gain:.1}, below {}): a slow drift is there, but the \
@@ -219,10 +223,58 @@ fn rival_note(
              sensor or a walk of either sensor would all look like this; a gyro walk shows in \
              the heading too, so a longer test with turns tells them apart.",
             chosen.candidate.effect, DECISIVE_BIC
-        )))
-    } else {
-        Ok(None)
+        )));
     }
+    settling_note(ds, model, chosen, catalogue, filter)
+}
+
+/// Whether the accelerometer biases settling after switch-on ([`crate::rivals::AccelSettling`], outside
+/// the catalogue) explain the misfit as well as the noise-only candidate `chosen`, on the
+/// BIC: the walk fits one parameter, its density, and the settling three, its amplitudes and
+/// its time constant. If so, the note that says why `chosen` is not named.
+fn settling_note(
+    ds: &Dataset,
+    model: &Fit,
+    chosen: &Evaluated,
+    catalogue: &dyn Catalogue,
+    filter: &FilterSpec,
+) -> Result<Option<String>, DiagnoseError> {
+    let Some((with_settling, name)) = catalogue.with_settling_rival() else {
+        return Ok(None);
+    };
+    let timed = with_elapsed_time(ds);
+    let settling = fit_time_constant(&timed, model, name, &*with_settling, filter)?;
+    if settling.fit.failure.is_some() || chosen.fit.failure.is_some() {
+        return Ok(None);
+    }
+    let keep = marginal_states(&chosen.fit, &settling.fit);
+    let ln_n = (model.measurement_count().max(1) as f64).ln();
+    let gain =
+        2.0 * (chosen.fit.profile_loglik(&keep) - settling.fit.profile_loglik(&keep)) + 2.0 * ln_n;
+    if gain >= DECISIVE_BIC {
+        return Ok(None);
+    }
+    let amplitude = |axis: &str| {
+        let f = &settling.fit;
+        f.names
+            .iter()
+            .position(|n| n == axis)
+            .map_or(f64::NAN, |i| f.x[i])
+    };
+    Ok(Some(format!(
+        "`{}` would make the model consistent, but horizontal accelerometer biases settling \
+         after switch-on (by {:.1e} and {:.1e} m/s^2 East and North, time constant {:.0} s, \
+         not in the catalogue) explain the misfit as well (BIC difference {gain:.1}, below \
+         {}, the walk charged for its density and the settling for its amplitudes and time \
+         constant): a slow drift is there, but the data cannot say that the gyros carry it. It \
+         is not named. A unit still warming up looks like this; start the test after the \
+         warm-up, or record the sensors' temperature.",
+        chosen.candidate.effect,
+        amplitude("settle_ax"),
+        amplitude("settle_ay"),
+        settling.time_constant_s,
+        DECISIVE_BIC
+    )))
 }
 
 /// Whether the structured rival of `chosen` outside the catalogue

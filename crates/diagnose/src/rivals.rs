@@ -1,5 +1,6 @@
 //! Explanations outside the catalogue that a candidate must beat before it is named: a walk
-//! of the other sensor for a noise-only term, and a GPS antenna away from the platform for a
+//! of the other sensor and, on the platform, accelerometer biases settling after switch-on
+//! ([`AccelSettling`]) for a noise-only term, and a GPS antenna away from the platform for a
 //! latency ([`GpsAntennaOffset`]).
 //!
 //! A noise-only term fitted by maximum likelihood can soak up any slow misfit: a random walk
@@ -11,10 +12,14 @@
 //! diagnosis fits the same walk on the accelerometer biases ([`AccelBiasWalk`], not in the
 //! catalogue, never named), and names the gyro walk only if it fits decisively better. When
 //! it does not, the report says that a slow drift is there and that the data cannot say
-//! where it comes from.
+//! where it comes from. A walk also follows a bias that changes along a smooth curve, as an
+//! instrument warming up does, and the accelerometer walk does not always fit that as well;
+//! so the settling itself is fitted too, and the gyro walk must beat it on the BIC.
 
+mod accel_settling;
 mod gps_antenna_offset;
 
+pub use accel_settling::{with_elapsed_time, AccelSettling};
 pub use gps_antenna_offset::GpsAntennaOffset;
 
 use navkf_dynamics::effect::Terms;

@@ -326,3 +326,26 @@ fn a_true_walk_is_not_withdrawn_for_the_drift_it_has_already_made() {
         );
     }
 }
+
+/// An accelerometer warming up (its horizontal biases settling over 7-20 minutes) is not
+/// named a gyro bias walk: on a platform the tilt holds such a bias off, the velocity shows it
+/// as a changing gyro drift would, and a walk of the drifts follows it. These drives of the
+/// committed study (settled changes of 0.7-7 times 50 micro-g) named `gyro-bias-walk`,
+/// `explained`, until the settling itself was fitted as the walk's rival
+/// (`rivals::AccelSettling`).
+#[test]
+fn an_accelerometer_warming_up_is_not_named_a_gyro_walk() {
+    use navkf_diagnose::diagnosis_study::run;
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../studies/diagnosis.toml");
+    let config = DiagnosisStudyConfig::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
+    for index in [928, 963, 975] {
+        let record = run(&config, Some(index..index + 1), &|_| {})
+            .unwrap()
+            .remove(0);
+        assert!(
+            matches!(record.hidden.as_slice(), [Hidden::AccelWarmUp { .. }]),
+            "{index}: {record:?}"
+        );
+        assert!(record.named.is_empty(), "{index}: {record:?}");
+    }
+}

@@ -158,6 +158,13 @@ pub trait Catalogue: Send + Sync + std::fmt::Debug {
     /// accelerometer biases, outside the catalogue) and that rival's name and typical
     /// density; `None` when the family has none.
     fn with_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str, f64)>;
+    /// The catalogue with the settling rival of a noise-only candidate added (the
+    /// accelerometer biases settling after switch-on, outside the catalogue, a function of
+    /// time: [`crate::rivals::AccelSettling`]) and that rival's name; `None` when the family
+    /// has none.
+    fn with_settling_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str)> {
+        None
+    }
     /// The catalogue with the structured rival of `effect` added (an explanation outside
     /// the catalogue that looks like it on a common trajectory: a GPS antenna away from the
     /// platform for `gps-latency`) and that rival's name; `None` when `effect` has none.

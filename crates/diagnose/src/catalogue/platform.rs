@@ -5,7 +5,7 @@
 use super::{first_full_measurement, Catalogue, Channel, ChannelKind, EffectInfo, Start};
 use crate::consistency::classify;
 use crate::error::DiagnoseError;
-use crate::rivals::{AccelBiasWalk, GpsAntennaOffset};
+use crate::rivals::{AccelBiasWalk, AccelSettling, GpsAntennaOffset};
 use navkf_dynamics::dataset::{Dataset, Measurement};
 use navkf_dynamics::prior::{base_coefficient_sigma, default_azimuth_rad, default_level_rad};
 use navkf_dynamics::state::*;
@@ -164,5 +164,10 @@ impl Catalogue for Registry {
             AccelBiasWalk::NAME,
             AccelBiasWalk::DEFAULT_PSD,
         ))
+    }
+    fn with_settling_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str)> {
+        let mut registry = self.clone();
+        registry.register(|| Box::new(AccelSettling::default()));
+        Some((Box::new(registry), AccelSettling::NAME))
     }
 }

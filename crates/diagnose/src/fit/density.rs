@@ -108,10 +108,14 @@ pub fn best_on_grid(values: &[f64]) -> usize {
 /// curvature gives, both in decades. `None` at the grid's edge, or where the likelihood is
 /// not curved down there.
 pub fn parabola_vertex(values: &[f64], best: usize) -> Option<(f64, f64)> {
+    vertex_on_grid(values, best, f64::from(DENSITY_STEP))
+}
+
+/// As [`parabola_vertex`], on any grid of points `h` apart (offset and error in its units).
+pub fn vertex_on_grid(values: &[f64], best: usize, h: f64) -> Option<(f64, f64)> {
     if best == 0 || best + 1 >= values.len() {
         return None;
     }
-    let h = f64::from(DENSITY_STEP);
     let (l, c, r) = (values[best - 1], values[best], values[best + 1]);
     let curvature = (l - 2.0 * c + r) / (h * h);
     if curvature < 0.0 && l.is_finite() && r.is_finite() {

@@ -7,6 +7,8 @@
 //! - [`widening`]: a pass repeated with wider priors where the data pull a coefficient beyond
 //!   its prior, kept only if the evidence rises, so that a prior does not cap what is found.
 //! - [`density`]: the density of a noise-only term, by maximum likelihood over passes.
+//! - [`time_constant`]: the same for a rival's time constant (a bias settling after
+//!   switch-on).
 //!
 //! None of them knows about rounds, candidates or verdicts: they answer "how well does this
 //! model fit", and the steps of [`crate::rounds`] ask it.
@@ -14,6 +16,7 @@
 pub mod density;
 pub mod pass;
 pub mod setup;
+pub mod time_constant;
 pub mod widening;
 
 pub use density::{fit_density, DensityFit};

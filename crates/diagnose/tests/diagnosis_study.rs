@@ -332,7 +332,10 @@ fn a_true_walk_is_not_withdrawn_for_the_drift_it_has_already_made() {
 /// as a changing gyro drift would, and a walk of the drifts follows it. These drives of the
 /// committed study (settled changes of 0.7-7 times 50 micro-g) named `gyro-bias-walk`,
 /// `explained`, until the settling itself was fitted as the walk's rival
-/// (`rivals::AccelSettling`).
+/// (`rivals::AccelSettling`). Nor is the drift passed off as noise: with the walk refused,
+/// they ended `consistent` with the gyro noise refitted at 3-10 times the level the data
+/// were made with, until levels were no longer named for a drift that beats them
+/// (`naming::drift_beyond_levels`).
 #[test]
 fn an_accelerometer_warming_up_is_not_named_a_gyro_walk() {
     use navkf_diagnose::diagnosis_study::run;
@@ -347,5 +350,11 @@ fn an_accelerometer_warming_up_is_not_named_a_gyro_walk() {
             "{index}: {record:?}"
         );
         assert!(record.named.is_empty(), "{index}: {record:?}");
+        assert!(!record.noise_named, "{index}: {record:?}");
+        assert_eq!(
+            record.verdict,
+            Some(navkf_diagnose::Verdict::Unexplained),
+            "{index}: {record:?}"
+        );
     }
 }

@@ -77,9 +77,14 @@ pub enum Outcome {
     /// adds to them decisively when they are refitted beside it: the effect is named first
     /// ([`crate::candidates::beside_noise`]).
     NoiseAfterStructure,
-    /// A noise-only term that a walk of another sensor, outside the catalogue, explains as
-    /// well ([`crate::rivals`]).
+    /// A noise-only term that a drift outside the catalogue (a walk of the other sensor, or
+    /// accelerometer biases settling) explains as well ([`crate::rivals`]).
     NoiseNotSpecific,
+    /// The refitted noise levels, chosen only because the noise-only term that explains the
+    /// misfit decisively better is [`Outcome::NoiseNotSpecific`]: a slow drift is there, and
+    /// levels refitted for it would misstate the sensors' noise ([`crate::naming`]). Not
+    /// named.
+    NoiseLevelsBelowDrift,
     /// The filter failed with it.
     Failed,
     /// Decisive, but its fitted values are no real sensor's ([`Candidate::beyond_bounds`]).
@@ -108,7 +113,8 @@ impl std::fmt::Display for Outcome {
             Outcome::NoiseLeavesMisfit => "noise term, leaves misfit",
             Outcome::NoiseAsGoodAsStructure => "noise term, no better than structure",
             Outcome::NoiseAfterStructure => "noise levels, after the effect that adds to them",
-            Outcome::NoiseNotSpecific => "noise term, no better than another sensor's walk",
+            Outcome::NoiseNotSpecific => "noise term, a drift outside the catalogue fits as well",
+            Outcome::NoiseLevelsBelowDrift => "noise levels, a slow drift fits decisively better",
             Outcome::Failed => "filter failed",
             Outcome::Unphysical => "decisive, but no real sensor's: not named",
             Outcome::LooksLikeOutside => {

@@ -2,7 +2,7 @@
 //! made from the typed result last ([`crate::rounds`]) and kept in `diagnosis.json`.
 
 use super::sentences::{
-    consistency_findings, failing_channels_and_phases, implausible_findings,
+    consistency_findings, drift_instead, failing_channels_and_phases, implausible_findings,
     indistinguishable_instead, looks_like_outside_instead, noise_findings, refusal_findings,
     small_angle_instead, unphysical_instead,
 };
@@ -360,6 +360,7 @@ fn why_nothing_named(d: &Diagnosis) -> Option<String> {
         .map(|c| format!("`{}`", c.effect))
         .collect();
     small_angle_instead(last)
+        .or_else(|| drift_instead(last))
         .or_else(|| looks_like_outside_instead(last))
         .or_else(|| indistinguishable_instead(last))
         .or_else(|| unphysical_instead(last))

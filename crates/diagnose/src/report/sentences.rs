@@ -260,3 +260,22 @@ pub fn looks_like_outside_instead(last: &[Candidate]) -> Option<String> {
         )
     })
 }
+
+/// When the last round set aside a noise-only term that explains the misfit decisively
+/// because a drift outside the catalogue fits as well, and with it the noise levels
+/// ([`crate::naming`]): why nothing is named (instead of "none has decisive evidence").
+pub fn drift_instead(last: &[Candidate]) -> Option<String> {
+    let drift = quoted_with(last, Outcome::NoiseNotSpecific);
+    let below = last
+        .iter()
+        .any(|c| c.outcome == Outcome::NoiseLevelsBelowDrift);
+    (below && !drift.is_empty()).then(|| {
+        format!(
+            "No catalogued effect can be named: a slow drift explains the misfit decisively \
+             better than refitted noise, but {} and a drift outside the catalogue explain it \
+             as well (above), so the data cannot say which sensor drifts: a sensor warming up, \
+             a temperature change or a walk of either sensor would look like this.",
+            drift.join(" and ")
+        )
+    })
+}

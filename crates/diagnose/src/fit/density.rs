@@ -41,28 +41,14 @@ pub fn fit_density(
         )
     };
     let grid = density_grid();
-    let mut tried = grid
-        .par_iter()
-        .map(|&d| at(d).map(|(v, f)| (d, v, f)))
-        .collect::<Result<Vec<_>, _>>()?;
-    let values: Vec<f64> = tried.iter().map(|t| t.1).collect();
-    let best = best_on_grid(&values);
-    if let Some((offset, _)) = parabola_vertex(&values, best) {
-        let d = grid[best] + offset;
-        let (v, f) = at(d)?;
-        tried.push((d, v, f));
-    }
-    let profile = tried.iter().map(|t| (t.0, t.1)).collect();
-    let (decade, _, fit) = tried
-        .into_iter()
-        .max_by(|a, b| a.1.total_cmp(&b.1))
-        .ok_or_else(|| DiagnoseError::Data("empty density grid".into()))?;
+    let found = max_on_grid(&grid, f64::from(DENSITY_STEP), at)?;
+    let decade = found.arg;
     Ok(DensityFit {
-        fit,
+        fit: found.fit,
         density: typical * 10f64.powf(decade),
         decade,
-        at_lower_edge: best == 0,
-        profile,
+        at_lower_edge: found.best_on_grid == 0,
+        profile: found.profile,
     })
 }
 
@@ -124,6 +110,56 @@ pub fn vertex_on_grid(values: &[f64], best: usize, h: f64) -> Option<(f64, f64)>
     } else {
         None
     }
+}
+
+/// The maximum over a one-parameter grid of a fit's profile log-likelihood, refined at the
+/// vertex of the parabola through the grid's best point and its neighbours.
+pub struct GridMax {
+    /// The parameter at the maximum.
+    pub arg: f64,
+    /// The fit there.
+    pub fit: Fit,
+    /// Its profile log-likelihood.
+    pub loglik: f64,
+    /// Index of the best grid point (before the refinement).
+    pub best_on_grid: usize,
+    /// Every point tried, as (parameter, profile log-likelihood): the grid's in its order,
+    /// then the refinement's, if any.
+    pub profile: Vec<(f64, f64)>,
+}
+
+/// The maximum of `at` (a parameter's profile log-likelihood and its fit) over `grid`, whose
+/// points are `h` apart, evaluated in parallel (the result does not depend on the thread
+/// count), then refined once at the vertex of the parabola through the best point and its
+/// neighbours ([`vertex_on_grid`]). Of equal maxima, the last tried is taken.
+pub fn max_on_grid(
+    grid: &[f64],
+    h: f64,
+    at: impl Fn(f64) -> Result<(f64, Fit), DiagnoseError> + Sync,
+) -> Result<GridMax, DiagnoseError> {
+    let mut tried = grid
+        .par_iter()
+        .map(|&d| at(d).map(|(v, f)| (d, v, f)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let values: Vec<f64> = tried.iter().map(|t| t.1).collect();
+    let best = best_on_grid(&values);
+    if let Some((offset, _)) = vertex_on_grid(&values, best, h) {
+        let d = grid[best] + offset;
+        let (v, f) = at(d)?;
+        tried.push((d, v, f));
+    }
+    let profile = tried.iter().map(|t| (t.0, t.1)).collect();
+    let (arg, loglik, fit) = tried
+        .into_iter()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .ok_or_else(|| DiagnoseError::Data("empty grid of a fitted parameter".into()))?;
+    Ok(GridMax {
+        arg,
+        fit,
+        loglik,
+        best_on_grid: best,
+        profile,
+    })
 }
 
 /// A noise-only term's density fitted by maximum likelihood.

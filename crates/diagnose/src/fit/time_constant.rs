@@ -8,13 +8,12 @@
 //! the constant biases take after it, and one longer than twice the record is a ramp, which
 //! the longest one draws as well.
 
-use super::density::{best_on_grid, density_loglik, vertex_on_grid};
+use super::density::{density_loglik, max_on_grid};
 use super::pass::Fit;
 use crate::catalogue::Catalogue;
 use crate::error::DiagnoseError;
 use navkf_dynamics::dataset::Dataset;
 use navkf_filters::FilterSpec;
-use rayon::prelude::*;
 
 /// Doublings of the record's length tried: from 2^-5 to 2^1 times it.
 const DOUBLINGS: (i32, i32) = (-5, 1);
@@ -52,24 +51,10 @@ pub fn fit_time_constant(
         density_loglik(ds, model, name, span * doublings.exp2(), catalogue, filter)
     };
     let grid: Vec<f64> = (DOUBLINGS.0..=DOUBLINGS.1).map(f64::from).collect();
-    let mut tried = grid
-        .par_iter()
-        .map(|&d| at(d).map(|(v, f)| (d, v, f)))
-        .collect::<Result<Vec<_>, _>>()?;
-    let values: Vec<f64> = tried.iter().map(|t| t.1).collect();
-    let best = best_on_grid(&values);
-    if let Some((offset, _)) = vertex_on_grid(&values, best, 1.0) {
-        let d = grid[best] + offset;
-        let (v, f) = at(d)?;
-        tried.push((d, v, f));
-    }
-    let (doublings, loglik, fit) = tried
-        .into_iter()
-        .max_by(|a, b| a.1.total_cmp(&b.1))
-        .ok_or_else(|| DiagnoseError::Data("empty time-constant grid".into()))?;
+    let found = max_on_grid(&grid, 1.0, at)?;
     Ok(TimeConstantFit {
-        fit,
-        time_constant_s: span * doublings.exp2(),
-        loglik,
+        fit: found.fit,
+        time_constant_s: span * found.arg.exp2(),
+        loglik: found.loglik,
     })
 }

@@ -20,13 +20,15 @@ use crate::state::{NAV_DIM, V_X, V_Y};
 pub struct Drag;
 
 impl Drag {
+    /// The effect's name.
+    pub const NAME: &'static str = "drag";
     /// Typical size of `kd`, 1/s: 5e-5, 7.5e-4 m/s^2 (75 micro-g) at 15 m/s.
     pub const TYPICAL: f64 = 5e-5;
 }
 
 impl Effect for Drag {
     fn name(&self) -> &str {
-        "drag"
+        Self::NAME
     }
     fn description(&self) -> &str {
         "v' -= kd v (velocity-proportional acceleration error; outside the catalogue)"

@@ -85,6 +85,10 @@ pub enum Outcome {
     /// levels refitted for it would misstate the sensors' noise ([`crate::naming`]). Not
     /// named.
     NoiseLevelsBelowDrift,
+    /// The refitted noise levels, but an error outside the catalogue that refitted noise can
+    /// cover (on the platform a drag, [`crate::rivals`]) explains the misfit as well:
+    /// levels refitted for it would misstate the sensors' noise ([`crate::naming`]). Not named.
+    NoiseLevelsLikeOutside,
     /// The filter failed with it.
     Failed,
     /// Decisive, but its fitted values are no real sensor's ([`Candidate::beyond_bounds`]).
@@ -115,6 +119,9 @@ impl std::fmt::Display for Outcome {
             Outcome::NoiseAfterStructure => "noise levels, after the effect that adds to them",
             Outcome::NoiseNotSpecific => "noise term, a drift outside the catalogue fits as well",
             Outcome::NoiseLevelsBelowDrift => "noise levels, a slow drift fits decisively better",
+            Outcome::NoiseLevelsLikeOutside => {
+                "noise levels, an error outside the catalogue fits as well"
+            }
             Outcome::Failed => "filter failed",
             Outcome::Unphysical => "decisive, but no real sensor's: not named",
             Outcome::LooksLikeOutside => {

@@ -169,6 +169,13 @@ pub trait Catalogue: Send + Sync + std::fmt::Debug {
     /// the catalogue that looks like it on a common trajectory: a GPS antenna away from the
     /// platform for `gps-latency`) and that rival's name; `None` when `effect` has none.
     fn with_structured_rival(&self, effect: &str) -> Option<(Box<dyn Catalogue>, &'static str)>;
+    /// The catalogue with the structured rival of the refitted noise levels added (an error
+    /// outside the catalogue that refitted noise can cover: on the platform a
+    /// velocity-proportional acceleration error, a drag) and that rival's name; `None` when the
+    /// family has none.
+    fn with_levels_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str)> {
+        None
+    }
 }
 
 /// Every coefficient name a prior may be stated for in `catalogue`'s family: the base model's

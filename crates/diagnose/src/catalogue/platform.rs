@@ -7,12 +7,13 @@ use crate::consistency::classify;
 use crate::error::DiagnoseError;
 use crate::rivals::{AccelBiasWalk, AccelSettling, GpsAntennaOffset};
 use navkf_dynamics::dataset::{Dataset, Measurement};
+use navkf_dynamics::outside::Drag;
 use navkf_dynamics::prior::{base_coefficient_sigma, default_azimuth_rad, default_level_rad};
 use navkf_dynamics::state::*;
 use navkf_dynamics::trajectory::Phase;
 use navkf_dynamics::{
-    Attitude, FamilyModel, InputWindow, MeasurementModel, ModelKind, NoiseConfig, PlatformModel,
-    Registry,
+    Attitude, Effect, FamilyModel, InputWindow, MeasurementModel, ModelKind, NoiseConfig,
+    PlatformModel, Registry,
 };
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -169,5 +170,22 @@ impl Catalogue for Registry {
         let mut registry = self.clone();
         registry.register(|| Box::new(AccelSettling::default()));
         Some((Box::new(registry), AccelSettling::NAME))
+    }
+    fn with_levels_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str)> {
+        // A drag the user declared is a candidate like any other; one of its coefficients'
+        // names taken by another effect would be two states in one.
+        let ours = Effect::coefficient_names(&Drag);
+        let taken = self.names().into_iter().any(|n| {
+            n == Drag::NAME
+                || self
+                    .build(&n)
+                    .is_ok_and(|e| e.coefficient_names().iter().any(|c| ours.contains(c)))
+        });
+        if taken {
+            return None;
+        }
+        let mut registry = self.clone();
+        registry.register(|| Box::new(Drag));
+        Some((Box::new(registry), Drag::NAME))
     }
 }

@@ -3,8 +3,8 @@
 
 use super::sentences::{
     consistency_findings, drift_instead, failing_channels_and_phases, implausible_findings,
-    indistinguishable_instead, looks_like_outside_instead, noise_findings, refusal_findings,
-    small_angle_instead, unphysical_instead,
+    indistinguishable_instead, looks_like_outside_instead, noise_findings,
+    outside_instead_of_levels, refusal_findings, small_angle_instead, unphysical_instead,
 };
 use super::words::times;
 use crate::candidates::evidence::{Candidate, CandidateKind, Outcome, DECISIVE_BIC};
@@ -80,7 +80,7 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
                 looked.join(", ")
             ));
         }
-        noise_findings(last, &mut out);
+        noise_findings(last, noise_named, &mut out);
     }
     // The model under test.
     let first_round = d.rounds.first();
@@ -361,6 +361,7 @@ fn why_nothing_named(d: &Diagnosis) -> Option<String> {
         .collect();
     small_angle_instead(last)
         .or_else(|| drift_instead(last))
+        .or_else(|| outside_instead_of_levels(last))
         .or_else(|| looks_like_outside_instead(last))
         .or_else(|| indistinguishable_instead(last))
         .or_else(|| unphysical_instead(last))

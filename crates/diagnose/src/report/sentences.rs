@@ -11,7 +11,7 @@ use navkf_report::stats::Consistency;
 
 /// The noise findings of a check: mis-stated sources in words with their fitted levels, and
 /// sources the data cannot resolve.
-pub fn noise_findings(check: &NoiseFit, out: &mut Vec<String>) {
+pub fn noise_findings(check: &NoiseFit, adopted: bool, out: &mut Vec<String>) {
     for s in &check.sources {
         let keys = |m: &std::collections::BTreeMap<String, f64>| {
             m.iter()
@@ -49,9 +49,15 @@ pub fn noise_findings(check: &NoiseFit, out: &mut Vec<String>) {
                 } else {
                     format!("below {}", times(hi))
                 };
+                let used = if adopted {
+                    "The diagnosis uses the fitted level."
+                } else {
+                    "The refitted levels were not named (below), so the diagnosis keeps the \
+                     stated level."
+                };
                 out.push(format!(
                     "{} {word} about {} (in sigma; the data put it {span} of the stated level): \
-                     fitted {} (stated {}). The diagnosis uses the fitted level.{coarse}",
+                     fitted {} (stated {}). {used}{coarse}",
                     capitalise(s.source.label()),
                     times(r),
                     keys(&s.fitted),
@@ -259,6 +265,19 @@ pub fn looks_like_outside_instead(last: &[Candidate]) -> Option<String> {
             alike.join(" and ")
         )
     })
+}
+
+/// When the last round did not name the refitted noise levels because an error outside the
+/// catalogue explains the misfit as well ([`crate::naming`]): why nothing is named.
+pub fn outside_instead_of_levels(last: &[Candidate]) -> Option<String> {
+    last.iter()
+        .any(|c| c.outcome == Outcome::NoiseLevelsLikeOutside)
+        .then(|| {
+            "No catalogued effect can be named, and the refitted noise levels are not: an \
+             error outside the catalogue that grows with speed explains the misfit as well as \
+             they do (above), and noise refitted to cover it would misstate the sensors."
+                .to_string()
+        })
 }
 
 /// When the last round set aside a noise-only term that explains the misfit decisively

@@ -235,15 +235,21 @@ fn drift_beyond_levels(
         .max_by(|&a, &b| cands[a].bic_gain.total_cmp(&cands[b].bic_gain))
 }
 
-/// Whether the noise levels `levels` make the model consistent while an error outside the
-/// catalogue that refitted noise can cover ([`Catalogue::with_levels_rival`]: on the platform
-/// a drag, `v' -= kd v`) explains the misfit decisively and within [`DECISIVE_BIC`] of them,
-/// on the BIC that counts informed coefficients only ([`effective_bic`]); if so, the note
-/// that says why the levels are not named ([`crate::rivals`] has the measurement). The round
+/// Whether the noise levels `levels` are refused for an error outside the catalogue that
+/// refitted noise can cover ([`Catalogue::with_levels_rival`]: on the platform a drag of two
+/// speed laws, [`crate::rivals::SpeedDrag`]); if so, the note that says why ([`crate::rivals`]
+/// has the measurement). They are when the rival explains the misfit decisively and within
+/// [`DECISIVE_BIC`] of them, on the BIC that counts informed coefficients only
+/// ([`effective_bic`]), and either of the two makes the model consistent on its own. The round
 /// then names nothing: the rival cannot be named, and a lesser candidate would stand in for
-/// it. Levels that leave a misfit are not weighed against it: they are a step the next rounds
-/// build on, not a verdict (on the study's pair 814, a walk beside a latency, the drag led
-/// levels that removed 12 % of the excess, and refusing them left both effects unnamed).
+/// it.
+///
+/// Levels that leave a misfit are a step the next rounds build on, and a rival that leaves
+/// one too is no verdict against them (on the study's pair 814, a walk beside a latency, the
+/// linear drag led levels that removed 12 % of the excess, and refusing them left both effects
+/// unnamed). But a rival that leaves none is: a quadratic drag thirty times its typical size
+/// first had the accelerometer noise refitted a hundred times up, which left a misfit, and
+/// the gyro noise 700 times up the round after, which left none.
 fn levels_rival_note(
     ds: &Dataset,
     model: &Model<'_>,
@@ -251,31 +257,48 @@ fn levels_rival_note(
     catalogue: &dyn Catalogue,
     opts: &Options,
 ) -> Result<Option<String>, DiagnoseError> {
-    if !levels.consistent {
-        return Ok(None);
-    }
-    let Some(r) = fitted_rival(ds, model, catalogue.with_levels_rival(), opts)? else {
+    let Some((with_rival, name)) = catalogue.with_levels_rival() else {
         return Ok(None);
     };
-    let rival = &r.effect;
+    let info = with_rival.effect(name)?;
+    let Some(r) = fitted_rival(ds, model, Some((with_rival, name)), opts)? else {
+        return Ok(None);
+    };
     let (mine, theirs) = (effective_bic(levels), effective_bic(&r));
+    if !(levels.consistent || r.consistent) {
+        return Ok(None);
+    }
     if theirs <= mine - DECISIVE_BIC || theirs <= DECISIVE_BIC {
         return Ok(None);
     }
     let values = r
         .coefficients
         .iter()
-        .map(|q| format!("{} = {:.3e} +- {:.1e}", q.name, q.estimate, q.sigma))
+        .zip(&info.units)
+        .map(|(q, unit)| format!("{} = {:.3e} +- {:.1e} {unit}", q.name, q.estimate, q.sigma))
         .collect::<Vec<_>>()
         .join(", ");
+    let rival = format!(
+        "error not in the catalogue (`{name}`: {}; {values})",
+        info.description
+    );
+    let against = if levels.consistent {
+        format!(
+            "The refitted noise levels would make the model consistent, but an {rival} \
+             explains the misfit as well or better"
+        )
+    } else {
+        format!(
+            "An {rival} makes the model consistent on its own, which the refitted noise levels \
+             do not, and explains the misfit as well or better"
+        )
+    };
     Ok(Some(format!(
-        "The refitted noise levels would make the model consistent, but a velocity-proportional \
-         acceleration error, not in the catalogue (`{rival}`, v' -= kd v: {values} 1/s), \
-         explains the misfit as well (BIC gains {theirs:.0} and {mine:.0}, each counting only \
-         the coefficients the data inform): noise refitted to cover it would misstate the \
-         sensors. They are not named. Something that grows with speed is missing; to test \
-         such an error, declare it (`studies/effects/examples.toml` declares `drag`) and \
-         diagnose again with `--effects-file`."
+        "{against} (BIC gains {theirs:.0} and {mine:.0}, each counting only the coefficients \
+         the data inform): noise refitted to cover it would misstate the sensors. The levels \
+         are not named. To test such an error, declare it (docs/declared-effects.md; \
+         `studies/effects/examples.toml` declares a linear `drag`) and diagnose again with \
+         `--effects-file`."
     )))
 }
 

@@ -63,8 +63,12 @@ impl Channel {
 /// What the diagnosis reads of one effect of the catalogue.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EffectInfo {
+    /// One line: what it adds, as a formula.
+    pub description: String,
     /// Its coefficients' names (empty for a noise-only term).
     pub coefficients: Vec<String>,
+    /// Their units, in the same order.
+    pub units: Vec<String>,
     /// The bound of each coefficient, where declared.
     pub bounds: Vec<PhysicalBound>,
     /// A noise-only term's typical density (its one parameter), `None` for an effect with
@@ -170,8 +174,8 @@ pub trait Catalogue: Send + Sync + std::fmt::Debug {
     /// platform for `gps-latency`) and that rival's name; `None` when `effect` has none.
     fn with_structured_rival(&self, effect: &str) -> Option<(Box<dyn Catalogue>, &'static str)>;
     /// The catalogue with the structured rival of the refitted noise levels added (an error
-    /// outside the catalogue that refitted noise can cover: on the platform a
-    /// velocity-proportional acceleration error, a drag) and that rival's name; `None` when the
+    /// outside the catalogue that refitted noise can cover: on the platform an
+    /// acceleration error growing with speed, a drag) and that rival's name; `None` when the
     /// family has none.
     fn with_levels_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str)> {
         None

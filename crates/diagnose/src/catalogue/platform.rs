@@ -5,7 +5,7 @@
 use super::{first_full_measurement, Catalogue, Channel, ChannelKind, EffectInfo, Start};
 use crate::consistency::classify;
 use crate::error::DiagnoseError;
-use crate::rivals::{AccelBiasWalk, AccelSettling, GpsAntennaOffset};
+use crate::rivals::{AccelBiasWalk, AccelSettling, GpsAntennaOffset, SpeedDrag};
 use navkf_dynamics::dataset::{Dataset, Measurement};
 use navkf_dynamics::outside::Drag;
 use navkf_dynamics::prior::{base_coefficient_sigma, default_azimuth_rad, default_level_rad};
@@ -67,7 +67,13 @@ impl Catalogue for Registry {
             .then(|| e.process_noise().first().map(|c| c.psd))
             .flatten();
         Ok(EffectInfo {
+            description: e.description().to_string(),
             coefficients,
+            units: e
+                .coefficient_units()
+                .iter()
+                .map(|u| u.to_string())
+                .collect(),
             bounds: e.coefficient_bounds().to_vec(),
             noise_density,
         })
@@ -174,9 +180,10 @@ impl Catalogue for Registry {
     fn with_levels_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str)> {
         // A drag the user declared is a candidate like any other; one of its coefficients'
         // names taken by another effect would be two states in one.
-        let ours = Effect::coefficient_names(&Drag);
+        let ours = Effect::coefficient_names(&SpeedDrag);
         let taken = self.names().into_iter().any(|n| {
             n == Drag::NAME
+                || n == SpeedDrag::NAME
                 || self
                     .build(&n)
                     .is_ok_and(|e| e.coefficient_names().iter().any(|c| ours.contains(c)))
@@ -185,7 +192,7 @@ impl Catalogue for Registry {
             return None;
         }
         let mut registry = self.clone();
-        registry.register(|| Box::new(Drag));
-        Some((Box::new(registry), Drag::NAME))
+        registry.register(|| Box::new(SpeedDrag));
+        Some((Box::new(registry), SpeedDrag::NAME))
     }
 }

@@ -178,7 +178,9 @@ impl Catalogue for StrapdownCatalogue {
     fn effect(&self, name: &str) -> Result<EffectInfo, DiagnoseError> {
         let e = self.registry.get(name)?;
         Ok(EffectInfo {
+            description: e.description.to_string(),
             coefficients: e.coefficients.iter().map(|c| c.name.to_string()).collect(),
+            units: e.coefficients.iter().map(|c| c.unit.to_string()).collect(),
             bounds: e.coefficients.iter().map(|c| c.bound).collect(),
             noise_density: e.instability.map(|law| {
                 let sigma = law.sigma_for(self.class);

@@ -274,8 +274,8 @@ pub fn outside_instead_of_levels(last: &[Candidate]) -> Option<String> {
         .any(|c| c.outcome == Outcome::NoiseLevelsLikeOutside)
         .then(|| {
             "No catalogued effect can be named, and the refitted noise levels are not: an \
-             error outside the catalogue that grows with speed explains the misfit as well as \
-             they do (above), and noise refitted to cover it would misstate the sensors."
+             error outside the catalogue explains the misfit as well as they do or better \
+             (above), and noise refitted to cover it would misstate the sensors."
                 .to_string()
         })
 }

@@ -277,6 +277,16 @@ fn reported(d: &Diagnosis, name: &str) -> f64 {
         .unwrap_or_else(|| panic!("{name} is not reported: {:#?}", d.findings))
 }
 
+/// No round names anything, the levels included, and the verdict is not `consistent`.
+fn assert_nothing_named_nor_consistent(d: &Diagnosis, case: &str) {
+    assert!(
+        d.rounds.iter().all(|r| r.named.is_empty()),
+        "{case}: {:#?}",
+        d.rounds
+    );
+    assert_ne!(d.verdict, Verdict::Consistent, "{case}: {:#?}", d.findings);
+}
+
 /// A drag ten times its typical size is covered by a gyro noise refitted hundreds of times
 /// above the truth, and the model ends consistent (22 of 60 drags of the error-rate study
 /// did, before the drag was fitted as the levels' rival): the levels are not named for it.
@@ -295,12 +305,7 @@ fn a_drag_is_not_passed_off_as_refitted_noise() {
         "{:#?}",
         d.findings
     );
-    assert!(
-        d.rounds.iter().all(|r| r.named.is_empty()),
-        "{:#?}",
-        d.rounds
-    );
-    assert_ne!(d.verdict, Verdict::Consistent, "{:#?}", d.findings);
+    assert_nothing_named_nor_consistent(&d, "kd 5e-4");
     assert!(
         (reported(&d, "kd") / 5e-4 - 1.0).abs() < 0.05,
         "the drag's fit is reported: {:#?}",
@@ -359,12 +364,7 @@ fn a_quadratic_drag_is_not_passed_off_as_refitted_noise() {
             "kq {kq}: {:#?}",
             d.findings
         );
-        assert!(
-            d.rounds.iter().all(|r| r.named.is_empty()),
-            "kq {kq}: {:#?}",
-            d.rounds
-        );
-        assert_ne!(d.verdict, Verdict::Consistent, "kq {kq}: {:#?}", d.findings);
+        assert_nothing_named_nor_consistent(&d, &format!("kq {kq}"));
         // The rival's quadratic coefficient is the drag's, with the rival's sign (it
         // subtracts), to a few percent.
         let fitted = reported(&d, "kq");

@@ -311,6 +311,14 @@ fn a_drag_is_not_passed_off_as_refitted_noise() {
         "the drag's fit is reported: {:#?}",
         d.findings
     );
+    // The priors the missing drag pulled wide are not blamed on the platform's class alone.
+    assert!(
+        d.findings
+            .iter()
+            .any(|f| f.contains("may be that error's doing")),
+        "{:#?}",
+        d.findings
+    );
     // The noise check's fitted levels are reported, and not as the ones the diagnosis used.
     assert!(
         d.findings

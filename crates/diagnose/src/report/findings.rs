@@ -317,6 +317,18 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
             )
         });
     }
+    if !d.widened.is_empty() && levels_refused_for_outside(d) {
+        out.push(format!(
+            "These priors were widened in a model that lacks an error outside the catalogue \
+             (above): the widening may be that error's doing, not the {}'s class. Account for \
+             the error first (declare it, or find its cause) before stating wider priors.",
+            if d.family.is_platform() {
+                "platform"
+            } else {
+                "unit"
+            }
+        ));
+    }
     if !d.pinned.is_empty() {
         out.push(format!(
             "Held at zero in every fit, and not tested: {}. The horizontal model cannot inform \
@@ -346,6 +358,22 @@ pub fn findings(d: &Diagnosis) -> Vec<String> {
         ));
     }
     out
+}
+
+/// Whether the last round refused the refitted noise levels for an error outside the
+/// catalogue (a drift no sensor can be given, or the levels' structured rival): the final
+/// model then lacks that error, and what its coefficients were pulled to is partly its doing
+/// (on a drag ten times its typical size, the accelerometer biases widened to their cap with
+/// an estimate of 0.25 m/s^2).
+fn levels_refused_for_outside(d: &Diagnosis) -> bool {
+    d.rounds.last().is_some_and(|r| {
+        r.candidates.iter().any(|c| {
+            matches!(
+                c.outcome,
+                Outcome::NoiseLevelsLikeOutside | Outcome::NoiseLevelsBelowDrift
+            )
+        })
+    })
 }
 
 /// Why the last round named nothing although something had decisive evidence: it looks like

@@ -11,7 +11,8 @@
 //! Two laws let the rival follow a misfit whose size grows with speed by either power, or by
 //! any mixture of the two between them.
 //!
-//! The values and slopes of `v |v|` are the declared effects' ([`TermFeature`]), written once.
+//! The values and slopes of `v` and `v |v|` are the declared effects' ([`TermFeature`]),
+//! written once.
 
 use navkf_dynamics::declared::TermFeature;
 use navkf_dynamics::effect::{Effect, Partials, Terms};
@@ -31,10 +32,18 @@ impl SpeedDrag {
     pub const TYPICAL_KQ: f64 = Drag::TYPICAL / 15.0;
 }
 
-/// The axes the drag acts on: each velocity state with its feature `v |v|`.
-const AXES: [(usize, TermFeature); 2] = [
-    (V_X, TermFeature::VelocityTimesSpeed(0)),
-    (V_Y, TermFeature::VelocityTimesSpeed(1)),
+/// The axes the drag acts on: each velocity state with its features `v` and `v |v|`.
+const AXES: [(usize, TermFeature, TermFeature); 2] = [
+    (
+        V_X,
+        TermFeature::Velocity(0),
+        TermFeature::VelocityTimesSpeed(0),
+    ),
+    (
+        V_Y,
+        TermFeature::Velocity(1),
+        TermFeature::VelocityTimesSpeed(1),
+    ),
 ];
 
 impl Effect for SpeedDrag {
@@ -58,17 +67,15 @@ impl Effect for SpeedDrag {
         &[Drag::TYPICAL, Self::TYPICAL_KQ]
     }
     fn add_rates<T: Real>(&self, k: &Kinematics<T>, c: &[T], r: &mut [T; NAV_DIM]) {
-        for (state, quadratic) in AXES {
-            let v = if state == V_X { k.v_x } else { k.v_y };
-            r[state] -= c[0] * v + c[1] * quadratic.value(k);
+        for (state, linear, quadratic) in AXES {
+            r[state] -= c[0] * linear.value(k) + c[1] * quadratic.value(k);
         }
     }
     fn add_rate_partials(&self, k: &Kinematics, c: &[f64], offset: usize, p: &mut Partials) {
-        for (state, quadratic) in AXES {
-            let v = if state == V_X { k.v_x } else { k.v_y };
-            p.add(state, state, -c[0]);
+        for (state, linear, quadratic) in AXES {
+            linear.add_state_partials(k, -c[0], state, p);
             quadratic.add_state_partials(k, -c[1], state, p);
-            p.add(state, offset, -v);
+            p.add(state, offset, -linear.value(k));
             p.add(state, offset + 1, -quadratic.value(k));
         }
     }

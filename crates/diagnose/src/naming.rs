@@ -236,8 +236,9 @@ fn drift_beyond_levels(
 }
 
 /// Whether the noise levels `levels` are refused for an error outside the catalogue that
-/// refitted noise can cover ([`Catalogue::with_levels_rival`]: on the platform a drag of two
-/// speed laws, [`crate::rivals::SpeedDrag`]); if so, the note that says why ([`crate::rivals`]
+/// refitted noise can cover ([`Catalogue::with_levels_rival`]: on the platform an acceleration
+/// error that depends on the velocity, [`crate::rivals::VelocityDependentAcceleration`]); if
+/// so, the note that says why ([`crate::rivals`]
 /// has the measurement). They are when the rival explains the misfit decisively and within
 /// [`DECISIVE_BIC`] of them, on the BIC that counts informed coefficients only
 /// ([`effective_bic`]), and either of the two makes the model consistent on its own. The round

@@ -266,11 +266,12 @@ fn a_structured_misfit_is_not_explained_away_as_noise() {
     assert_within_3_sigma(&d, "kod");
 }
 
-/// The value the finding on the levels' rival (`speed-drag`) gives its coefficient `name`.
+/// The value the finding on the levels' rival (`velocity-dependent-acceleration`) gives its
+/// coefficient `name`.
 fn reported(d: &Diagnosis, name: &str) -> f64 {
     d.findings
         .iter()
-        .find(|f| f.contains("`speed-drag`"))
+        .find(|f| f.contains("`velocity-dependent-acceleration`"))
         .and_then(|note| note.split(&format!("{name} = ")).nth(1))
         .and_then(|rest| rest.split(' ').next())
         .and_then(|v| v.parse().ok())
@@ -306,11 +307,14 @@ fn a_drag_is_not_passed_off_as_refitted_noise() {
         d.findings
     );
     assert_nothing_named_nor_consistent(&d, "kd 5e-4");
-    assert!(
-        (reported(&d, "kd") / 5e-4 - 1.0).abs() < 0.05,
-        "the drag's fit is reported: {:#?}",
-        d.findings
-    );
+    // The rival's velocity matrix is the drag's, -kd on its diagonal.
+    for name in ["m_xx", "m_yy"] {
+        assert!(
+            (reported(&d, name) / -5e-4 - 1.0).abs() < 0.05,
+            "the drag's fit is reported: {:#?}",
+            d.findings
+        );
+    }
     // The priors the missing drag pulled wide are not blamed on the platform's class alone.
     assert!(
         d.findings
@@ -333,6 +337,46 @@ fn a_drag_is_not_passed_off_as_refitted_noise() {
     );
 }
 
+/// A dataset whose truth carries the one effect `declaration` declares, with its coefficient
+/// `fixed`, handed over as a recording: without the declaration it was made with.
+fn as_recording(declaration: &str, fixed: (&str, f64), seed: u64) -> Dataset {
+    let declared = parse_declarations(declaration).unwrap();
+    let mut registry = Registry::catalogue();
+    registry.declare(&declared).unwrap();
+    let truth = registry.build_all(&[declared[0].name.as_str()]).unwrap();
+    let mut ds = dataset(truth, &[fixed], seed);
+    ds.effects.clear();
+    ds
+}
+
+/// A mis-stated Coriolis term (the velocity's derivative turned by a rate `kc`), declared as
+/// a user would: with a rival of the drag's laws alone it ended `consistent` with the gyro
+/// noise refitted 91 times above the truth. The rival's velocity matrix holds it.
+#[test]
+fn a_mis_stated_coriolis_term_is_not_passed_off_as_refitted_noise() {
+    const CORIOLIS: &str = r#"
+        [[effect]]
+        name = "coriolis-error"
+        description = "v_x' += kc v_y, v_y' -= kc v_x"
+        coefficients = [{ name = "kc", unit = "1/s", sigma = 5e-5 }]
+        rates = [
+            { to = "v_x", coefficient = "kc", feature = "v_y" },
+            { to = "v_y", coefficient = "kc", feature = "v_x", factor = -1.0 },
+        ]
+    "#;
+    let kc = 1.5e-4;
+    let d = run(&as_recording(CORIOLIS, ("kc", kc), 7));
+    assert_nothing_named_nor_consistent(&d, "kc 1.5e-4");
+    for (name, truth) in [("m_xy", kc), ("m_yx", -kc)] {
+        let fitted = reported(&d, name);
+        assert!(
+            (fitted / truth - 1.0).abs() < 0.05,
+            "{name}: fitted {fitted}, truth {truth}: {:#?}",
+            d.findings
+        );
+    }
+}
+
 /// A drag quadratic in the velocity, declared as a user would (not the simulator's law, and
 /// not in the catalogue), passes for refitted noise unless the levels' rival has that law
 /// too: with the linear law alone, 5 of 6 such drags ended `consistent` with the gyro noise
@@ -351,16 +395,8 @@ fn a_quadratic_drag_is_not_passed_off_as_refitted_noise() {
             { to = "v_y", coefficient = "kq", feature = "v_y_speed" },
         ]
     "#;
-    let mut registry = Registry::catalogue();
-    registry
-        .declare(&parse_declarations(QUADRATIC).unwrap())
-        .unwrap();
     for (kq, seed, levels_consistent) in [(-3.3e-5, 7, true), (-1e-4, 8, false)] {
-        let truth = registry.build_all(&["quad-drag"]).unwrap();
-        let mut ds = dataset(truth, &[("kq", kq)], seed);
-        // Handed over as a recording: without the declaration its truth was made with.
-        ds.effects.clear();
-        let d = run(&ds);
+        let d = run(&as_recording(QUADRATIC, ("kq", kq), seed));
         let refused: Vec<_> = d
             .rounds
             .iter()

@@ -5,7 +5,9 @@
 use super::{first_full_measurement, Catalogue, Channel, ChannelKind, EffectInfo, Start};
 use crate::consistency::classify;
 use crate::error::DiagnoseError;
-use crate::rivals::{AccelBiasWalk, AccelSettling, GpsAntennaOffset, SpeedDrag};
+use crate::rivals::{
+    AccelBiasWalk, AccelSettling, GpsAntennaOffset, VelocityDependentAcceleration,
+};
 use navkf_dynamics::dataset::{Dataset, Measurement};
 use navkf_dynamics::outside::Drag;
 use navkf_dynamics::prior::{base_coefficient_sigma, default_azimuth_rad, default_level_rad};
@@ -180,10 +182,10 @@ impl Catalogue for Registry {
     fn with_levels_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str)> {
         // A drag the user declared is a candidate like any other; one of its coefficients'
         // names taken by another effect would be two states in one.
-        let ours = Effect::coefficient_names(&SpeedDrag);
+        let ours = Effect::coefficient_names(&VelocityDependentAcceleration);
         let taken = self.names().into_iter().any(|n| {
             n == Drag::NAME
-                || n == SpeedDrag::NAME
+                || n == VelocityDependentAcceleration::NAME
                 || self
                     .build(&n)
                     .is_ok_and(|e| e.coefficient_names().iter().any(|c| ours.contains(c)))
@@ -192,7 +194,7 @@ impl Catalogue for Registry {
             return None;
         }
         let mut registry = self.clone();
-        registry.register(|| Box::new(SpeedDrag));
-        Some((Box::new(registry), SpeedDrag::NAME))
+        registry.register(|| Box::new(VelocityDependentAcceleration));
+        Some((Box::new(registry), VelocityDependentAcceleration::NAME))
     }
 }

@@ -235,6 +235,10 @@ fn drift_beyond_levels(
         .max_by(|&a, &b| cands[a].bic_gain.total_cmp(&cands[b].bic_gain))
 }
 
+/// A rival's coefficient this many sigmas from zero is one of the laws the data single out
+/// ([`levels_rival_note`] gives those alone).
+const SINGLED_OUT_SIGMAS: f64 = 3.0;
+
 /// Whether the noise levels `levels` are refused for an error outside the catalogue that
 /// refitted noise can cover ([`Catalogue::with_levels_rival`]: on the platform an acceleration
 /// error that depends on the velocity, [`crate::rivals::VelocityDependentAcceleration`]); if
@@ -272,13 +276,29 @@ fn levels_rival_note(
     if theirs <= mine - DECISIVE_BIC || theirs <= DECISIVE_BIC {
         return Ok(None);
     }
-    let values = r
-        .coefficients
+    // The laws the data single out, so that the note says which error it is; all of them
+    // when none stands out.
+    let fitted: Vec<_> = r.coefficients.iter().zip(&info.units).collect();
+    let standing_out: Vec<_> = fitted
         .iter()
-        .zip(&info.units)
+        .filter(|(q, _)| q.estimate.abs() > SINGLED_OUT_SIGMAS * q.sigma)
+        .collect();
+    let shown: Vec<_> = if standing_out.is_empty() {
+        fitted.iter().collect()
+    } else {
+        standing_out
+    };
+    let mut values = shown
+        .iter()
         .map(|(q, unit)| format!("{} = {:.3e} +- {:.1e} {unit}", q.name, q.estimate, q.sigma))
         .collect::<Vec<_>>()
         .join(", ");
+    if shown.len() < fitted.len() {
+        values += &format!(
+            "; the other {} within {SINGLED_OUT_SIGMAS} sigma of zero",
+            fitted.len() - shown.len()
+        );
+    }
     let rival = format!(
         "error not in the catalogue (`{name}`: {}; {values})",
         info.description

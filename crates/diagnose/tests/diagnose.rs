@@ -375,6 +375,14 @@ fn a_mis_stated_coriolis_term_is_not_passed_off_as_refitted_noise() {
             d.findings
         );
     }
+    // Only the laws the data single out are given: the rotation, not the drag.
+    assert!(
+        d.findings
+            .iter()
+            .any(|f| f.contains("`velocity-dependent-acceleration`") && !f.contains("m_xx =")),
+        "{:#?}",
+        d.findings
+    );
 }
 
 /// A drag quadratic in the velocity, declared as a user would (not the simulator's law, and

@@ -14,8 +14,8 @@ use navkf_dynamics::prior::{base_coefficient_sigma, default_azimuth_rad, default
 use navkf_dynamics::state::*;
 use navkf_dynamics::trajectory::Phase;
 use navkf_dynamics::{
-    Attitude, Effect, FamilyModel, InputWindow, MeasurementModel, ModelKind, NoiseConfig,
-    PlatformModel, Registry,
+    Attitude, FamilyModel, InputWindow, MeasurementModel, ModelKind, NoiseConfig, PlatformModel,
+    Registry,
 };
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -180,21 +180,16 @@ impl Catalogue for Registry {
         Some((Box::new(registry), AccelSettling::NAME))
     }
     fn with_levels_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str)> {
-        // A drag the user declared is a candidate like any other; one of its coefficients'
-        // names taken by another effect would be two states in one.
-        let ours = Effect::coefficient_names(&VelocityDependentAcceleration);
-        let taken = self.names().into_iter().any(|n| {
-            n == Drag::NAME
-                || n == VelocityDependentAcceleration::NAME
-                || self
-                    .build(&n)
-                    .is_ok_and(|e| e.coefficient_names().iter().any(|c| ours.contains(c)))
-        });
-        if taken {
+        // A drag the user declared is a candidate like any other.
+        if self.names().iter().any(|n| n == Drag::NAME) {
             return None;
         }
+        // A declaration refuses a coefficient name another effect has (two states in one),
+        // and one of the rival's own name that says something else.
         let mut registry = self.clone();
-        registry.register(|| Box::new(VelocityDependentAcceleration));
+        registry
+            .declare(&[VelocityDependentAcceleration::declaration()])
+            .ok()?;
         Some((Box::new(registry), VelocityDependentAcceleration::NAME))
     }
 }

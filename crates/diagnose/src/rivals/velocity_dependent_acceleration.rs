@@ -20,19 +20,15 @@
 //! BIC that counts only the coefficients the data inform: a law the trajectory does not
 //! excite costs nothing.
 //!
-//! The values and slopes of `v`, `|v|` and `v |v|` are the declared effects' ([`TermFeature`]),
-//! written once.
+//! It is a declaration ([`navkf_dynamics::declared`]), `factor x coefficient x feature` on
+//! the velocity rows, as a user would write it in TOML: its physics, partials and
+//! coefficient-name checks are the declared effects', written once.
 
-use navkf_dynamics::declared::TermFeature;
-use navkf_dynamics::effect::{Effect, Partials, Terms};
-use navkf_dynamics::kinematics::Kinematics;
+use navkf_dynamics::declared::{CoefficientDeclaration, EffectDeclaration, TermDeclaration};
 use navkf_dynamics::outside::Drag;
-use navkf_dynamics::real::Real;
-use navkf_dynamics::state::{NAV_DIM, V_X, V_Y};
 
 /// See the module documentation. Coefficients: `m_xx`, `m_xy`, `m_yx`, `m_yy`, `s_x`, `s_y`
 /// (1/s) and `kq` (1/m).
-#[derive(Debug, Default, Clone)]
 pub struct VelocityDependentAcceleration;
 
 impl VelocityDependentAcceleration {
@@ -40,52 +36,50 @@ impl VelocityDependentAcceleration {
     pub const NAME: &'static str = "velocity-dependent-acceleration";
     /// Typical size of `kq`, 1/m: the linear drag's typical size at 15 m/s, 7.5e-4 m/s^2.
     pub const TYPICAL_KQ: f64 = Drag::TYPICAL / 15.0;
-}
 
-/// Each term: the velocity state it adds to, its coefficient's index, its feature, and the
-/// sign it enters with.
-const TERMS: [(usize, usize, TermFeature, f64); 8] = [
-    (V_X, 0, TermFeature::Velocity(0), 1.0),
-    (V_X, 1, TermFeature::Velocity(1), 1.0),
-    (V_Y, 2, TermFeature::Velocity(0), 1.0),
-    (V_Y, 3, TermFeature::Velocity(1), 1.0),
-    (V_X, 4, TermFeature::Speed, 1.0),
-    (V_Y, 5, TermFeature::Speed, 1.0),
-    (V_X, 6, TermFeature::VelocityTimesSpeed(0), -1.0),
-    (V_Y, 6, TermFeature::VelocityTimesSpeed(1), -1.0),
-];
-
-impl Effect for VelocityDependentAcceleration {
-    fn name(&self) -> &str {
-        Self::NAME
-    }
-    fn description(&self) -> &str {
-        "v' += M v + s |v| - kq v |v| (an acceleration error depending on the velocity: \
-         linear in it along any direction, along a fixed direction with the speed, and a \
-         quadratic drag; outside the catalogue)"
-    }
-    fn terms(&self) -> Terms {
-        Terms::RATES
-    }
-    fn coefficient_names(&self) -> &[&str] {
-        &["m_xx", "m_xy", "m_yx", "m_yy", "s_x", "s_y", "kq"]
-    }
-    fn coefficient_units(&self) -> &[&str] {
-        &["1/s", "1/s", "1/s", "1/s", "1/s", "1/s", "1/m"]
-    }
-    fn coefficient_sigma(&self) -> &[f64] {
-        const D: f64 = Drag::TYPICAL;
-        &[D, D, D, D, D, D, VelocityDependentAcceleration::TYPICAL_KQ]
-    }
-    fn add_rates<T: Real>(&self, k: &Kinematics<T>, c: &[T], r: &mut [T; NAV_DIM]) {
-        for (state, i, feature, sign) in TERMS {
-            r[state] += T::splat(sign) * c[i] * feature.value(k);
-        }
-    }
-    fn add_rate_partials(&self, k: &Kinematics, c: &[f64], offset: usize, p: &mut Partials) {
-        for (state, i, feature, sign) in TERMS {
-            feature.add_state_partials(k, sign * c[i], state, p);
-            p.add(state, offset + i, sign * feature.value(k));
+    /// Its declaration, to add to a registry ([`navkf_dynamics::effects::Registry::declare`]).
+    pub fn declaration() -> EffectDeclaration {
+        let coefficient = |name: &str, unit: &str, sigma: f64| CoefficientDeclaration {
+            name: name.into(),
+            unit: unit.into(),
+            sigma,
+            bound: None,
+            bound_reason: None,
+        };
+        let term = |to: &str, coefficient: &str, feature: &str, factor: f64| TermDeclaration {
+            to: to.into(),
+            coefficient: coefficient.into(),
+            feature: feature.into(),
+            factor,
+        };
+        let d = Drag::TYPICAL;
+        EffectDeclaration {
+            name: Self::NAME.into(),
+            description: "v' += M v + s |v| - kq v |v| (an acceleration error depending on the \
+                          velocity: linear in it along any direction, along a fixed direction \
+                          with the speed, and a quadratic drag; outside the catalogue)"
+                .into(),
+            coefficients: vec![
+                coefficient("m_xx", "1/s", d),
+                coefficient("m_xy", "1/s", d),
+                coefficient("m_yx", "1/s", d),
+                coefficient("m_yy", "1/s", d),
+                coefficient("s_x", "1/s", d),
+                coefficient("s_y", "1/s", d),
+                coefficient("kq", "1/m", Self::TYPICAL_KQ),
+            ],
+            rates: vec![
+                term("v_x", "m_xx", "v_x", 1.0),
+                term("v_x", "m_xy", "v_y", 1.0),
+                term("v_y", "m_yx", "v_x", 1.0),
+                term("v_y", "m_yy", "v_y", 1.0),
+                term("v_x", "s_x", "speed", 1.0),
+                term("v_y", "s_y", "speed", 1.0),
+                term("v_x", "kq", "v_x_speed", -1.0),
+                term("v_y", "kq", "v_y_speed", -1.0),
+            ],
+            measurement: Vec::new(),
+            places: Vec::new(),
         }
     }
 }
@@ -93,20 +87,32 @@ impl Effect for VelocityDependentAcceleration {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use navkf_dynamics::effect::DynEffect;
+    use navkf_dynamics::effects::Registry;
+    use navkf_dynamics::kinematics::Kinematics;
     use navkf_dynamics::partials_check::check_effect;
+    use navkf_dynamics::state::{NAV_DIM, V_X, V_Y};
     use navkf_dynamics::NoiseConfig;
+
+    fn built() -> Box<dyn DynEffect> {
+        let mut registry = Registry::catalogue();
+        registry
+            .declare(&[VelocityDependentAcceleration::declaration()])
+            .unwrap();
+        registry.build(VelocityDependentAcceleration::NAME).unwrap()
+    }
 
     #[test]
     fn its_partials_agree_with_finite_differences() {
         for seed in [1, 2, 3] {
-            let effect = Box::new(VelocityDependentAcceleration);
-            let report = check_effect(effect, &NoiseConfig::default(), 16, seed).unwrap();
+            let report = check_effect(built(), &NoiseConfig::default(), 16, seed).unwrap();
             assert!(report.passes(), "{report:?}");
         }
     }
 
     #[test]
     fn each_law_adds_what_it_says() {
+        let effect = built();
         let k = Kinematics {
             v_x: 3.0,
             v_y: 4.0,
@@ -114,7 +120,7 @@ mod tests {
         };
         let rates = |c: [f64; 7]| {
             let mut r = [0.0; NAV_DIM];
-            VelocityDependentAcceleration.add_rates(&k, &c, &mut r);
+            effect.add_rates(&k, &c, &mut r);
             (r[V_X], r[V_Y])
         };
         let close = |(a, b): (f64, f64), (x, y): (f64, f64)| {

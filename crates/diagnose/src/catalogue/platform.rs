@@ -180,15 +180,21 @@ impl Catalogue for Registry {
         Some((Box::new(registry), AccelSettling::NAME))
     }
     fn with_levels_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str)> {
-        // A drag the user declared is a candidate like any other.
-        if self.names().iter().any(|n| n == Drag::NAME) {
+        // A drag the user declared is a candidate like any other, and so is the rival itself
+        // declared under its own name.
+        if self
+            .names()
+            .iter()
+            .any(|n| n == Drag::NAME || n == VelocityDependentAcceleration::NAME)
+        {
             return None;
         }
-        // A declaration refuses a coefficient name another effect has (two states in one),
-        // and one of the rival's own name that says something else.
+        // A declaration refuses a coefficient name another effect has (two states in one):
+        // the rival's are renamed where a user's effect has them.
+        let taken = super::coefficient_names(self);
         let mut registry = self.clone();
         registry
-            .declare(&[VelocityDependentAcceleration::declaration()])
+            .declare(&[VelocityDependentAcceleration::declaration_avoiding(&taken)])
             .ok()?;
         Some((Box::new(registry), VelocityDependentAcceleration::NAME))
     }

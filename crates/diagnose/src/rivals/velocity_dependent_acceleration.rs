@@ -39,6 +39,31 @@ impl VelocityDependentAcceleration {
 
     /// Its declaration, to add to a registry ([`navkf_dynamics::effects::Registry::declare`]).
     pub fn declaration() -> EffectDeclaration {
+        Self::declaration_avoiding(&[])
+    }
+
+    /// Its declaration with each coefficient renamed where `taken` (the registry's own
+    /// coefficient names) already has it: `m_xx` becomes `m_xx_rival` (then `m_xx_rival2`,
+    /// ...), so that a user's effect with a coefficient called `kq` does not drop the rival.
+    pub fn declaration_avoiding(taken: &[String]) -> EffectDeclaration {
+        let free = |name: &str| -> String {
+            let is_taken = |n: &str| taken.iter().any(|t| t == n);
+            if !is_taken(name) {
+                return name.to_string();
+            }
+            (1..)
+                .map(|i| match i {
+                    1 => format!("{name}_rival"),
+                    i => format!("{name}_rival{i}"),
+                })
+                .find(|n| !is_taken(n))
+                .expect("finitely many names are taken")
+        };
+        let names: Vec<String> = ["m_xx", "m_xy", "m_yx", "m_yy", "s_x", "s_y", "kq"]
+            .iter()
+            .map(|n| free(n))
+            .collect();
+        let [m_xx, m_xy, m_yx, m_yy, s_x, s_y, kq] = [0, 1, 2, 3, 4, 5, 6].map(|i| &*names[i]);
         let coefficient = |name: &str, unit: &str, sigma: f64| CoefficientDeclaration {
             name: name.into(),
             unit: unit.into(),
@@ -60,23 +85,23 @@ impl VelocityDependentAcceleration {
                           with the speed, and a quadratic drag; outside the catalogue)"
                 .into(),
             coefficients: vec![
-                coefficient("m_xx", "1/s", d),
-                coefficient("m_xy", "1/s", d),
-                coefficient("m_yx", "1/s", d),
-                coefficient("m_yy", "1/s", d),
-                coefficient("s_x", "1/s", d),
-                coefficient("s_y", "1/s", d),
-                coefficient("kq", "1/m", Self::TYPICAL_KQ),
+                coefficient(m_xx, "1/s", d),
+                coefficient(m_xy, "1/s", d),
+                coefficient(m_yx, "1/s", d),
+                coefficient(m_yy, "1/s", d),
+                coefficient(s_x, "1/s", d),
+                coefficient(s_y, "1/s", d),
+                coefficient(kq, "1/m", Self::TYPICAL_KQ),
             ],
             rates: vec![
-                term("v_x", "m_xx", "v_x", 1.0),
-                term("v_x", "m_xy", "v_y", 1.0),
-                term("v_y", "m_yx", "v_x", 1.0),
-                term("v_y", "m_yy", "v_y", 1.0),
-                term("v_x", "s_x", "speed", 1.0),
-                term("v_y", "s_y", "speed", 1.0),
-                term("v_x", "kq", "v_x_speed", -1.0),
-                term("v_y", "kq", "v_y_speed", -1.0),
+                term("v_x", m_xx, "v_x", 1.0),
+                term("v_x", m_xy, "v_y", 1.0),
+                term("v_y", m_yx, "v_x", 1.0),
+                term("v_y", m_yy, "v_y", 1.0),
+                term("v_x", s_x, "speed", 1.0),
+                term("v_y", s_y, "speed", 1.0),
+                term("v_x", kq, "v_x_speed", -1.0),
+                term("v_y", kq, "v_y_speed", -1.0),
             ],
             measurement: Vec::new(),
             places: Vec::new(),
@@ -108,6 +133,31 @@ mod tests {
             let report = check_effect(built(), &NoiseConfig::default(), 16, seed).unwrap();
             assert!(report.passes(), "{report:?}");
         }
+    }
+
+    #[test]
+    fn a_coefficient_name_a_user_took_is_renamed_not_dropped() {
+        use crate::catalogue::{coefficient_names, Catalogue};
+        let user = navkf_dynamics::declared::parse_declarations(
+            r#"
+            [[effect]]
+            name = "user-drag"
+            description = "v' -= kq v |v|"
+            coefficients = [{ name = "kq", unit = "1/m", sigma = 1e-6 }]
+            rates = [{ to = "v_x", coefficient = "kq", feature = "v_x_speed", factor = -1.0 }]
+            "#,
+        )
+        .unwrap();
+        let mut registry = Registry::catalogue();
+        registry.declare(&user).unwrap();
+        let (with_rival, name) = registry.with_levels_rival().expect("the rival, renamed");
+        let rival = with_rival.effect(name).unwrap().coefficients;
+        assert_eq!(rival[6], "kq_rival");
+        assert_eq!(rival[..6], ["m_xx", "m_xy", "m_yx", "m_yy", "s_x", "s_y"]);
+        // A second clash takes the next free name.
+        let taken = [coefficient_names(&registry), vec!["kq_rival".into()]].concat();
+        let d = VelocityDependentAcceleration::declaration_avoiding(&taken);
+        assert_eq!(d.coefficients[6].name, "kq_rival2");
     }
 
     #[test]

@@ -271,12 +271,13 @@ fn main() {
                         .map(|k| format!("{} {:.2e}+-{:.1e}", k.name, k.estimate, k.sigma))
                         .collect();
                     println!(
-                        "  {:24} bic {:8.1} (informed {:8.1}) k {} excess {:5.2} {:?} {}",
+                        "  {:24} bic {:8.1} (informed {:8.1}) k {} excess {:5.2} NIS {:.3} {:?} {}",
                         c.effect,
                         c.bic_gain,
                         navkf_diagnose::naming::effective_bic(c),
                         c.parameters,
                         c.excess_removed,
+                        c.nis.mean,
                         c.outcome,
                         coefficients.join(", ")
                     );

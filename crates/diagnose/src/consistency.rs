@@ -115,6 +115,16 @@ impl NisStat {
         let [lo, hi] = mean_chi2_band(band, self.dof * self.count as f64, self.count as f64);
         self.mean >= lo && self.mean <= hi
     }
+
+    /// Whether the mean lies below `band`: the model predicts larger innovations than it
+    /// gets (false without updates).
+    pub fn below(&self, band: Band) -> bool {
+        if self.count == 0 {
+            return false;
+        }
+        let [lo, _] = mean_chi2_band(band, self.dof * self.count as f64, self.count as f64);
+        self.mean < lo
+    }
 }
 
 /// Whiteness of one innovation channel.

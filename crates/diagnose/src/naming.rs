@@ -20,10 +20,12 @@
 //! what is missing. A noise-only term must also beat a
 //! walk of the other sensor and a settling accelerometer bias, outside the catalogue
 //! ([`crate::rivals`]): if either fits as well, the data cannot say which sensor carries the
-//! drift. Refitted noise levels that make the model consistent must beat a drag
-//! (`v' -= kd v`, outside the catalogue) that explains the misfit decisively: a gyro noise
-//! refitted hundreds of times too high covers one, and the model ends consistent with the
-//! sensors misstated.
+//! drift, and the refitted noise levels are then not named either if that drift beats them
+//! decisively ([`drift_beyond_levels`]). Refitted noise levels that make the model consistent
+//! must beat an acceleration error depending on the velocity (outside the catalogue,
+//! [`crate::rivals::VelocityDependentAcceleration`]) that explains the misfit decisively: a
+//! gyro noise refitted hundreds of times too high covers one, and the model ends consistent
+//! with the sensors misstated.
 //!
 //! **No stand-ins.** When the misfit is explained decisively better by a candidate that
 //! cannot be named (its coefficients confounded, or its values no real sensor's), nothing is
@@ -56,6 +58,7 @@ use crate::options::Options;
 use crate::rivals::with_elapsed_time;
 use navkf_dynamics::dataset::Dataset;
 use navkf_filters::FilterSpec;
+use navkf_report::stats::Band;
 
 /// What the naming step of a round decided.
 #[derive(Debug, Clone)]
@@ -254,6 +257,10 @@ fn best_nameable_structured(cands: &[Candidate]) -> Option<usize> {
 /// 9.9 and the settling that fits as well led them by 13. Levels that leave a misfit
 /// themselves are a step the next rounds build on: a walk beside a latency leads them and
 /// leaves the latency's misfit (the study's pair 814, where both are named two rounds later).
+/// Nor does a walk count that is inconsistent only by over-covering the data (its NIS below
+/// the 99 % band): it leaves no misfit for the levels to cover. On 2 of the study's 100 MEMS
+/// units (white gyro noise of 209 and 253 times the stated level) such a walk led the levels by
+/// 12, and counting it turned their `consistent` into `unexplained`.
 /// A drift that beats the levels by less than [`DECISIVE_BIC`] cannot be told from a noise
 /// mis-stated, and the levels are named.
 fn drift_beyond_levels(
@@ -261,8 +268,11 @@ fn drift_beyond_levels(
     drifts: &[(usize, f64)],
     levels: usize,
 ) -> Option<(usize, f64)> {
+    // A walk whose NIS falls below its band over-covers the data rather than leaving a misfit.
+    let leaves_misfit =
+        |c: &Candidate| c.outcome == Outcome::NoiseLeavesMisfit && !c.nis.below(Band::Percent99);
     let leaving_misfit = (0..cands.len())
-        .filter(|&i| cands[i].outcome == Outcome::NoiseLeavesMisfit && cands[levels].consistent)
+        .filter(|&i| leaves_misfit(&cands[i]) && cands[levels].consistent)
         .map(|i| (i, cands[i].bic_gain));
     drifts
         .iter()
@@ -1010,6 +1020,11 @@ mod tests {
         let mut leaves_misfit = drift_and_levels(88.0);
         leaves_misfit[0].outcome = Outcome::NoiseLeavesMisfit;
         leaves_misfit[1].consistent = true;
+        assert_eq!(drift_beyond_levels(&leaves_misfit, &[], 1), Some((0, 88.0)));
+        // Nor does a walk that over-covers the data (NIS below its band: 3 against 4).
+        leaves_misfit[0].nis = NisStat::of(&[3.0; 2400], &[4; 2400]);
+        assert_eq!(drift_beyond_levels(&leaves_misfit, &[], 1), None);
+        leaves_misfit[0].nis = NisStat::of(&[5.0; 2400], &[4; 2400]);
         assert_eq!(drift_beyond_levels(&leaves_misfit, &[], 1), Some((0, 88.0)));
         leaves_misfit[1].consistent = false;
         assert_eq!(drift_beyond_levels(&leaves_misfit, &[], 1), None);

@@ -252,9 +252,11 @@ fn best_nameable_structured(cands: &[Candidate]) -> Option<usize> {
 /// the drift: measured on the platform's error-rate study, once the settling rival refused
 /// the walk, 28 of 60 accelerometer warm-ups ended `consistent` with the gyro noise refitted
 /// at 3-41 times the level the data were made with (3 before). Out of sample, 3 of 30 more
-/// warm-ups did where the walk led the levels (by up to 29) but left a misfit, so that no
-/// rival was asked, and one more (out of a second sample of 40) where the walk led them by
-/// 9.9 and the settling that fits as well led them by 13. Levels that leave a misfit
+/// warm-ups did: in one the walk led the levels by 29 but left a misfit, so that no rival was
+/// asked (in sample, pair 762 too: a walk beside a cross-axis error); in the other two the
+/// walk led by 7 and 9.5, short of decisive, and they still do. And one of a second sample
+/// of 40, where the walk led them by 9.9 and the settling that fits as well led them by 13.
+/// Levels that leave a misfit
 /// themselves are a step the next rounds build on: a walk beside a latency leads them and
 /// leaves the latency's misfit (the study's pair 814, where both are named two rounds later).
 /// Nor does a walk count that is inconsistent only by over-covering the data (its NIS below

@@ -107,23 +107,22 @@ impl NisStat {
 }
 
 impl NisStat {
+    /// The `band` the mean of a consistent model lies in; `None` without updates.
+    fn band(&self, band: Band) -> Option<[f64; 2]> {
+        (self.count > 0)
+            .then(|| mean_chi2_band(band, self.dof * self.count as f64, self.count as f64))
+    }
+
     /// Whether the mean lies inside `band` (false without updates).
     pub fn within(&self, band: Band) -> bool {
-        if self.count == 0 {
-            return false;
-        }
-        let [lo, hi] = mean_chi2_band(band, self.dof * self.count as f64, self.count as f64);
-        self.mean >= lo && self.mean <= hi
+        self.band(band)
+            .is_some_and(|[lo, hi]| self.mean >= lo && self.mean <= hi)
     }
 
     /// Whether the mean lies below `band`: the model predicts larger innovations than it
     /// gets (false without updates).
     pub fn below(&self, band: Band) -> bool {
-        if self.count == 0 {
-            return false;
-        }
-        let [lo, _] = mean_chi2_band(band, self.dof * self.count as f64, self.count as f64);
-        self.mean < lo
+        self.band(band).is_some_and(|[lo, _]| self.mean < lo)
     }
 }
 

@@ -273,8 +273,9 @@ fn drift_beyond_levels(
     // A walk whose NIS falls below its band over-covers the data rather than leaving a misfit.
     let leaves_misfit =
         |c: &Candidate| c.outcome == Outcome::NoiseLeavesMisfit && !c.nis.below(Band::Percent99);
+    // Only levels that make the model consistent can be covering such a walk's misfit.
     let leaving_misfit = (0..cands.len())
-        .filter(|&i| leaves_misfit(&cands[i]) && cands[levels].consistent)
+        .filter(|&i| cands[levels].consistent && leaves_misfit(&cands[i]))
         .map(|i| (i, cands[i].bic_gain));
     drifts
         .iter()

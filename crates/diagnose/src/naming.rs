@@ -312,7 +312,7 @@ fn levels_rival_note(
     catalogue: &dyn Catalogue,
     opts: &Options,
 ) -> Result<Option<String>, DiagnoseError> {
-    let Some((with_rival, name)) = catalogue.with_levels_rival() else {
+    let Some((with_rival, name)) = catalogue.with_levels_rival()? else {
         return Ok(None);
     };
     let info = with_rival.effect(name)?;

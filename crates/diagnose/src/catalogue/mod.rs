@@ -176,11 +176,16 @@ pub trait Catalogue: Send + Sync + std::fmt::Debug {
     /// The catalogue with the structured rival of the refitted noise levels added (an error
     /// outside the catalogue that refitted noise can cover: on the platform an
     /// acceleration error growing with speed, a drag) and that rival's name; `None` when the
-    /// family has none.
-    fn with_levels_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str)> {
-        None
+    /// family has none. An error when the rival cannot be declared beside the catalogue's
+    /// effects: the levels are then not tested against it, and a diagnosis that went on
+    /// without a word would name them as if they had been.
+    fn with_levels_rival(&self) -> Result<Option<WithRival>, DiagnoseError> {
+        Ok(None)
     }
 }
+
+/// A catalogue with a rival added, and the rival's name.
+pub type WithRival = (Box<dyn Catalogue>, &'static str);
 
 /// Every coefficient name a prior may be stated for in `catalogue`'s family: the base model's
 /// and every effect's.

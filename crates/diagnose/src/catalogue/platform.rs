@@ -179,7 +179,7 @@ impl Catalogue for Registry {
         registry.register(|| Box::new(AccelSettling::default()));
         Some((Box::new(registry), AccelSettling::NAME))
     }
-    fn with_levels_rival(&self) -> Option<(Box<dyn Catalogue>, &'static str)> {
+    fn with_levels_rival(&self) -> Result<Option<super::WithRival>, DiagnoseError> {
         // A drag the user declared is a candidate like any other, and so is the rival itself
         // declared under its own name.
         if self
@@ -187,7 +187,7 @@ impl Catalogue for Registry {
             .iter()
             .any(|n| n == Drag::NAME || n == VelocityDependentAcceleration::NAME)
         {
-            return None;
+            return Ok(None);
         }
         // A declaration refuses a coefficient name another effect has (two states in one):
         // the rival's are renamed where a user's effect has them.
@@ -195,7 +195,16 @@ impl Catalogue for Registry {
         let mut registry = self.clone();
         registry
             .declare(&[VelocityDependentAcceleration::declaration_avoiding(&taken)])
-            .ok()?;
-        Some((Box::new(registry), VelocityDependentAcceleration::NAME))
+            .map_err(|e| {
+                DiagnoseError::Data(format!(
+                    "the refitted noise levels' rival `{}` cannot be declared beside the \
+                     effects given ({e}); rename the effect or coefficient it names",
+                    VelocityDependentAcceleration::NAME
+                ))
+            })?;
+        Ok(Some((
+            Box::new(registry),
+            VelocityDependentAcceleration::NAME,
+        )))
     }
 }

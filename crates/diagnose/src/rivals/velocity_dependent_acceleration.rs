@@ -150,7 +150,10 @@ mod tests {
         .unwrap();
         let mut registry = Registry::catalogue();
         registry.declare(&user).unwrap();
-        let (with_rival, name) = registry.with_levels_rival().expect("the rival, renamed");
+        let (with_rival, name) = registry
+            .with_levels_rival()
+            .expect("declared")
+            .expect("the rival, renamed");
         let rival = with_rival.effect(name).unwrap().coefficients;
         assert_eq!(rival[6], "kq_rival");
         assert_eq!(rival[..6], ["m_xx", "m_xy", "m_yx", "m_yy", "s_x", "s_y"]);

@@ -141,6 +141,67 @@ fn large_hidden_effects_are_named_with_their_estimates_within_3_sigma() {
     }
 }
 
+/// What an effect declares no test can see (`Effect::unseen_combinations`) is not seen: fifty
+/// typical sigmas along each such combination fit no better than nothing, while the same size
+/// at right angles to it is named. The diagnosis study leaves such draws out of an effect's
+/// detection curve on the strength of this.
+#[test]
+fn a_combination_an_effect_declares_unseen_is_not_seen_and_the_rest_is() {
+    let registry = Registry::catalogue();
+    let mut checked = 0;
+    for name in registry.names() {
+        let effect = registry.build(&name).unwrap();
+        let (names, sigmas) = (effect.coefficient_names(), effect.coefficient_sigma());
+        for (k, c) in effect.unseen_combinations().iter().enumerate() {
+            let norm = c.weights.iter().map(|w| w * w).sum::<f64>().sqrt();
+            let along: Vec<f64> = c.weights.iter().map(|w| w / norm).collect();
+            // The first axis with the combination taken out: a direction the data should see.
+            let mut across: Vec<f64> = (0..along.len()).map(|i| (i == 0) as u8 as f64).collect();
+            let d0 = along[0];
+            across
+                .iter_mut()
+                .zip(&along)
+                .for_each(|(a, b)| *a -= d0 * b);
+            let n = across.iter().map(|a| a * a).sum::<f64>().sqrt();
+            across.iter_mut().for_each(|a| *a /= n);
+            for (direction, seen, seed) in [(&along, false, 41 + k as u64), (&across, true, 51)] {
+                // Fifty typical sigmas per coefficient, as the study's multiple counts them.
+                let size = 50.0 * (along.len() as f64).sqrt();
+                let fixed: Vec<(&str, f64)> = names
+                    .iter()
+                    .zip(sigmas)
+                    .zip(direction.iter())
+                    .map(|((n, s), w)| (*n, size * s * w))
+                    .collect();
+                let d = run(&dataset(catalogue(&[&name]), &fixed, seed));
+                let gain = d.rounds[0]
+                    .candidates
+                    .iter()
+                    .find(|c| c.effect == name)
+                    .map(|c| c.bic_gain)
+                    .unwrap();
+                if seen {
+                    assert_eq!(
+                        d.effects,
+                        [name.as_str()],
+                        "{name} {fixed:?}: {:#?}",
+                        d.findings
+                    );
+                } else {
+                    assert!(
+                        d.effects.is_empty() && gain < 0.0,
+                        "{name} {fixed:?} ({}): BIC gain {gain}, {:#?}",
+                        c.why,
+                        d.findings
+                    );
+                }
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked > 0, "no effect declares an unseen combination");
+}
+
 #[test]
 fn two_hidden_effects_are_both_named_in_one_command() {
     let ds = dataset(

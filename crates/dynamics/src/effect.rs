@@ -21,6 +21,20 @@ pub use crate::sensor_classes::PhysicalBound;
 use crate::state::{MEAS_DIM, NAV_DIM};
 use std::fmt;
 
+/// A combination of an effect's coefficients that the base model's own states take up on a
+/// vehicle test, however large: no filter can tell it from them, so no diagnosis can name the
+/// effect for it. `weights` has one entry per coefficient, each coefficient measured in its
+/// typical sigma ([`Effect::coefficient_sigma`]); its length does not matter. A diagnosis
+/// study measures an effect's detection on the part of its hidden size outside these
+/// combinations.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UnseenCombination {
+    /// The combination, one weight per coefficient (in typical sigmas).
+    pub weights: &'static [f64],
+    /// Which combination it is and what takes it up, for reports: "`Ka12x = -Ka12y`, ...".
+    pub why: &'static str,
+}
+
 /// A white process-noise channel: it drives the derivative of one state with the given
 /// spectral density.
 #[derive(Debug, Clone, PartialEq)]
@@ -165,6 +179,11 @@ pub trait Effect: Send + Sync + fmt::Debug + 'static {
     fn coefficient_bounds(&self) -> &[PhysicalBound] {
         &[]
     }
+    /// The combinations of the coefficients the base model takes up on any vehicle test
+    /// ([`UnseenCombination`]); empty when the data can see every one.
+    fn unseen_combinations(&self) -> &[UnseenCombination] {
+        &[]
+    }
     /// What the effect adds (required: the model calls only what is declared here).
     fn terms(&self) -> Terms;
     /// Adds the effect's terms to the navigation-state derivatives `[phi, v_x, v_y, L, lambda]`,
@@ -225,6 +244,8 @@ pub trait DynEffect: Send + Sync + fmt::Debug {
     fn coefficient_sigma(&self) -> &[f64];
     /// [`Effect::coefficient_bounds`].
     fn coefficient_bounds(&self) -> &[PhysicalBound];
+    /// [`Effect::unseen_combinations`].
+    fn unseen_combinations(&self) -> &[UnseenCombination];
     /// [`Effect::terms`].
     fn terms(&self) -> Terms;
     /// [`Effect::add_rates`] on one state.
@@ -271,6 +292,9 @@ impl<E: Effect> DynEffect for E {
     }
     fn coefficient_bounds(&self) -> &[PhysicalBound] {
         Effect::coefficient_bounds(self)
+    }
+    fn unseen_combinations(&self) -> &[UnseenCombination] {
+        Effect::unseen_combinations(self)
     }
     fn terms(&self) -> Terms {
         Effect::terms(self)

@@ -68,6 +68,12 @@ pub fn detection(rates: &Rates, dir: &Path) -> Result<(), navkf_report::ReportEr
                 (None, Some(why)) => p.notes.push(why.clone()),
                 _ => {}
             }
+            if let Some(u) = d.unseen.as_ref().filter(|u| u.named.n > 0) {
+                p.notes.push(format!(
+                    "sizes seen by a test; {} hiding only the unseen part left out (named on {})",
+                    u.named.n, u.named.k
+                ));
+            }
             p
         })
         .collect();

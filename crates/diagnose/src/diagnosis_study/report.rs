@@ -201,6 +201,19 @@ pub fn markdown(
         ]);
     }
     out.push_str(&detection.render());
+    for d in &r.detection {
+        if let Some(u) = d.unseen.as_ref().filter(|u| u.named.n > 0) {
+            let _ = writeln!(
+                out,
+                "\n`{}`: its sizes are those of the part a test can see. {} of its {} datasets hid only {}: no test can see that, so they are left out of its curve; it was named on {} of them.",
+                d.effect,
+                u.named.n,
+                u.named.n + d.n,
+                u.why,
+                u.named.k
+            );
+        }
+    }
     let _ = writeln!(out, "\n{}", figure.embed());
     if r.pairs_both.n > 0 {
         let _ = writeln!(

@@ -101,6 +101,8 @@ impl StudyFamily for Strapdown {
                     name: name.to_string(),
                     typical,
                     unit,
+                    sigmas: Vec::new(),
+                    unseen: Vec::new(),
                 }
             })
             .collect()

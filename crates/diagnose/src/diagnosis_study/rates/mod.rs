@@ -10,6 +10,7 @@
 use super::hidden::{Class, Hidden, MEMS_NOISE_LABEL};
 use super::Record;
 use crate::Verdict;
+use navkf_dynamics::effect::UnseenCombination;
 use navkf_dynamics::Registry;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -149,7 +150,7 @@ pub struct Detection {
     pub typical: f64,
     /// Unit of `typical`.
     pub unit: String,
-    /// Datasets hiding it alone.
+    /// Datasets hiding it alone whose size a test can see (those in [`Detection::unseen`] left out).
     pub n: usize,
     /// Logistic fit `P(named) = 1 / (1 + exp(-(a + b ln m)))`, when it could be fitted.
     pub logistic: Option<[f64; 2]>,
@@ -162,8 +163,13 @@ pub struct Detection {
     pub above_limit: Option<Rate>,
     /// Named rate in log-spaced bins.
     pub bins: Vec<Bin>,
-    /// Every dataset: (multiple, named).
+    /// Every dataset: (multiple, named); the multiple is of the part a test can see
+    /// ([`EffectScale::seen_multiple`]).
     pub points: Vec<(f64, bool)>,
+    /// The datasets left out because they hid only what no test sees; `None` when the effect
+    /// has no such combination.
+    #[serde(default)]
+    pub unseen: Option<UnseenDraws>,
 }
 
 /// A target of the issue, measured.
@@ -338,7 +344,8 @@ fn logistic(points: &[(f64, bool)]) -> Option<[f64; 2]> {
 }
 
 /// A catalogued effect with the size its detection curve is scaled by: its first
-/// coefficient's typical sigma (a noise-only term's `sqrt(density)`), and that one's unit.
+/// coefficient's typical sigma (a noise-only term's `sqrt(density)`), and that one's unit;
+/// and the combinations of its coefficients no test sees, which its curve leaves out.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EffectScale {
     /// The effect's name.
@@ -347,6 +354,74 @@ pub struct EffectScale {
     pub typical: f64,
     /// The unit of `typical`.
     pub unit: String,
+    /// Each coefficient's name and typical sigma, in the order of the combinations' weights.
+    pub sigmas: Vec<(String, f64)>,
+    /// [`navkf_dynamics::effect::Effect::unseen_combinations`].
+    pub unseen: Vec<UnseenCombination>,
+}
+
+impl EffectScale {
+    /// The size of the hidden coefficients `values` that a test can see, as a multiple of
+    /// their typical sizes: the root mean square over the coefficients, each in its typical
+    /// sigma, of what is left once the unseen combinations are taken out. With none, or
+    /// without a value for every coefficient, the size drawn (`multiple`).
+    pub fn seen_multiple(&self, multiple: f64, values: &BTreeMap<String, f64>) -> f64 {
+        if self.unseen.is_empty() || self.sigmas.is_empty() {
+            return multiple;
+        }
+        let Some(mut x) = self
+            .sigmas
+            .iter()
+            .map(|(name, sigma)| values.get(name).map(|v| v / sigma))
+            .collect::<Option<Vec<f64>>>()
+        else {
+            return multiple;
+        };
+        // Gram-Schmidt on the combinations, each taken out of `x` once it is orthonormal.
+        let mut basis: Vec<Vec<f64>> = Vec::new();
+        for c in &self.unseen {
+            let mut w: Vec<f64> = (0..x.len())
+                .map(|i| c.weights.get(i).copied().unwrap_or(0.0))
+                .collect();
+            for b in &basis {
+                let d: f64 = w.iter().zip(b).map(|(a, b)| a * b).sum();
+                w.iter_mut().zip(b).for_each(|(a, b)| *a -= d * b);
+            }
+            let norm = w.iter().map(|a| a * a).sum::<f64>().sqrt();
+            if norm > 1e-12 {
+                w.iter_mut().for_each(|a| *a /= norm);
+                let d: f64 = x.iter().zip(&w).map(|(a, b)| a * b).sum();
+                x.iter_mut().zip(&w).for_each(|(a, b)| *a -= d * b);
+                basis.push(w);
+            }
+        }
+        (x.iter().map(|a| a * a).sum::<f64>() / x.len() as f64).sqrt()
+    }
+
+    /// [`EffectScale::seen_multiple`] of a hidden effect (its drawn size for anything else).
+    fn seen(&self, h: &Hidden) -> f64 {
+        match h {
+            Hidden::Effect {
+                multiple, values, ..
+            } => self.seen_multiple(*multiple, values),
+            other => other.multiple(),
+        }
+    }
+}
+
+/// A hidden size whose seen part is below this share of the size drawn lay wholly in an
+/// unseen combination (the study draws each coefficient at the same size, so the seen part is
+/// then zero to rounding).
+const UNSEEN_SHARE: f64 = 1e-6;
+
+/// The datasets of a detection curve whose hidden effect lay wholly in a combination no test
+/// sees ([`EffectScale::unseen`]): left out of the curve, and counted.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct UnseenDraws {
+    /// The combinations, in words.
+    pub why: String,
+    /// How often the effect was named on them (a name the data cannot have given).
+    pub named: Rate,
 }
 
 /// The effects of `catalogue` (the platform's, with a study's declared ones) with their
@@ -356,9 +431,17 @@ pub fn platform_scales(catalogue: &Registry) -> Vec<EffectScale> {
         .names()
         .into_iter()
         .map(|name| {
-            let (typical, unit) = catalogue
-                .build(&name)
-                .ok()
+            let built = catalogue.build(&name).ok();
+            let (sigmas, unseen) = built.as_ref().map_or((Vec::new(), Vec::new()), |e| {
+                let sigmas = e
+                    .coefficient_names()
+                    .iter()
+                    .zip(e.coefficient_sigma())
+                    .map(|(n, s)| (n.to_string(), *s))
+                    .collect();
+                (sigmas, e.unseen_combinations().to_vec())
+            });
+            let (typical, unit) = built
                 .map(|e| {
                     let t = e.coefficient_sigma().first().copied().unwrap_or_else(|| {
                         e.process_noise().first().map_or(f64::NAN, |c| c.psd.sqrt())
@@ -374,6 +457,8 @@ pub fn platform_scales(catalogue: &Registry) -> Vec<EffectScale> {
                 name,
                 typical,
                 unit,
+                sigmas,
+                unseen,
             }
         })
         .collect()
@@ -383,14 +468,34 @@ pub fn platform_scales(catalogue: &Registry) -> Vec<EffectScale> {
 fn detection(scale: &EffectScale, records: &[&Record]) -> Detection {
     let effect = scale.name.as_str();
     let (typical, unit) = (scale.typical, scale.unit.clone());
-    let points: Vec<(f64, bool)> = records
+    let all: Vec<(f64, f64, bool)> = records
         .iter()
         .filter_map(|r| {
             let h = r.hidden.first()?;
-            (h.effect() == Some(effect) && r.error.is_none())
-                .then(|| (h.multiple(), r.named.iter().any(|n| n == effect)))
+            (h.effect() == Some(effect) && r.error.is_none()).then(|| {
+                let named = r.named.iter().any(|n| n == effect);
+                (h.multiple(), scale.seen(h), named)
+            })
         })
         .collect();
+    let is_unseen = |&(drawn, seen, _): &(f64, f64, bool)| seen < UNSEEN_SHARE * drawn;
+    let points: Vec<(f64, bool)> = all
+        .iter()
+        .filter(|p| !is_unseen(p))
+        .map(|&(_, seen, named)| (seen, named))
+        .collect();
+    let unseen = (!scale.unseen.is_empty()).then(|| {
+        let hid: Vec<bool> = all.iter().filter(|p| is_unseen(p)).map(|p| p.2).collect();
+        UnseenDraws {
+            why: scale
+                .unseen
+                .iter()
+                .map(|c| c.why)
+                .collect::<Vec<_>>()
+                .join("; "),
+            named: Rate::of(hid.iter().filter(|&&y| y).count(), hid.len()),
+        }
+    });
     let xs: Vec<(f64, bool)> = points.iter().map(|&(m, y)| (m.ln(), y)).collect();
     let fit = logistic(&xs);
     let (lo, hi) = points.iter().fold((f64::INFINITY, 0.0f64), |(l, h), p| {
@@ -463,6 +568,7 @@ fn detection(scale: &EffectScale, records: &[&Record]) -> Detection {
         above_limit,
         bins,
         points,
+        unseen,
     }
 }
 
@@ -565,13 +671,15 @@ pub fn rates(records: &[Record], scales: &[EffectScale]) -> Rates {
             .all(|e| r.named.iter().any(|n| n == e))
     };
     let pairs_both = count(&mut pairs.iter().copied(), &both);
+    let seen = |h: &Hidden| {
+        let scale = scales.iter().find(|s| Some(s.name.as_str()) == h.effect());
+        scale.map_or(h.multiple(), |s| s.seen(h))
+    };
     let pairs_both_above = count(
         &mut pairs.iter().copied().filter(|r| {
-            r.hidden.iter().all(|h| {
-                h.effect()
-                    .and_then(limit)
-                    .is_some_and(|m| h.multiple() >= m)
-            })
+            r.hidden
+                .iter()
+                .all(|h| h.effect().and_then(limit).is_some_and(|m| seen(h) >= m))
         }),
         &both,
     );
@@ -650,7 +758,13 @@ pub fn rates(records: &[Record], scales: &[EffectScale]) -> Rates {
                 ),
                 (_, Some(why), _) => format!("no limit: {why}"),
                 _ => "-".into(),
-            },
+            } + &d.unseen.as_ref().map_or(String::new(), |u| {
+                format!(
+                    ", sizes being of the part a test can see ({} datasets that hid only what \
+                     none sees left out)",
+                    u.named.n
+                )
+            }),
             met: d.above_limit.is_some_and(|r| r.rate >= 0.9),
         });
     }

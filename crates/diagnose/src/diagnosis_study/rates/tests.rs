@@ -290,3 +290,65 @@ fn an_effect_named_at_nearly_every_size_has_the_smallest_size_as_its_limit() {
         .expect("a target for the effect");
     assert!(t.met && t.measured.starts_with("96.7 % (58 of 60"), "{t:?}");
 }
+
+/// A single-effect record hiding `accel-cross-axis` with `Ka12x = m sigma` and
+/// `Ka12y = sign m sigma`.
+fn cross_axis(index: usize, multiple: f64, sign: f64, named: bool) -> Record {
+    let mut r = single(index, multiple, named);
+    let values = BTreeMap::from([
+        ("Ka12x".to_string(), multiple * 1e-4),
+        ("Ka12y".to_string(), sign * multiple * 1e-4),
+    ]);
+    r.hidden = vec![Hidden::Effect {
+        name: "accel-cross-axis".into(),
+        multiple,
+        values,
+    }];
+    if named {
+        r.named = vec!["accel-cross-axis".into()];
+    }
+    r
+}
+
+#[test]
+fn the_part_of_a_size_no_test_sees_is_taken_out_of_the_detection_curve() {
+    let scale = scale_of("accel-cross-axis");
+    assert_eq!(scale.sigmas.len(), 2);
+    let size = |x: f64, y: f64| {
+        let v = BTreeMap::from([("Ka12x".to_string(), x), ("Ka12y".to_string(), y)]);
+        scale.seen_multiple(7.0, &v)
+    };
+    // Ka12x = Ka12y lies at right angles to the unseen Ka12x = -Ka12y: all of it is seen.
+    assert!(close(size(3e-4, 3e-4), 3.0, 1e-12));
+    // Ka12x = -Ka12y is not seen at all.
+    assert!(size(3e-4, -3e-4) < 1e-12);
+    // Two sigmas on Ka12x alone: taking out its part along (1, -1) / sqrt(2) leaves (1, 1)
+    // sigma, whose root mean square is 1.
+    assert!(close(size(2e-4, 0.0), 1.0, 1e-12));
+    // An effect without unseen combinations keeps the size drawn.
+    let v = BTreeMap::from([("tau".to_string(), 0.3)]);
+    assert_eq!(scale_of("gps-latency").seen_multiple(7.0, &v), 7.0);
+
+    // 20 datasets hide the seen part (named from 5 typical sigmas on) and 12 the unseen part
+    // at every size (named on 1, which the data cannot have given): the curve is the first 20
+    // alone, and the 12 are counted apart.
+    let mut records: Vec<Record> = (0..20)
+        .map(|i| {
+            let m = 1.0 + i as f64;
+            cross_axis(i, m, 1.0, m >= 5.0)
+        })
+        .collect();
+    records.extend((0..12).map(|i| cross_axis(20 + i, 2.0 + 8.0 * i as f64, -1.0, i == 3)));
+    let refs: Vec<&Record> = records.iter().collect();
+    let d = detection(&scale, &refs);
+    assert_eq!(d.n, 20);
+    assert!(d.points.iter().all(|p| p.0 >= 1.0));
+    let u = d.unseen.as_ref().expect("the unseen draws counted");
+    assert_eq!((u.named.k, u.named.n), (1, 12));
+    assert!(u.why.contains("Ka12x = -Ka12y"), "{}", u.why);
+    let above = d.above_limit.expect("a limit");
+    assert_eq!(above.k, above.n, "{d:?}");
+    // An effect without unseen combinations reports none.
+    let refs: Vec<&Record> = Vec::new();
+    assert!(detection(&scale_of("gps-latency"), &refs).unseen.is_none());
+}
